@@ -1,0 +1,243 @@
+#include "app/ModelBuilder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "domain/RingGenerator.hpp"
+
+namespace ringdem {
+
+int Model::group_id(const std::string& name) const {
+  const auto it = std::find(group_names.begin(), group_names.end(), name);
+  return it == group_names.end() ? -1 : static_cast<int>(it - group_names.begin());
+}
+
+namespace {
+
+Motion to_motion(MotionKind m) {
+  switch (m) {
+    case MotionKind::kFixed:
+      return Motion::kFixed;
+    case MotionKind::kPrescribed:
+      return Motion::kPrescribed;
+    case MotionKind::kFree:
+      break;
+  }
+  return Motion::kFree;
+}
+
+int material_index(const MaterialTable& t, const std::string& name) {
+  const int m = t.find(name);
+  if (m < 0) throw std::invalid_argument("unknown material '" + name + "'");
+  return m;
+}
+
+int ensure_group(Model& model, const std::string& name) {
+  int g = model.group_id(name);
+  if (g < 0) {
+    model.group_names.push_back(name);
+    g = static_cast<int>(model.group_names.size()) - 1;
+  }
+  return g;
+}
+
+double damping_of(const CaseConfig& c, const std::string& group) {
+  for (const auto& g : c.damping.groups)
+    if (g.group == group) return g.coefficient;
+  return c.damping.global;
+}
+
+/// Rotation taking the body z axis onto the unit vector n.
+Quat orientation_for_axis(const Vec3& n) { return quat_between({0, 0, 1}, normalized(n)); }
+
+}  // namespace
+
+void add_bond(Model& model, std::size_t index_a, std::size_t index_b, int bond_type,
+              std::uint64_t seed) {
+  ParticleStore& p = model.particles;
+  std::size_t a = index_a, b = index_b;
+  if (p.gid[a] > p.gid[b]) std::swap(a, b);
+  const auto& params = model.bond_types[static_cast<std::size_t>(bond_type)];
+  const double length0 = norm(p.position[b] - p.position[a]);
+  const auto section = BondTimoshenko::Section::make(params, p.radius[a], p.radius[b], length0);
+  const auto ref = BondTimoshenko::Reference::make(p.position[a], rotation_matrix(p.orientation[a]),
+                                                   p.position[b], rotation_matrix(p.orientation[b]));
+  const auto strength = BondTimoshenko::draw_strength(params, seed, p.gid[a], p.gid[b]);
+  model.bonds.add(p.gid[a], p.gid[b], bond_type, section, ref, strength);
+}
+
+Model build_model(const CaseConfig& c) {
+  Model model;
+  std::vector<Material> materials;
+  for (const auto& m : c.materials)
+    materials.push_back({m.name, m.density, m.youngs_modulus, m.poisson_ratio, m.restitution,
+                         m.friction, m.rolling_friction});
+  std::vector<MaterialTable::PairOverride> overrides;
+  {
+    const MaterialTable names(materials, {});
+    for (const auto& i : c.interactions) {
+      MaterialTable::PairOverride o;
+      o.a = material_index(names, i.material_a);
+      o.b = material_index(names, i.material_b);
+      o.restitution = i.restitution.value_or(-1.0);
+      o.friction = i.friction.value_or(-1.0);
+      o.rolling_friction = i.rolling_friction.value_or(-1.0);
+      overrides.push_back(o);
+    }
+  }
+  model.materials = MaterialTable(materials, overrides);
+
+  std::vector<std::uint64_t> bond_seeds;
+  for (const auto& b : c.bonds) {
+    BondTimoshenko::Params p;
+    p.youngs_modulus = b.youngs_modulus;
+    p.poisson_ratio = b.poisson_ratio;
+    p.radius_multiplier = b.radius_multiplier;
+    p.tensile_strength = b.tensile_strength;
+    p.compressive_strength = b.compressive_strength;
+    p.shear_strength = b.shear_strength;
+    p.strength_cov = b.strength_cov;
+    model.bond_type_names.push_back(b.name);
+    model.bond_types.push_back(p);
+    bond_seeds.push_back(b.seed);
+  }
+
+  ParticleStore& p = model.particles;
+  std::int64_t next_gid = 0;
+  std::int32_t next_body = 0;
+
+  for (const auto& ring : c.rings) {
+    RingGeometry g;
+    g.centre = ring.centre;
+    g.normal = ring.normal;
+    g.reference = ring.reference;
+    g.internal_diameter = ring.internal_diameter;
+    g.particle_radius = ring.particle_radius;
+    g.n_particles = ring.n_particles;
+    const int group = ensure_group(model, ring.group);
+    const int mat = material_index(model.materials, ring.material);
+    const auto bt_it = std::find(model.bond_type_names.begin(), model.bond_type_names.end(), ring.bond);
+    if (bt_it == model.bond_type_names.end())
+      throw std::invalid_argument("unknown bond '" + ring.bond + "'");
+    const int bond_type = static_cast<int>(bt_it - model.bond_type_names.begin());
+    const std::size_t first = p.n_local();
+    for (const Vec3& x : g.positions()) {
+      ParticleStore::NewParticle np;
+      np.gid = next_gid++;
+      np.position = x;
+      np.velocity = ring.velocity;
+      np.radius = ring.particle_radius;
+      np.contact_radius = std::max(ring.contact_radius, ring.particle_radius);
+      np.density = model.materials[static_cast<std::size_t>(mat)].density;
+      np.damping = damping_of(c, ring.group);
+      np.material = mat;
+      np.body = next_body;
+      np.group = group;
+      np.motion = to_motion(ring.motion);
+      p.add(np);
+    }
+    ++next_body;
+    for (const auto& [ka, kb] : g.bonded_pairs()) {
+      add_bond(model, first + static_cast<std::size_t>(ka), first + static_cast<std::size_t>(kb),
+               bond_type, bond_seeds[static_cast<std::size_t>(bond_type)]);
+    }
+  }
+
+  for (const auto& lat : c.lattices) {
+    const int group = ensure_group(model, lat.group);
+    const int mat = material_index(model.materials, lat.material);
+    std::mt19937_64 rng(lat.seed);
+    std::uniform_real_distribution<double> u(-0.5, 0.5);
+    const double gap = lat.spacing - 2.0 * lat.particle_radius;
+    for (int i = 0; i < lat.count[0]; ++i)
+      for (int j = 0; j < lat.count[1]; ++j)
+        for (int k = 0; k < lat.count[2]; ++k) {
+          ParticleStore::NewParticle np;
+          np.gid = next_gid++;
+          np.position = lat.origin + Vec3{i * lat.spacing, j * lat.spacing, k * lat.spacing};
+          if (lat.jitter > 0.0)
+            np.position += Vec3{u(rng), u(rng), u(rng)} * (lat.jitter * gap);
+          np.velocity = lat.velocity;
+          np.radius = lat.particle_radius;
+          np.density = model.materials[static_cast<std::size_t>(mat)].density;
+          np.damping = damping_of(c, lat.group);
+          np.material = mat;
+          np.group = group;
+          p.add(np);
+        }
+  }
+
+  for (const auto& s : c.spheres) {
+    const int group = ensure_group(model, s.group);
+    const int mat = material_index(model.materials, s.material);
+    ParticleStore::NewParticle np;
+    np.gid = next_gid++;
+    np.position = s.position;
+    np.velocity = s.velocity;
+    np.omega = s.omega;
+    np.radius = s.radius;
+    np.density = model.materials[static_cast<std::size_t>(mat)].density;
+    np.damping = damping_of(c, s.group);
+    np.material = mat;
+    np.group = group;
+    np.motion = to_motion(s.motion);
+    p.add(np);
+  }
+
+  for (const auto& rb : c.rigid_bodies) {
+    RigidBody b;
+    b.name = rb.name;
+    b.material = material_index(model.materials, rb.material);
+    b.position = rb.position;
+    b.velocity = rb.velocity;
+    b.omega = rb.omega;
+    b.gravity = rb.gravity;
+    b.radius = rb.radius;
+    b.half_length = 0.5 * rb.length;
+    const double density = model.materials[static_cast<std::size_t>(b.material)].density;
+    switch (rb.shape) {
+      case ShapeKind::kPlane:
+        b.shape = RigidShape::kPlane;
+        b.orientation = orientation_for_axis(rb.normal);
+        break;
+      case ShapeKind::kCylinder: {
+        b.shape = RigidShape::kCylinder;
+        b.orientation = orientation_for_axis(rb.axis);
+        b.mass = rb.mass.value_or(density * M_PI * rb.radius * rb.radius * rb.length);
+        const double ixx = b.mass * (3.0 * rb.radius * rb.radius + rb.length * rb.length) / 12.0;
+        b.principal_inertia = {ixx, ixx, 0.5 * b.mass * rb.radius * rb.radius};
+        break;
+      }
+      case ShapeKind::kSphere: {
+        b.shape = RigidShape::kSphere;
+        b.mass = rb.mass.value_or(density * 4.0 / 3.0 * M_PI * std::pow(rb.radius, 3));
+        const double i = 0.4 * b.mass * rb.radius * rb.radius;
+        b.principal_inertia = {i, i, i};
+        break;
+      }
+    }
+    switch (rb.motion) {
+      case MotionKind::kFixed:
+        b.motion = RigidMotion::kFixed;
+        b.velocity = {};
+        b.omega = {};
+        break;
+      case MotionKind::kPrescribed:
+        b.motion = RigidMotion::kPrescribed;
+        break;
+      case MotionKind::kFree:
+        if (b.shape == RigidShape::kPlane)
+          throw std::invalid_argument("rigid body '" + b.name + "': a plane cannot be free");
+        b.motion = RigidMotion::kFree;
+        break;
+    }
+    model.bodies.push_back(b);
+  }
+
+  p.rebuild_index();
+  return model;
+}
+
+}  // namespace ringdem

@@ -1,0 +1,185 @@
+#include "app/RunCommand.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "app/ModelBuilder.hpp"
+#include "app/Simulation.hpp"
+#include "core/Version.hpp"
+#include "io/CaseLoader.hpp"
+#include "io/ResultsWriter.hpp"
+
+namespace ringdem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string format_duration(double s) {
+  if (!std::isfinite(s) || s < 0) return "--";
+  const auto total = static_cast<long long>(s + 0.5);
+  if (total >= 3600) return fmt::format("{}h{:02}m", total / 3600, (total % 3600) / 60);
+  if (total >= 60) return fmt::format("{}m{:02}s", total / 60, total % 60);
+  return fmt::format("{}s", total);
+}
+
+SimulationSettings settings_from(const CaseConfig& c) {
+  SimulationSettings s;
+  s.dt = c.simulation.dt.value_or(0.0);
+  s.dt_safety = c.simulation.dt_safety;
+  s.skin = c.simulation.skin;
+  s.gravity = c.simulation.gravity;
+  return s;
+}
+
+}  // namespace
+
+int run_case(const CaseConfig& config, const RunOptions& options, const Communicator& comm) {
+  const bool root = comm.is_root() && !options.quiet;
+  const auto wall_start = Clock::now();
+  const std::string out_dir =
+      options.output_dir.empty() ? "results/" + config.name : options.output_dir;
+  if (comm.is_root()) std::filesystem::create_directories(out_dir);
+
+  if (root) {
+    fmt::print("ringdem {} — discrete elements for flexible ring nets\n", kVersion);
+    fmt::print("case {} ({}), {} MPI rank{}, output in {}\n", config.name, config.source_path,
+               comm.size(), comm.size() == 1 ? "" : "s", out_dir);
+    fmt::print("--- resolved configuration ---\n{}--- end of configuration ---\n",
+               dump_case(config));
+  }
+
+  Simulation sim(build_model(config), comm, settings_from(config));
+  const Model& model = sim.model();
+  const double end_time = config.simulation.end_time;
+  const auto total_steps = static_cast<std::int64_t>(std::ceil(end_time / sim.dt() - 1e-9));
+
+  if (root) {
+    fmt::print("pre-flight: {} particles, {} bonds, {} rigid bodies, {} contact candidates\n",
+               sim.global_particles(), sim.global_bonds(), model.bodies.size(),
+               sim.interactions().n_contact_candidates());
+    fmt::print("time step {:.4g} s ({}), {} steps to {:.4g} s\n", sim.dt(),
+               config.simulation.dt ? "fixed" : fmt::format("auto, safety {}", config.simulation.dt_safety),
+               total_steps, end_time);
+    for (const auto& [name, limit] : sim.limits().named())
+      if (std::isfinite(limit))
+        fmt::print("  {:<14} limit {:.4g} s: dt is {:.3f} of it\n", name, limit, sim.dt() / limit);
+    if (sim.dt() > sim.limits().min())
+      fmt::print("WARNING: dt exceeds the smallest stability limit; the run may blow up\n");
+  } else {
+    // Collective calls above must be matched on every rank.
+    sim.global_particles();
+    sim.global_bonds();
+  }
+
+  // series.csv columns: energies, broken bonds, and the contact force on each rigid body.
+  std::vector<std::string> columns{"time_s",           "kinetic_energy_J",
+                                   "potential_energy_J", "bond_energy_J",
+                                   "contact_energy_J", "broken_bonds"};
+  for (const auto& b : model.bodies)
+    for (const char* c : {"fx_N", "fy_N", "fz_N"}) columns.push_back(b.name + "_" + c);
+  SeriesWriter series;
+  if (comm.is_root()) series = SeriesWriter(out_dir + "/series.csv", columns);
+
+  double max_kinetic = 0.0;
+  auto record = [&]() {
+    const Energies e = sim.energies();
+    const std::int64_t broken = sim.global_broken_bonds();
+    max_kinetic = std::max(max_kinetic, e.kinetic);
+    if (!comm.is_root()) return;
+    std::vector<double> row{sim.time(), e.kinetic, e.potential, e.bond_elastic, e.contact_elastic,
+                            static_cast<double>(broken)};
+    for (const auto& b : sim.model().bodies) {
+      row.push_back(b.force.x);
+      row.push_back(b.force.y);
+      row.push_back(b.force.z);
+    }
+    series.row(row);
+  };
+
+  record();
+  double next_record = config.simulation.series_interval;
+  auto last_progress = Clock::now();
+  const auto loop_start = Clock::now();
+  while (sim.steps() < total_steps) {
+    sim.step();
+    if (sim.time() + 1e-12 >= next_record || sim.steps() == total_steps) {
+      record();
+      next_record += config.simulation.series_interval;
+    }
+    const auto now = Clock::now();
+    if (root && std::chrono::duration<double>(now - last_progress).count() >=
+                    config.simulation.progress_interval) {
+      last_progress = now;
+      const double elapsed = std::chrono::duration<double>(now - loop_start).count();
+      const double rate = sim.steps() / elapsed;
+      fmt::print("step {:>10} t = {:.5f} s  {:>9.0f} steps/s  ETA {:>7}  broken bonds {}\n",
+                 sim.steps(), sim.time(), rate,
+                 format_duration((total_steps - sim.steps()) / rate),
+                 sim.model().bonds.count_broken());
+      std::fflush(stdout);
+    }
+  }
+  const double loop_seconds = std::chrono::duration<double>(Clock::now() - loop_start).count();
+  const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
+
+  const Energies e = sim.energies();
+  const std::int64_t n_particles = sim.global_particles();
+  const std::int64_t n_bonds = sim.global_bonds();
+  const std::int64_t n_broken = sim.global_broken_bonds();
+  double max_util = 0.0;
+  for (std::size_t k = 0; k < model.bonds.size(); ++k)
+    max_util = std::max(max_util, model.bonds.utilisation[k]);
+  max_util = comm.max(max_util);
+  const double particle_steps_per_s =
+      loop_seconds > 0 ? static_cast<double>(n_particles) * sim.steps() / loop_seconds : 0.0;
+
+  if (comm.is_root()) {
+    JsonObject summary;
+    summary.set("ringdem_version", kVersion)
+        .set("case", config.name)
+        .set("ranks", comm.size())
+        .set("particles", static_cast<long long>(n_particles))
+        .set("bonds", static_cast<long long>(n_bonds))
+        .set("broken_bonds", static_cast<long long>(n_broken))
+        .set("dt_s", sim.dt())
+        .set("end_time_s", sim.time())
+        .set("steps", static_cast<long long>(sim.steps()))
+        .set("neighbour_rebuilds", static_cast<long long>(sim.rebuilds()))
+        .set("wall_time_s", wall)
+        .set("particle_steps_per_s", particle_steps_per_s)
+        .set("final_kinetic_energy_J", e.kinetic)
+        .set("max_kinetic_energy_J", max_kinetic)
+        .set("final_bond_energy_J", e.bond_elastic)
+        .set("max_bond_utilisation", max_util);
+    JsonObject bodies;
+    for (const auto& b : model.bodies) {
+      JsonObject one;
+      one.set("contact_force_N", std::vector<double>{b.force.x, b.force.y, b.force.z})
+          .set("contact_torque_Nm", std::vector<double>{b.torque.x, b.torque.y, b.torque.z})
+          .set("position_m", std::vector<double>{b.position.x, b.position.y, b.position.z});
+      bodies.set(b.name, one);
+    }
+    summary.set("rigid_bodies", bodies);
+    summary.write(out_dir + "/summary.json");
+  }
+
+  if (root) {
+    fmt::print("done: {} steps in {} ({:.3g} particle-steps/s, {:.1f} ns per particle-step)\n",
+               sim.steps(), format_duration(loop_seconds), particle_steps_per_s,
+               particle_steps_per_s > 0 ? 1e9 / particle_steps_per_s * comm.size() : 0.0);
+    fmt::print("time per phase (rank 0):\n");
+    double sum = 0;
+    for (double s : sim.phase_seconds()) sum += s;
+    for (int ph = 0; ph < Simulation::kPhaseCount; ++ph)
+      fmt::print("  {:<10} {:8.2f} s  {:5.1f} %\n", Simulation::phase_name(ph),
+                 sim.phase_seconds()[ph], sum > 0 ? 100.0 * sim.phase_seconds()[ph] / sum : 0.0);
+    fmt::print("results: {}/summary.json, {}/series.csv\n", out_dir, out_dir);
+  }
+  return 0;
+}
+
+}  // namespace ringdem

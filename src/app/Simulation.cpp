@@ -1,0 +1,187 @@
+#include "app/Simulation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "physics/Integrator.hpp"
+
+namespace ringdem {
+
+namespace {
+
+class PhaseTimer {
+ public:
+  explicit PhaseTimer(double& sink) : sink_(sink), start_(std::chrono::steady_clock::now()) {}
+  ~PhaseTimer() {
+    sink_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  PhaseTimer(const PhaseTimer&) = delete;
+  PhaseTimer& operator=(const PhaseTimer&) = delete;
+
+ private:
+  double& sink_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+const char* Simulation::phase_name(int phase) {
+  static const char* names[] = {"integrate", "neighbour", "bonds", "contacts", "gather"};
+  return names[phase];
+}
+
+Simulation::Simulation(Model model, const Communicator& comm, const SimulationSettings& settings)
+    : model_(std::move(model)), comm_(comm), settings_(settings) {
+  ParticleStore& p = model_.particles;
+  p.rebuild_index();
+  p.update_rotations();
+  limits_ = stability_limits(p, model_.bonds, model_.materials);
+  limits_.rayleigh = comm_.min(limits_.rayleigh);
+  limits_.bond_axial = comm_.min(limits_.bond_axial);
+  limits_.bond_shear = comm_.min(limits_.bond_shear);
+  limits_.bond_rotation = comm_.min(limits_.bond_rotation);
+  dt_ = settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
+  if (!(dt_ > 0.0) || !std::isfinite(dt_))
+    throw std::runtime_error("cannot choose a time step: give simulation.dt explicitly");
+  rebuild();
+  compute_forces();  // forces of the initial state, for the first half kick
+}
+
+void Simulation::rebuild() {
+  ParticleStore& p = model_.particles;
+  p.rebuild_index();
+  interactions_.rebuild(p, model_.bonds, model_.bodies, settings_.skin);
+  position_at_rebuild_.assign(p.position.begin(), p.position.begin() + static_cast<std::ptrdiff_t>(p.n_local()));
+  body_position_at_rebuild_.clear();
+  body_orientation_at_rebuild_.clear();
+  for (const auto& b : model_.bodies) {
+    body_position_at_rebuild_.push_back(b.position);
+    body_orientation_at_rebuild_.push_back(b.orientation);
+  }
+  force_rebuild_ = false;
+  ++rebuilds_;
+}
+
+bool Simulation::needs_rebuild() const {
+  const ParticleStore& p = model_.particles;
+  double max2 = 0.0;
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    max2 = std::max(max2, norm2(p.position[k] - position_at_rebuild_[k]));
+  // How far any rigid surface point moved: translation plus rotation angle times extent.
+  double body_move = 0.0;
+  for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
+    const RigidBody& body = model_.bodies[b];
+    if (body.motion == RigidMotion::kFixed) continue;
+    const double angle =
+        norm(rotation_vector(body.orientation * conjugate(body_orientation_at_rebuild_[b])));
+    const double turn = angle > 0.0 ? angle * body.extent() : 0.0;
+    body_move = std::max(body_move, norm(body.position - body_position_at_rebuild_[b]) + turn);
+  }
+  const double particle_move = comm_.max(std::sqrt(max2));
+  // Two particles close by at most twice the largest move; a particle and a surface by the
+  // sum of the two.
+  return force_rebuild_ || 2.0 * particle_move > settings_.skin ||
+         particle_move + body_move > settings_.skin;
+}
+
+void Simulation::compute_forces() {
+  ParticleStore& p = model_.particles;
+  {
+    PhaseTimer t(phase_seconds_[kBonds]);
+    p.update_rotations();
+    interactions_.compute_bonds(p, model_.bonds, time_);
+  }
+  {
+    PhaseTimer t(phase_seconds_[kContacts]);
+    interactions_.compute_contacts(p, model_.bodies, model_.materials, dt_);
+  }
+  {
+    PhaseTimer t(phase_seconds_[kGather]);
+    interactions_.gather(p, settings_.gravity);
+    apply_global_damping(p);
+  }
+  if (comm_.any(interactions_.bonds_broke())) force_rebuild_ = true;
+}
+
+void Simulation::step() {
+  ParticleStore& p = model_.particles;
+  {
+    PhaseTimer t(phase_seconds_[kIntegrate]);
+    Integrator::first_half(p, dt_);
+    Integrator::first_half(model_.bodies, dt_, settings_.gravity);
+  }
+  time_ += dt_;
+  {
+    PhaseTimer t(phase_seconds_[kNeighbour]);
+    if (needs_rebuild()) rebuild();
+  }
+  compute_forces();
+  {
+    PhaseTimer t(phase_seconds_[kIntegrate]);
+    Integrator::second_half(p, dt_);
+    Integrator::second_half(model_.bodies, dt_, settings_.gravity);
+  }
+  ++steps_;
+}
+
+void Simulation::run_steps(std::int64_t n) {
+  for (std::int64_t k = 0; k < n; ++k) step();
+}
+
+std::int64_t Simulation::global_particles() const {
+  return comm_.sum(static_cast<std::int64_t>(model_.particles.n_local()));
+}
+
+std::int64_t Simulation::global_bonds() const {
+  return comm_.sum(static_cast<std::int64_t>(model_.bonds.size()));
+}
+
+std::int64_t Simulation::global_broken_bonds() const {
+  return comm_.sum(static_cast<std::int64_t>(model_.bonds.count_broken()));
+}
+
+Energies Simulation::energies() const {
+  const ParticleStore& p = model_.particles;
+  std::vector<std::int64_t> keys;
+  std::vector<double> kin, pot;
+  keys.reserve(p.n_local());
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    keys.push_back(p.gid[k]);
+    if (p.motion[k] == Motion::kFree) {
+      kin.push_back(0.5 * p.mass[k] * norm2(p.velocity[k]) +
+                    0.5 * p.inertia[k] * norm2(p.omega[k]));
+      pot.push_back(-p.mass[k] * dot(settings_.gravity, p.position[k]));
+    } else {
+      kin.push_back(0.0);
+      pot.push_back(0.0);
+    }
+  }
+  Energies e;
+  e.kinetic = comm_.sum_by_key(keys, kin);
+  e.potential = comm_.sum_by_key(keys, pot);
+  std::vector<std::int64_t> bond_keys;
+  std::vector<double> bond_energy;
+  const BondStore& bonds = model_.bonds;
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    if (bonds.index_a[k] >= p.n_local()) continue;  // counted once, by the owner of end a
+    bond_keys.push_back(bonds.gid_a[k]);
+    bond_energy.push_back(bonds.energy[k]);
+  }
+  e.bond_elastic = comm_.sum_by_key(bond_keys, bond_energy);
+  e.contact_elastic = comm_.sum_by_key({static_cast<std::int64_t>(comm_.rank())},
+                                       {interactions_.energy().contact_elastic});
+  for (const auto& b : model_.bodies) {
+    if (b.motion != RigidMotion::kFree) continue;
+    const Mat3 r = rotation_matrix(b.orientation);
+    const Vec3 wb = r.transpose_times(b.omega);
+    e.kinetic += 0.5 * b.mass * norm2(b.velocity) +
+                 0.5 * (b.principal_inertia.x * wb.x * wb.x + b.principal_inertia.y * wb.y * wb.y +
+                        b.principal_inertia.z * wb.z * wb.z);
+    if (b.gravity) e.potential += -b.mass * dot(settings_.gravity, b.position);
+  }
+  return e;
+}
+
+}  // namespace ringdem

@@ -1,0 +1,78 @@
+#include "comm/Communicator.hpp"
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+
+namespace ringdem {
+
+Communicator::Communicator(MPI_Comm comm) : comm_(comm) {
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+}
+
+double Communicator::min(double v) const {
+  double r = v;
+  MPI_Allreduce(&v, &r, 1, MPI_DOUBLE, MPI_MIN, comm_);
+  return r;
+}
+
+double Communicator::max(double v) const {
+  double r = v;
+  MPI_Allreduce(&v, &r, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  return r;
+}
+
+std::int64_t Communicator::sum(std::int64_t v) const {
+  std::int64_t r = v;
+  MPI_Allreduce(&v, &r, 1, MPI_INT64_T, MPI_SUM, comm_);
+  return r;
+}
+
+std::int64_t Communicator::min(std::int64_t v) const {
+  std::int64_t r = v;
+  MPI_Allreduce(&v, &r, 1, MPI_INT64_T, MPI_MIN, comm_);
+  return r;
+}
+
+std::int64_t Communicator::max(std::int64_t v) const {
+  std::int64_t r = v;
+  MPI_Allreduce(&v, &r, 1, MPI_INT64_T, MPI_MAX, comm_);
+  return r;
+}
+
+double Communicator::sum_by_key(const std::vector<std::int64_t>& keys,
+                                const std::vector<double>& values) const {
+  if (keys.size() != values.size()) throw std::invalid_argument("sum_by_key: size mismatch");
+  const int n = static_cast<int>(keys.size());
+  std::vector<int> counts(static_cast<std::size_t>(size_));
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+  std::vector<int> displs(counts.size(), 0);
+  std::partial_sum(counts.begin(), counts.end() - 1, displs.begin() + 1);
+  const int total = displs.back() + counts.back();
+  std::vector<std::int64_t> all_keys(static_cast<std::size_t>(total));
+  std::vector<double> all_values(static_cast<std::size_t>(total));
+  MPI_Allgatherv(keys.data(), n, MPI_INT64_T, all_keys.data(), counts.data(), displs.data(),
+                 MPI_INT64_T, comm_);
+  MPI_Allgatherv(values.data(), n, MPI_DOUBLE, all_values.data(), counts.data(), displs.data(),
+                 MPI_DOUBLE, comm_);
+  std::vector<std::size_t> order(static_cast<std::size_t>(total));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return all_keys[a] < all_keys[b] || (all_keys[a] == all_keys[b] && all_values[a] < all_values[b]);
+  });
+  double s = 0.0;
+  for (std::size_t i : order) s += all_values[i];
+  return s;
+}
+
+bool Communicator::any(bool v) const {
+  int x = v ? 1 : 0;
+  int r = 0;
+  MPI_Allreduce(&x, &r, 1, MPI_INT, MPI_LOR, comm_);
+  return r != 0;
+}
+
+void Communicator::barrier() const { MPI_Barrier(comm_); }
+
+}  // namespace ringdem

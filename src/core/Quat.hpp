@@ -1,0 +1,89 @@
+#pragma once
+
+#include <cmath>
+
+#include "core/Vec3.hpp"
+
+namespace ringdem {
+
+/// Row-major 3x3 matrix, used for rotation matrices built once per particle per step.
+struct Mat3 {
+  double m[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+
+  constexpr Vec3 operator*(const Vec3& v) const {
+    return {m[0] * v.x + m[1] * v.y + m[2] * v.z, m[3] * v.x + m[4] * v.y + m[5] * v.z,
+            m[6] * v.x + m[7] * v.y + m[8] * v.z};
+  }
+  /// Transpose times vector (the inverse rotation).
+  constexpr Vec3 transpose_times(const Vec3& v) const {
+    return {m[0] * v.x + m[3] * v.y + m[6] * v.z, m[1] * v.x + m[4] * v.y + m[7] * v.z,
+            m[2] * v.x + m[5] * v.y + m[8] * v.z};
+  }
+  constexpr Vec3 column(int j) const { return {m[j], m[3 + j], m[6 + j]}; }
+};
+
+/// Unit quaternion w + (x, y, z), rotating body-frame vectors into the world frame.
+struct Quat {
+  double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
+
+  constexpr Quat() = default;
+  constexpr Quat(double w_, double x_, double y_, double z_) : w(w_), x(x_), y(y_), z(z_) {}
+  constexpr bool operator==(const Quat&) const = default;
+
+  constexpr Vec3 vec() const { return {x, y, z}; }
+};
+
+constexpr Quat operator*(const Quat& a, const Quat& b) {
+  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
+          a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
+          a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+}
+constexpr Quat conjugate(const Quat& q) { return {q.w, -q.x, -q.y, -q.z}; }
+
+inline Quat normalized(const Quat& q) {
+  const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  return {q.w / n, q.x / n, q.y / n, q.z / n};
+}
+
+/// Rotation by the rotation vector phi (axis * angle), exact exponential map.
+inline Quat quat_from_rotation_vector(const Vec3& phi) {
+  const double angle = norm(phi);
+  if (angle < 1e-300) return {};
+  const double half = 0.5 * angle;
+  const double s = std::sin(half) / angle;
+  return {std::cos(half), phi.x * s, phi.y * s, phi.z * s};
+}
+
+inline Quat quat_from_axis_angle(const Vec3& axis, double angle) {
+  return quat_from_rotation_vector(normalized(axis) * angle);
+}
+
+/// Rotation vector of q (inverse of quat_from_rotation_vector), angle in [0, pi].
+inline Vec3 rotation_vector(const Quat& q) {
+  const Quat p = q.w < 0 ? Quat{-q.w, -q.x, -q.y, -q.z} : q;
+  const double s = norm(p.vec());
+  if (s < 1e-300) return {};
+  return p.vec() * (2.0 * std::atan2(s, p.w) / s);
+}
+
+constexpr Mat3 rotation_matrix(const Quat& q) {
+  const double xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
+  const double xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
+  const double wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
+  return Mat3{{1 - 2 * (yy + zz), 2 * (xy - wz), 2 * (xz + wy),  //
+               2 * (xy + wz), 1 - 2 * (xx + zz), 2 * (yz - wx),  //
+               2 * (xz - wy), 2 * (yz + wx), 1 - 2 * (xx + yy)}};
+}
+
+inline Vec3 rotate(const Quat& q, const Vec3& v) { return rotation_matrix(q) * v; }
+
+/// Shortest rotation taking unit vector a onto unit vector b.
+inline Quat quat_between(const Vec3& a, const Vec3& b) {
+  const double c = dot(a, b);
+  if (c < -1.0 + 1e-12) return quat_from_axis_angle(any_perpendicular(a), M_PI);
+  const Vec3 v = cross(a, b);
+  return normalized(Quat{1.0 + c, v.x, v.y, v.z});
+}
+
+}  // namespace ringdem

@@ -1,0 +1,73 @@
+#include "domain/ParticleStore.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace ringdem {
+
+void ParticleStore::resize_all(std::size_t n) {
+  for_each_field([n](const FieldInfo&, auto& v) { v.resize(n); });
+  rotation.resize(n);
+}
+
+std::size_t ParticleStore::add(const NewParticle& p) {
+  if (n_ghost_ != 0) throw std::logic_error("ParticleStore::add with ghosts present");
+  if (!(p.radius > 0.0)) throw std::invalid_argument("particle radius must be positive");
+  const std::size_t i = n_local_;
+  resize_all(i + 1);
+  n_local_ = i + 1;
+  gid[i] = p.gid;
+  position[i] = p.position;
+  velocity[i] = p.velocity;
+  omega[i] = p.omega;
+  orientation[i] = p.orientation;
+  force[i] = {};
+  torque[i] = {};
+  external_force[i] = {};
+  radius[i] = p.radius;
+  contact_radius[i] = p.contact_radius > 0.0 ? p.contact_radius : p.radius;
+  mass[i] = p.density * 4.0 / 3.0 * M_PI * p.radius * p.radius * p.radius;
+  inertia[i] = 0.4 * mass[i] * p.radius * p.radius;
+  damping[i] = p.damping;
+  material[i] = p.material;
+  body[i] = p.body;
+  group[i] = p.group;
+  motion[i] = p.motion;
+  rotation[i] = rotation_matrix(p.orientation);
+  index_[p.gid] = static_cast<std::uint32_t>(i);
+  return i;
+}
+
+void ParticleStore::resize_local(std::size_t n) {
+  n_local_ = n;
+  n_ghost_ = 0;
+  resize_all(n);
+}
+
+void ParticleStore::resize_ghosts(std::size_t n) {
+  n_ghost_ = n;
+  resize_all(n_local_ + n_ghost_);
+}
+
+void ParticleStore::permute_local(const std::vector<std::size_t>& order) {
+  if (order.size() != n_local_) throw std::invalid_argument("permute_local: wrong size");
+  for_each_field([&](const FieldInfo&, auto& v) {
+    auto old = v;
+    for (std::size_t i = 0; i < order.size(); ++i) v[i] = old[order[i]];
+  });
+  auto old_rot = rotation;
+  for (std::size_t i = 0; i < order.size(); ++i) rotation[i] = old_rot[order[i]];
+}
+
+void ParticleStore::rebuild_index() {
+  index_.clear();
+  index_.reserve(n_total());
+  for (std::size_t i = 0; i < n_total(); ++i) index_[gid[i]] = static_cast<std::uint32_t>(i);
+}
+
+void ParticleStore::update_rotations() {
+  rotation.resize(n_total());
+  for (std::size_t i = 0; i < n_total(); ++i) rotation[i] = rotation_matrix(orientation[i]);
+}
+
+}  // namespace ringdem

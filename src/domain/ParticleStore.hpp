@@ -1,0 +1,134 @@
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "core/Quat.hpp"
+#include "core/Vec3.hpp"
+
+namespace ringdem {
+
+/// How a particle's motion is determined.
+enum class Motion : std::uint8_t {
+  kFree = 0,        ///< integrated from forces
+  kFixed = 1,       ///< never moves
+  kPrescribed = 2,  ///< moves with its stored (constant) velocity and angular velocity
+};
+
+/// What the comm layer, output and checkpoints do with a particle field. Every loop over
+/// fields (resize, permutation, migration, ghost exchange, HDF5, checkpoints) reads these.
+namespace field_flag {
+inline constexpr unsigned kMigrate = 1u << 0;     ///< travels with an owned particle to a new rank
+inline constexpr unsigned kGhostOnce = 1u << 1;   ///< sent when a ghost is created
+inline constexpr unsigned kGhostStep = 1u << 2;   ///< refreshed on ghosts every step
+inline constexpr unsigned kOutput = 1u << 3;      ///< written to frame files
+inline constexpr unsigned kCheckpoint = 1u << 4;  ///< part of the restart state
+}  // namespace field_flag
+
+struct FieldInfo {
+  std::string_view name;
+  unsigned flags;
+  bool has(unsigned f) const { return (flags & f) != 0; }
+};
+
+/// Structure-of-arrays particle store: owned particles at [0, n_local), ghosts at
+/// [n_local, n_local + n_ghost). for_each_field() is the single field registry.
+class ParticleStore {
+ public:
+  // --- fields (declared here, registered in for_each_field) ---
+  std::vector<std::int64_t> gid;
+  std::vector<Vec3> position;
+  std::vector<Vec3> velocity;
+  std::vector<Vec3> omega;  ///< angular velocity, world frame
+  std::vector<Quat> orientation;
+  std::vector<Vec3> force;
+  std::vector<Vec3> torque;
+  std::vector<Vec3> external_force;  ///< applied load (point loads, tests), constant in time
+  std::vector<double> radius;
+  std::vector<double> contact_radius;  ///< EDEM-style bond-detection radius (generators)
+  std::vector<double> mass;
+  std::vector<double> inertia;  ///< isotropic moment of inertia (2/5 m r^2 for a sphere)
+  std::vector<double> damping;  ///< Cundall global damping coefficient of this particle
+  std::vector<std::int32_t> material;
+  std::vector<std::int32_t> body;   ///< ring / clump id, -1 for none
+  std::vector<std::int32_t> group;  ///< particle group (case-file name table)
+  std::vector<Motion> motion;
+
+  /// The field registry: calls f(FieldInfo, std::vector<T>&) for every field.
+  template <class F>
+  void for_each_field(F&& f) {
+    using namespace field_flag;
+    constexpr unsigned kState = kMigrate | kCheckpoint;
+    f(FieldInfo{"gid", kState | kGhostOnce | kOutput}, gid);
+    f(FieldInfo{"position", kState | kGhostStep | kOutput}, position);
+    f(FieldInfo{"velocity", kState | kGhostStep | kOutput}, velocity);
+    f(FieldInfo{"omega", kState | kGhostStep | kOutput}, omega);
+    f(FieldInfo{"orientation", kState | kGhostStep}, orientation);
+    f(FieldInfo{"force", kState}, force);
+    f(FieldInfo{"torque", kState}, torque);
+    f(FieldInfo{"external_force", kState}, external_force);
+    f(FieldInfo{"radius", kState | kGhostOnce | kOutput}, radius);
+    f(FieldInfo{"contact_radius", kState | kGhostOnce}, contact_radius);
+    f(FieldInfo{"mass", kState | kGhostOnce}, mass);
+    f(FieldInfo{"inertia", kState | kGhostOnce}, inertia);
+    f(FieldInfo{"damping", kState}, damping);
+    f(FieldInfo{"material", kState | kGhostOnce}, material);
+    f(FieldInfo{"body", kState | kGhostOnce | kOutput}, body);
+    f(FieldInfo{"group", kState | kGhostOnce | kOutput}, group);
+    f(FieldInfo{"motion", kState | kGhostOnce}, motion);
+  }
+
+  std::size_t n_local() const { return n_local_; }
+  std::size_t n_ghost() const { return n_ghost_; }
+  std::size_t n_total() const { return n_local_ + n_ghost_; }
+
+  /// Everything needed to create one particle; derived quantities are filled in by add().
+  struct NewParticle {
+    std::int64_t gid = -1;
+    Vec3 position;
+    Vec3 velocity;
+    Vec3 omega;
+    Quat orientation;
+    double radius = 0.0;
+    double contact_radius = 0.0;  ///< 0 means: same as radius
+    double density = 0.0;
+    double damping = 0.0;
+    std::int32_t material = 0;
+    std::int32_t body = -1;
+    std::int32_t group = 0;
+    Motion motion = Motion::kFree;
+  };
+
+  /// Appends an owned particle (only while there are no ghosts). Returns its index.
+  std::size_t add(const NewParticle& p);
+
+  /// Resizes the owned range; drops all ghosts.
+  void resize_local(std::size_t n);
+  /// Sets the ghost count, resizing every field to n_local + n_ghost.
+  void resize_ghosts(std::size_t n);
+  /// Reorders the owned particles: new index i takes old index order[i].
+  void permute_local(const std::vector<std::size_t>& order);
+
+  /// Rebuilds the gid -> index map over owned and ghost particles.
+  void rebuild_index();
+  /// Index of gid, or -1 when this rank holds no such particle.
+  std::int64_t index_of(std::int64_t gid_value) const {
+    const auto it = index_.find(gid_value);
+    return it == index_.end() ? -1 : static_cast<std::int64_t>(it->second);
+  }
+
+  /// Rotation matrices of all particles, refreshed from the orientations each step.
+  std::vector<Mat3> rotation;
+  void update_rotations();
+
+ private:
+  void resize_all(std::size_t n);
+
+  std::size_t n_local_ = 0;
+  std::size_t n_ghost_ = 0;
+  std::unordered_map<std::int64_t, std::uint32_t> index_;
+};
+
+}  // namespace ringdem

@@ -1,0 +1,60 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/Quat.hpp"
+#include "core/Vec3.hpp"
+
+namespace ringdem {
+
+enum class RigidShape : std::uint8_t { kPlane, kCylinder, kSphere };
+enum class RigidMotion : std::uint8_t { kFixed, kPrescribed, kFree };
+
+/// A large rigid body in contact with particles (plane, finite capped cylinder, sphere).
+/// Rigid bodies are few and replicated on every rank; they are not in the particle grid.
+struct RigidBody {
+  std::string name;
+  RigidShape shape = RigidShape::kPlane;
+  RigidMotion motion = RigidMotion::kFixed;
+  std::int32_t material = 0;
+
+  // Geometry in the body frame: plane normal and cylinder axis are the body z axis.
+  double radius = 0.0;       ///< cylinder, sphere
+  double half_length = 0.0;  ///< cylinder
+
+  // State.
+  Vec3 position;  ///< centre (point on the plane)
+  Quat orientation;
+  Vec3 velocity;
+  Vec3 omega;
+  double mass = 0.0;           ///< free bodies
+  Vec3 principal_inertia;      ///< free bodies, body frame
+  bool gravity = true;
+
+  // Contact load of the current step (about position), and its accumulated impulse.
+  Vec3 force;
+  Vec3 torque;
+
+  /// Effective contact radius for Hertz (infinite for plane and cylinder: physics.md §3).
+  double contact_radius() const;
+  /// Whether the body has finite mass in contacts.
+  bool has_finite_mass() const { return motion == RigidMotion::kFree; }
+
+  /// Signed distance from point p to the surface and the outward unit normal there.
+  struct SurfacePoint {
+    double distance;  ///< > 0 outside
+    Vec3 normal;      ///< outward
+    Vec3 point;       ///< closest surface point
+  };
+  SurfacePoint closest(const Vec3& p) const;
+
+  /// Velocity of the body's material point at x.
+  Vec3 velocity_at(const Vec3& x) const { return velocity + cross(omega, x - position); }
+
+  /// Largest distance from position of any surface point that a particle can touch
+  /// (infinite for a plane); used to bound how far the surface moved.
+  double extent() const;
+};
+
+}  // namespace ringdem

@@ -1,0 +1,144 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/Vec3.hpp"
+
+namespace ringdem {
+
+/// The validated contents of a case file (SI units). CaseLoader fills it; nothing here is
+/// read from YAML directly by the solver. Every field has the default a user gets when the
+/// key is left out. docs/case-file.md documents every key.
+
+struct MaterialConfig {
+  std::string name;
+  double density = 7800.0;
+  double youngs_modulus = 200e9;
+  double poisson_ratio = 0.3;
+  double restitution = 0.5;
+  double friction = 1.0;
+  double rolling_friction = 0.0;
+};
+
+/// Pair-specific contact coefficients; pairs not listed use the mean of the two materials.
+struct InteractionConfig {
+  std::string material_a, material_b;
+  std::optional<double> restitution, friction, rolling_friction;
+};
+
+struct BondConfig {
+  std::string name;
+  std::string model = "timoshenko";
+  double youngs_modulus = 120e9;
+  double poisson_ratio = 0.3;
+  double radius_multiplier = 0.8;
+  double tensile_strength = 16e9;
+  double compressive_strength = 16e9;
+  double shear_strength = 10e9;
+  double strength_cov = 0.0;
+  std::uint64_t seed = 1;
+};
+
+enum class MotionKind { kFree, kFixed, kPrescribed };
+
+/// A ring of bonded spheres on a circle (centreline radius = internal_diameter/2 + particle
+/// radius), bonds between consecutive particles only.
+struct RingConfig {
+  std::string group = "rings";
+  Vec3 centre;
+  Vec3 normal{0, 1, 0};  ///< ring axis
+  Vec3 reference{1, 0, 0};  ///< direction of the first particle from the centre
+  double internal_diameter = 0.3;
+  int n_particles = 100;
+  double particle_radius = 0.0045;
+  double contact_radius = 0.008;
+  std::string material = "steel";
+  std::string bond = "ring";
+  MotionKind motion = MotionKind::kFree;
+  Vec3 velocity;
+};
+
+/// Free spheres on a regular lattice (debris, packing tests).
+struct LatticeConfig {
+  std::string group = "spheres";
+  Vec3 origin;
+  std::array<int, 3> count{1, 1, 1};
+  double spacing = 0.01;
+  double particle_radius = 0.0045;
+  std::string material = "steel";
+  Vec3 velocity;
+  double jitter = 0.0;  ///< random offset as a fraction of the gap, seeded
+  std::uint64_t seed = 1;
+};
+
+/// One explicitly listed sphere.
+struct SphereConfig {
+  std::string group = "spheres";
+  Vec3 position;
+  Vec3 velocity;
+  Vec3 omega;
+  double radius = 0.0045;
+  std::string material = "steel";
+  MotionKind motion = MotionKind::kFree;
+};
+
+enum class ShapeKind { kPlane, kCylinder, kSphere };
+
+struct RigidBodyConfig {
+  std::string name;
+  ShapeKind shape = ShapeKind::kPlane;
+  Vec3 position;           ///< plane: a point on it; cylinder, sphere: centre
+  Vec3 normal{0, 0, 1};    ///< plane normal (pointing to the side particles are on)
+  Vec3 axis{0, 0, 1};      ///< cylinder axis
+  double radius = 0.0;     ///< cylinder, sphere
+  double length = 0.0;     ///< cylinder length (finite, capped)
+  std::string material = "steel";
+  MotionKind motion = MotionKind::kFixed;
+  Vec3 velocity;           ///< prescribed velocity or initial velocity of a free body
+  Vec3 omega;
+  std::optional<double> mass;     ///< free body: mass (else from the material density)
+  bool gravity = true;     ///< free body feels gravity
+};
+
+struct DampingGroupConfig {
+  std::string group;
+  double coefficient = 0.0;
+};
+
+struct DampingConfig {
+  double global = 0.0;  ///< Cundall coefficient for every particle group not listed below
+  std::vector<DampingGroupConfig> groups;
+};
+
+struct SimulationConfig {
+  std::optional<double> dt;    ///< fixed time step; empty: auto
+  double dt_safety = 0.3;      ///< dt = safety * min(stability limits) when automatic
+  double end_time = 1.0;
+  Vec3 gravity{0, 0, -9.81};
+  double skin = 0.001;         ///< Verlet skin of the neighbour lists
+  double progress_interval = 2.0;  ///< wall seconds between progress lines
+  double series_interval = 1e-3;   ///< simulated seconds between series.csv rows
+  std::string contact_model = "hertz_mindlin";
+};
+
+struct CaseConfig {
+  int schema_version = 1;
+  std::string name;
+  std::string description;
+  SimulationConfig simulation;
+  std::vector<MaterialConfig> materials;
+  std::vector<InteractionConfig> interactions;
+  std::vector<BondConfig> bonds;
+  DampingConfig damping;
+  std::vector<RingConfig> rings;
+  std::vector<LatticeConfig> lattices;
+  std::vector<SphereConfig> spheres;
+  std::vector<RigidBodyConfig> rigid_bodies;
+  std::string source_path;  ///< the file it came from, for messages
+};
+
+}  // namespace ringdem

@@ -1,0 +1,29 @@
+#pragma once
+
+#include <vector>
+
+#include "domain/ParticleStore.hpp"
+#include "domain/RigidBody.hpp"
+
+namespace ringdem {
+
+/// Velocity Verlet for translation and rotation (physics.md §4). Spheres have isotropic
+/// inertia, so the world-frame angular velocity is integrated directly and the orientation
+/// follows by the exact exponential map q <- exp(omega dt) q.
+struct Integrator {
+  /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles.
+  static void first_half(ParticleStore& p, double dt);
+  /// v += F/m dt/2, omega += T/I dt/2, owned free particles.
+  static void second_half(ParticleStore& p, double dt);
+
+  /// Rigid bodies: prescribed ones move with their velocity; free ones are integrated from
+  /// their contact load plus gravity.
+  static void first_half(std::vector<RigidBody>& bodies, double dt, const Vec3& gravity);
+  static void second_half(std::vector<RigidBody>& bodies, double dt, const Vec3& gravity);
+};
+
+/// Cundall's non-viscous global damping, per particle and component (physics.md §4):
+/// F_i <- F_i - alpha |F_i| sign(v_i), T_i <- T_i - alpha |T_i| sign(omega_i).
+void apply_global_damping(ParticleStore& p);
+
+}  // namespace ringdem

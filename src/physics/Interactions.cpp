@@ -1,0 +1,298 @@
+#include "physics/Interactions.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <unordered_map>
+
+#include "physics/HertzMindlin.hpp"
+
+namespace ringdem {
+
+namespace {
+
+struct PairKey {
+  std::int64_t a, b;
+  bool operator==(const PairKey&) const = default;
+};
+struct PairKeyHash {
+  std::size_t operator()(const PairKey& k) const {
+    const auto x = static_cast<std::uint64_t>(k.a) * 0x9e3779b97f4a7c15ull;
+    return static_cast<std::size_t>(x ^ (static_cast<std::uint64_t>(k.b) + 0x7f4a7c159e3779b9ull +
+                                         (x << 6) + (x >> 2)));
+  }
+};
+
+// Rigid bodies sort after every particle partner in the gather order.
+constexpr std::int64_t kBodyKeyBase = std::int64_t{1} << 62;
+
+inline double effective_mass(double m_a, Motion motion_a, double m_b, Motion motion_b) {
+  const bool inf_a = motion_a != Motion::kFree;
+  const bool inf_b = motion_b != Motion::kFree;
+  if (inf_a && inf_b) return 0.5 * (m_a + m_b);  // two driven particles: damping irrelevant
+  if (inf_a) return m_b;
+  if (inf_b) return m_a;
+  return m_a * m_b / (m_a + m_b);
+}
+
+}  // namespace
+
+void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
+                           const std::vector<RigidBody>& bodies, double skin) {
+  const std::size_t n_total = p.n_total();
+  const std::size_t n_local = p.n_local();
+
+  // Bond ends and the exclusion lists (intact bonds only: a broken pair may touch).
+  std::vector<std::uint32_t> count(n_total + 1, 0);
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    const std::int64_t ia = p.index_of(bonds.gid_a[k]);
+    const std::int64_t ib = p.index_of(bonds.gid_b[k]);
+    if (ia < 0 || ib < 0)
+      throw std::runtime_error("bond " + std::to_string(bonds.gid_a[k]) + "-" +
+                               std::to_string(bonds.gid_b[k]) + " has an end this rank lacks");
+    bonds.index_a[k] = static_cast<std::uint32_t>(ia);
+    bonds.index_b[k] = static_cast<std::uint32_t>(ib);
+    if (!bonds.broken[k]) {
+      ++count[ia + 1];
+      ++count[ib + 1];
+    }
+  }
+  exclusions_.offset.assign(n_total + 1, 0);
+  for (std::size_t k = 0; k < n_total; ++k) exclusions_.offset[k + 1] = exclusions_.offset[k] + count[k + 1];
+  exclusions_.partner_gid.assign(exclusions_.offset[n_total], 0);
+  {
+    std::vector<std::uint32_t> fill(exclusions_.offset.begin(), exclusions_.offset.end() - 1);
+    for (std::size_t k = 0; k < bonds.size(); ++k) {
+      if (bonds.broken[k]) continue;
+      exclusions_.partner_gid[fill[bonds.index_a[k]]++] = bonds.gid_b[k];
+      exclusions_.partner_gid[fill[bonds.index_b[k]]++] = bonds.gid_a[k];
+    }
+  }
+
+  // Particle pairs, carrying the tangential springs over by gid pair.
+  std::unordered_map<PairKey, Vec3, PairKeyHash> old_springs;
+  for (std::size_t m = 0; m < pairs_.size(); ++m)
+    if (norm2(pair_spring_[m]) > 0.0) old_springs.emplace(PairKey{pair_gid_a_[m], pair_gid_b_[m]}, pair_spring_[m]);
+  search_.build(p, skin, exclusions_, pairs_);
+  pair_spring_.assign(pairs_.size(), Vec3{});
+  pair_gid_a_.resize(pairs_.size());
+  pair_gid_b_.resize(pairs_.size());
+  for (std::size_t m = 0; m < pairs_.size(); ++m) {
+    pair_gid_a_[m] = p.gid[pairs_.i[m]];
+    pair_gid_b_[m] = p.gid[pairs_.j[m]];
+    const auto it = old_springs.find(PairKey{pair_gid_a_[m], pair_gid_b_[m]});
+    if (it != old_springs.end()) pair_spring_[m] = it->second;
+  }
+
+  // Particle–rigid-body candidates (owned particles only), same for their springs.
+  std::unordered_map<PairKey, Vec3, PairKeyHash> old_wall_springs;
+  for (std::size_t w = 0; w < wall_particle_.size(); ++w)
+    if (norm2(wall_spring_[w]) > 0.0)
+      old_wall_springs.emplace(PairKey{wall_gid_[w], wall_body_[w]}, wall_spring_[w]);
+  wall_particle_.clear();
+  wall_body_.clear();
+  wall_gid_.clear();
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    for (std::size_t k = 0; k < n_local; ++k)
+      if (bodies[b].closest(p.position[k]).distance < p.radius[k] + skin) {
+        wall_particle_.push_back(static_cast<std::uint32_t>(k));
+        wall_body_.push_back(static_cast<std::uint32_t>(b));
+        wall_gid_.push_back(p.gid[k]);
+      }
+  wall_spring_.assign(wall_particle_.size(), Vec3{});
+  for (std::size_t w = 0; w < wall_particle_.size(); ++w) {
+    const auto it = old_wall_springs.find(PairKey{wall_gid_[w], wall_body_[w]});
+    if (it != old_wall_springs.end()) wall_spring_[w] = it->second;
+  }
+
+  // Slots: bonds [0, 2 nb), pairs [2 nb, 2 nb + 2 np), walls after.
+  const std::size_t nb = bonds.size();
+  const std::size_t np = pairs_.size();
+  const std::size_t nw = wall_particle_.size();
+  slot_force_.assign(2 * nb + 2 * np + nw, Vec3{});
+  slot_torque_.assign(slot_force_.size(), Vec3{});
+
+  // Gather map: for each owned particle, its slots ordered by (partner key, kind).
+  struct Entry {
+    std::uint32_t particle;
+    std::int64_t key;
+    std::uint32_t kind;
+    std::uint32_t slot;
+  };
+  std::vector<Entry> entries;
+  entries.reserve(slot_force_.size());
+  auto add = [&](std::uint32_t particle, std::int64_t key, std::uint32_t kind, std::size_t slot) {
+    if (particle < n_local) entries.push_back({particle, key, kind, static_cast<std::uint32_t>(slot)});
+  };
+  for (std::size_t k = 0; k < nb; ++k) {
+    add(bonds.index_a[k], bonds.gid_b[k], 0, 2 * k);
+    add(bonds.index_b[k], bonds.gid_a[k], 0, 2 * k + 1);
+  }
+  for (std::size_t m = 0; m < np; ++m) {
+    add(pairs_.i[m], p.gid[pairs_.j[m]], 1, 2 * nb + 2 * m);
+    add(pairs_.j[m], p.gid[pairs_.i[m]], 1, 2 * nb + 2 * m + 1);
+  }
+  for (std::size_t w = 0; w < nw; ++w)
+    add(wall_particle_[w], kBodyKeyBase + wall_body_[w], 2, 2 * nb + 2 * np + w);
+  std::sort(entries.begin(), entries.end(), [](const Entry& x, const Entry& y) {
+    return std::tie(x.particle, x.key, x.kind) < std::tie(y.particle, y.key, y.kind);
+  });
+  gather_offset_.assign(n_local + 1, 0);
+  gather_slot_.resize(entries.size());
+  for (std::size_t e = 0; e < entries.size(); ++e) {
+    ++gather_offset_[entries[e].particle + 1];
+    gather_slot_[e] = entries[e].slot;
+  }
+  for (std::size_t k = 0; k < n_local; ++k) gather_offset_[k + 1] += gather_offset_[k];
+}
+
+void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, double time) {
+  bonds_broke_ = false;
+  energy_.bond_elastic = 0.0;
+  const std::size_t nb = bonds.size();
+
+  // Bonds (physics.md §1).
+  for (std::size_t k = 0; k < nb; ++k) {
+    Vec3* f = &slot_force_[2 * k];
+    Vec3* t = &slot_torque_[2 * k];
+    if (bonds.broken[k]) {
+      f[0] = f[1] = t[0] = t[1] = Vec3{};
+      continue;
+    }
+    const std::uint32_t a = bonds.index_a[k];
+    const std::uint32_t b = bonds.index_b[k];
+    const auto r = BondTimoshenko::compute(bonds.section[k], bonds.reference[k], p.position[a],
+                                           p.rotation[a], p.position[b], p.rotation[b]);
+    const auto st = BondTimoshenko::stresses(bonds.section[k], r);
+    const auto fail = BondTimoshenko::check_failure(st, bonds.strength[k]);
+    if (fail != BondTimoshenko::Failure::kNone) {
+      bonds.broken[k] = 1;
+      bonds.failure[k] = fail;
+      bonds.break_time[k] = time;
+      bonds.axial_force[k] = bonds.bending_moment[k] = bonds.energy[k] = 0.0;
+      bonds.utilisation[k] = 0.0;
+      f[0] = f[1] = t[0] = t[1] = Vec3{};
+      bonds_broke_ = true;
+      continue;
+    }
+    f[0] = r.force_a;
+    f[1] = r.force_b;
+    t[0] = r.torque_a;
+    t[1] = r.torque_b;
+    bonds.axial_force[k] = r.axial_force;
+    bonds.bending_moment[k] = std::max(r.bending_a, r.bending_b);
+    bonds.utilisation[k] = BondTimoshenko::utilisation(st, bonds.strength[k]);
+    bonds.energy[k] = r.energy;
+    energy_.bond_elastic += r.energy;
+  }
+
+}
+
+void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBody>& bodies,
+                                    const MaterialTable& materials, double dt) {
+  energy_.contact_elastic = 0.0;
+  n_active_ = 0;
+  // Particle contacts (physics.md §3).
+  const std::size_t base = slot_force_.size() - 2 * pairs_.size() - wall_particle_.size();
+  for (std::size_t m = 0; m < pairs_.size(); ++m) {
+    const std::uint32_t a = pairs_.i[m];
+    const std::uint32_t b = pairs_.j[m];
+    Vec3& fa = slot_force_[base + 2 * m];
+    Vec3& fb = slot_force_[base + 2 * m + 1];
+    Vec3& ta = slot_torque_[base + 2 * m];
+    Vec3& tb = slot_torque_[base + 2 * m + 1];
+    const Vec3 d = p.position[b] - p.position[a];
+    const double reach = p.radius[a] + p.radius[b];
+    const double dist2 = norm2(d);
+    if (dist2 >= reach * reach) {
+      pair_spring_[m] = {};
+      fa = fb = ta = tb = Vec3{};
+      continue;
+    }
+    ++n_active_;
+    const double dist = std::sqrt(dist2);
+    const Vec3 n = d / dist;
+    const double overlap = reach - dist;
+    const double arm_a = p.radius[a] - 0.5 * overlap;
+    const double arm_b = p.radius[b] - 0.5 * overlap;
+    HertzMindlin::Input in;
+    in.normal = n;
+    in.overlap = overlap;
+    in.r_star = p.radius[a] * p.radius[b] / reach;
+    in.m_star = effective_mass(p.mass[a], p.motion[a], p.mass[b], p.motion[b]);
+    in.v_rel = (p.velocity[b] + cross(p.omega[b], n * (-arm_b))) -
+               (p.velocity[a] + cross(p.omega[a], n * arm_a));
+    in.dt = dt;
+    in.arm_i = arm_a;
+    in.arm_j = arm_b;
+    in.omega_i = p.omega[a];
+    in.omega_j = p.omega[b];
+    const auto r = HertzMindlin::compute(materials.pair(p.material[a], p.material[b]), in,
+                                         pair_spring_[m]);
+    fa = r.force_i;
+    fb = -r.force_i;
+    ta = cross(n * arm_a, r.force_i) + r.rolling_torque_i;
+    tb = cross(n * (-arm_b), fb) + r.rolling_torque_j;
+    energy_.contact_elastic += r.elastic_energy;
+  }
+
+  // Particle–rigid-body contacts; the body load is summed in (body, particle gid) order.
+  for (auto& body : bodies) {
+    body.force = {};
+    body.torque = {};
+  }
+  const std::size_t wbase = base + 2 * pairs_.size();
+  for (std::size_t w = 0; w < wall_particle_.size(); ++w) {
+    const std::uint32_t k = wall_particle_[w];
+    RigidBody& body = bodies[wall_body_[w]];
+    Vec3& fk = slot_force_[wbase + w];
+    Vec3& tk = slot_torque_[wbase + w];
+    const auto sp = body.closest(p.position[k]);
+    const double overlap = p.radius[k] - sp.distance;
+    if (overlap <= 0.0) {
+      wall_spring_[w] = {};
+      fk = tk = Vec3{};
+      continue;
+    }
+    ++n_active_;
+    const Vec3 n = -sp.normal;  // from the particle to the body
+    const double arm = p.radius[k] - 0.5 * overlap;
+    const Vec3 contact = p.position[k] + n * arm;
+    const double r_body = body.contact_radius();
+    HertzMindlin::Input in;
+    in.normal = n;
+    in.overlap = overlap;
+    in.r_star = std::isinf(r_body) ? p.radius[k] : p.radius[k] * r_body / (p.radius[k] + r_body);
+    in.m_star = body.has_finite_mass() ? p.mass[k] * body.mass / (p.mass[k] + body.mass) : p.mass[k];
+    in.v_rel = body.velocity_at(contact) - (p.velocity[k] + cross(p.omega[k], n * arm));
+    in.dt = dt;
+    in.arm_i = arm;
+    in.arm_j = 0.0;
+    in.omega_i = p.omega[k];
+    in.omega_j = body.omega;
+    const auto r = HertzMindlin::compute(materials.pair(p.material[k], body.material), in,
+                                         wall_spring_[w]);
+    fk = r.force_i;
+    tk = cross(n * arm, r.force_i) + r.rolling_torque_i;
+    body.force -= r.force_i;
+    body.torque += cross(contact - body.position, -r.force_i);
+    energy_.contact_elastic += r.elastic_energy;
+  }
+}
+
+void Interactions::gather(ParticleStore& p, const Vec3& gravity) const {
+  const std::size_t n_local = p.n_local();
+  for (std::size_t k = 0; k < n_local; ++k) {
+    Vec3 f = gravity * p.mass[k] + p.external_force[k];
+    Vec3 t;
+    for (std::uint32_t e = gather_offset_[k]; e < gather_offset_[k + 1]; ++e) {
+      f += slot_force_[gather_slot_[e]];
+      t += slot_torque_[gather_slot_[e]];
+    }
+    p.force[k] = f;
+    p.torque[k] = t;
+  }
+}
+
+}  // namespace ringdem

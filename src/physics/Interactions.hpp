@@ -1,0 +1,67 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "domain/BondStore.hpp"
+#include "domain/NeighbourSearch.hpp"
+#include "domain/ParticleStore.hpp"
+#include "domain/RigidBody.hpp"
+#include "physics/MaterialTable.hpp"
+
+namespace ringdem {
+
+/// Elastic energies of the current step (dissipation is tallied by the caller).
+struct InteractionEnergy {
+  double bond_elastic = 0.0;
+  double contact_elastic = 0.0;
+};
+
+/// Every force between particles and between particles and rigid bodies: bonds, particle
+/// contacts, particle–rigid-body contacts. Each interaction writes its contribution to its
+/// own slots; gather() then sums, for every owned particle, the slots in partner-gid order,
+/// so the sum is the same whatever the storage order or the rank count.
+class Interactions {
+ public:
+  /// Neighbour lists, rigid-body candidates, bond ends and the gather map. Contact history is
+  /// carried over by gid pair. Needs the particle index to be current.
+  void rebuild(const ParticleStore& p, BondStore& bonds, const std::vector<RigidBody>& bodies,
+               double skin);
+
+  /// Evaluates every bond for the current positions and orientations (rotation matrices
+  /// must be up to date). Bonds that fail are marked broken with their time.
+  void compute_bonds(const ParticleStore& p, BondStore& bonds, double time);
+  /// Evaluates particle–particle and particle–rigid-body contacts; sets the rigid bodies'
+  /// contact force and torque of this step.
+  void compute_contacts(const ParticleStore& p, std::vector<RigidBody>& bodies,
+                        const MaterialTable& materials, double dt);
+
+  /// force = gravity * mass + external force + sum of the slots, torque = sum of the slots (owned particles).
+  void gather(ParticleStore& p, const Vec3& gravity) const;
+
+  /// Set when a bond broke during the last compute(): its pair may now touch.
+  bool bonds_broke() const { return bonds_broke_; }
+  std::size_t n_contact_candidates() const { return pairs_.size(); }
+  std::size_t n_wall_candidates() const { return wall_particle_.size(); }
+  std::size_t n_active_contacts() const { return n_active_; }
+  const InteractionEnergy& energy() const { return energy_; }
+
+ private:
+  NeighbourSearch search_;
+  PairExclusions exclusions_;
+  PairCandidates pairs_;
+  std::vector<Vec3> pair_spring_;
+  std::vector<std::int64_t> pair_gid_a_, pair_gid_b_;  ///< gids of pairs_ (history keys)
+  std::vector<std::uint32_t> wall_particle_, wall_body_;
+  std::vector<std::int64_t> wall_gid_;
+  std::vector<Vec3> wall_spring_;
+
+  std::vector<Vec3> slot_force_, slot_torque_;
+  std::vector<std::uint32_t> gather_offset_, gather_slot_;
+
+  bool bonds_broke_ = false;
+  std::size_t n_active_ = 0;
+  InteractionEnergy energy_;
+};
+
+}  // namespace ringdem

@@ -1,0 +1,45 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "physics/HertzMindlin.hpp"
+
+namespace ringdem {
+
+struct Material {
+  std::string name;
+  double density = 7800.0;
+  double youngs_modulus = 200e9;
+  double poisson_ratio = 0.3;
+  double restitution = 0.5;
+  double friction = 1.0;
+  double rolling_friction = 0.0;
+
+  double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
+};
+
+/// Materials and the precomputed contact parameters of every material pair.
+class MaterialTable {
+ public:
+  struct PairOverride {
+    int a = 0, b = 0;
+    double restitution = -1.0, friction = -1.0, rolling_friction = -1.0;  ///< < 0: not set
+  };
+
+  MaterialTable() = default;
+  MaterialTable(std::vector<Material> materials, const std::vector<PairOverride>& overrides);
+
+  std::size_t size() const { return materials_.size(); }
+  const Material& operator[](std::size_t k) const { return materials_[k]; }
+  const HertzMindlin::Params& pair(int a, int b) const {
+    return pair_[static_cast<std::size_t>(a) * materials_.size() + static_cast<std::size_t>(b)];
+  }
+  int find(const std::string& name) const;
+
+ private:
+  std::vector<Material> materials_;
+  std::vector<HertzMindlin::Params> pair_;
+};
+
+}  // namespace ringdem

@@ -1,0 +1,45 @@
+#include "physics/TimeStep.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ringdem {
+
+double StabilityLimits::min() const {
+  return std::min({rayleigh, bond_axial, bond_shear, bond_rotation});
+}
+
+std::vector<std::pair<std::string, double>> StabilityLimits::named() const {
+  return {{"Rayleigh", rayleigh},
+          {"bond axial", bond_axial},
+          {"bond shear", bond_shear},
+          {"bond rotation", bond_rotation}};
+}
+
+StabilityLimits stability_limits(const ParticleStore& p, const BondStore& bonds,
+                                 const MaterialTable& materials) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  StabilityLimits s{inf, inf, inf, inf};
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    const Material& m = materials[static_cast<std::size_t>(p.material[k])];
+    const double t = M_PI * p.radius[k] * std::sqrt(m.density / m.shear_modulus()) /
+                     (0.1631 * m.poisson_ratio + 0.8766);
+    s.rayleigh = std::min(s.rayleigh, t);
+  }
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    const std::int64_t a = p.index_of(bonds.gid_a[k]);
+    const std::int64_t b = p.index_of(bonds.gid_b[k]);
+    if (a < 0 || b < 0) continue;
+    const double mass = std::min(p.mass[a], p.mass[b]);
+    const double inertia = std::min(p.inertia[a], p.inertia[b]);
+    const auto& sec = bonds.section[k];
+    s.bond_axial = std::min(s.bond_axial, std::sqrt(mass / sec.k_axial));
+    s.bond_shear = std::min(s.bond_shear, std::sqrt(mass / sec.k_shear));
+    s.bond_rotation = std::min(
+        s.bond_rotation, std::sqrt(inertia / std::max(sec.k_bend_self, sec.k_torsion)));
+  }
+  return s;
+}
+
+}  // namespace ringdem

@@ -1,0 +1,135 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <utility>
+
+#include "domain/NeighbourSearch.hpp"
+
+namespace ringdem {
+namespace {
+
+std::set<std::pair<std::int64_t, std::int64_t>> as_gid_set(const ParticleStore& p,
+                                                           const PairCandidates& c) {
+  std::set<std::pair<std::int64_t, std::int64_t>> s;
+  for (std::size_t m = 0; m < c.size(); ++m) s.emplace(p.gid[c.i[m]], p.gid[c.j[m]]);
+  return s;
+}
+
+ParticleStore random_cloud(int n, double box, double r_min, double r_max, unsigned seed) {
+  ParticleStore p;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> pos(0.0, box), rad(r_min, r_max);
+  // gids shuffled so that index order and gid order differ.
+  std::vector<std::int64_t> gids(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) gids[static_cast<std::size_t>(k)] = 1000 + 7 * k;
+  std::shuffle(gids.begin(), gids.end(), rng);
+  for (int k = 0; k < n; ++k) {
+    ParticleStore::NewParticle np;
+    np.gid = gids[static_cast<std::size_t>(k)];
+    np.position = {pos(rng), pos(rng), pos(rng)};
+    np.radius = rad(rng);
+    np.density = 1000.0;
+    p.add(np);
+  }
+  p.rebuild_index();
+  return p;
+}
+
+// The cell grid must find exactly the pairs of the O(N^2) search, each once, lower gid first.
+TEST(NeighbourSearch, EqualsBruteForceForPolydisperseCloud) {
+  const ParticleStore p = random_cloud(2000, 0.2, 0.002, 0.006, 42);
+  PairExclusions none;
+  NeighbourSearch search;
+  PairCandidates cells;
+  const double skin = 0.001;
+  search.build(p, skin, none, cells);
+  const PairCandidates brute = brute_force_pairs(p, skin, none);
+  ASSERT_GT(brute.size(), 100u) << "the cloud must be dense enough to test anything";
+  EXPECT_EQ(cells.size(), brute.size());  // no duplicates
+  EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
+  for (std::size_t m = 0; m < cells.size(); ++m) EXPECT_LT(p.gid[cells.i[m]], p.gid[cells.j[m]]);
+}
+
+// Ghosts: pairs of two ghosts are never candidates; owned–ghost pairs are.
+TEST(NeighbourSearch, SkipsGhostGhostPairs) {
+  ParticleStore p = random_cloud(600, 0.08, 0.003, 0.003, 7);
+  p.resize_local(400);  // drop 200, then re-add them as ghosts
+  ParticleStore full = random_cloud(600, 0.08, 0.003, 0.003, 7);
+  p.resize_ghosts(200);
+  p.for_each_field([&](const FieldInfo& info, auto& v) {
+    full.for_each_field([&](const FieldInfo& other, auto& w) {
+      if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::decay_t<decltype(w)>>)
+        if (info.name == other.name)
+          for (std::size_t k = 400; k < 600; ++k) v[k] = w[k];
+    });
+  });
+  p.rebuild_index();
+  PairExclusions none;
+  NeighbourSearch search;
+  PairCandidates cells;
+  search.build(p, 0.0005, none, cells);
+  const PairCandidates brute = brute_force_pairs(p, 0.0005, none);
+  EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
+  std::size_t owned_ghost = 0;
+  for (std::size_t m = 0; m < cells.size(); ++m) {
+    EXPECT_FALSE(cells.i[m] >= 400 && cells.j[m] >= 400);
+    owned_ghost += (cells.i[m] >= 400 || cells.j[m] >= 400);
+  }
+  EXPECT_GT(owned_ghost, 0u);
+}
+
+// Excluded (bonded) pairs are left out; nothing else is.
+TEST(NeighbourSearch, ExcludesBondedPairs) {
+  const ParticleStore p = random_cloud(500, 0.05, 0.003, 0.003, 3);
+  NeighbourSearch search;
+  PairCandidates all;
+  search.build(p, 0.001, PairExclusions{}, all);
+  ASSERT_GT(all.size(), 10u);
+  // Exclude the first 10 pairs found.
+  std::vector<std::vector<std::int64_t>> partners(p.n_total());
+  for (std::size_t m = 0; m < 10; ++m) {
+    partners[all.i[m]].push_back(p.gid[all.j[m]]);
+    partners[all.j[m]].push_back(p.gid[all.i[m]]);
+  }
+  PairExclusions ex;
+  ex.offset.push_back(0);
+  for (const auto& list : partners) {
+    for (auto g : list) ex.partner_gid.push_back(g);
+    ex.offset.push_back(static_cast<std::uint32_t>(ex.partner_gid.size()));
+  }
+  PairCandidates some;
+  search.build(p, 0.001, ex, some);
+  EXPECT_EQ(some.size(), all.size() - 10);
+}
+
+// A 0.4 m sphere is a rigid body, not a particle: a single very large particle would make
+// every cell huge. Here: particles far apart (sparse domain) cost nothing extra.
+TEST(NeighbourSearch, SparseDomainUsesHashedCells) {
+  ParticleStore p;
+  for (int k = 0; k < 4; ++k) {
+    ParticleStore::NewParticle np;
+    np.gid = k;
+    np.position = {k * 100.0, 0.0, (k % 2) * 0.0085};
+    np.radius = 0.0045;
+    np.density = 7800;
+    p.add(np);
+  }
+  ParticleStore::NewParticle np;
+  np.gid = 4;
+  np.position = {0.0085, 0.0, 0.0};
+  np.radius = 0.0045;
+  np.density = 7800;
+  p.add(np);
+  p.rebuild_index();
+  NeighbourSearch search;
+  PairCandidates c;
+  search.build(p, 0.0, PairExclusions{}, c);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_EQ(p.gid[c.i[0]], 0);
+  EXPECT_EQ(p.gid[c.j[0]], 4);
+}
+
+}  // namespace
+}  // namespace ringdem

@@ -1,0 +1,226 @@
+// Whole-step checks of the serial core against analytic results (validation.md §1).
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <cmath>
+#include <random>
+
+#include "TestCases.hpp"
+#include "app/ModelBuilder.hpp"
+#include "app/Simulation.hpp"
+
+namespace ringdem {
+namespace {
+
+Communicator self_comm() { return Communicator(MPI_COMM_SELF); }
+
+SimulationSettings settings(double dt, double skin = 0.001, Vec3 gravity = {}) {
+  SimulationSettings s;
+  s.dt = dt;
+  s.skin = skin;
+  s.gravity = gravity;
+  return s;
+}
+
+// A 100-particle ring pulled by two opposite small point loads P stretches along the load
+// line by (pi/4 - 2/pi) P R^3 / EI (thin ring, bending only; physics.md §5). Axial and shear
+// compliance add about (r_b / R)^2 ~ 1e-3 relative; the polygon of 100 bonds O(1/n^2).
+// Tolerance 3 % (the issue's).
+TEST(RingUnderPointLoads, ElongationMatchesThinRingTheory) {
+  CaseConfig c = testing::base_case();
+  c.bonds[0].youngs_modulus = 200e9;
+  c.bonds[0].radius_multiplier = 0.8;
+  c.damping.global = 0.7;  // quasi-static relaxation; Cundall damping does not shift statics
+  c.rings.push_back(testing::paper_ring());
+  Model model = build_model(c);
+  ParticleStore& p = model.particles;
+  const double radius = c.rings[0].internal_diameter / 2 + c.rings[0].particle_radius;
+  const double r_b = 0.8 * 0.0045;
+  const double ei = 200e9 * M_PI * std::pow(r_b, 4) / 4.0;
+  const double expected_per_load = (M_PI / 4.0 - 2.0 / M_PI) * std::pow(radius, 3) / ei;
+  const double load = 1e-3 * radius / expected_per_load;  // elongation of 0.1 % of R
+  // Particle 0 sits at +x, particle 50 at -x (reference direction x).
+  p.external_force[0] = {load, 0, 0};
+  p.external_force[50] = {-load, 0, 0};
+  const double l0 = norm(p.position[0] - p.position[50]);
+
+  const Communicator comm = self_comm();
+  Simulation sim(std::move(model), comm, settings(0.0));
+  sim.run_steps(150000);
+  const ParticleStore& q = sim.model().particles;
+  const double elongation = norm(q.position[0] - q.position[50]) - l0;
+  EXPECT_NEAR(elongation / (load * expected_per_load), 1.0, 0.03);
+  // The perpendicular diameter shortens by (2/pi - 1/2) P R^3 / EI.
+  const double l_perp0 = 2 * radius * std::cos(M_PI / 100 * 0);  // particles 25 and 75
+  const double shortening = l_perp0 - norm(q.position[25] - q.position[75]);
+  EXPECT_NEAR(shortening / ((2.0 / M_PI - 0.5) * std::pow(radius, 3) / ei * load), 1.0, 0.03);
+}
+
+CaseConfig undamped_chain_case() {
+  CaseConfig c = testing::base_case();
+  // A ring is a closed chain; keep it free, undamped, with random initial velocities.
+  c.rings.push_back(testing::paper_ring());
+  c.rings[0].n_particles = 40;
+  c.rings[0].internal_diameter = 0.115;
+  return c;
+}
+
+void randomise_velocities(ParticleStore& p, unsigned seed, double v_scale, double w_scale) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    p.velocity[k] = Vec3{n(rng), n(rng), n(rng)} * v_scale;
+    p.omega[k] = Vec3{n(rng), n(rng), n(rng)} * w_scale;
+  }
+}
+
+// Velocity Verlet with conservative bond forces: the total energy oscillates at O(dt^2)
+// without drift. Bound: 1 % of the initial (kinetic) energy over 1e5 steps at a quarter of
+// the stability limit.
+TEST(UndampedChain, EnergyDriftBounded) {
+  Model model = build_model(undamped_chain_case());
+  randomise_velocities(model.particles, 11, 0.01, 2.0);
+  const Communicator comm = self_comm();
+  SimulationSettings s = settings(0.0);
+  s.dt_safety = 0.25;
+  Simulation sim(std::move(model), comm, s);
+  const double e0 = sim.energies().total();
+  ASSERT_GT(e0, 0.0);
+  double worst = 0.0;
+  for (int block = 0; block < 100; ++block) {
+    sim.run_steps(1000);
+    worst = std::max(worst, std::abs(sim.energies().total() - e0) / e0);
+  }
+  EXPECT_LT(worst, 0.01) << "largest relative energy error over 1e5 steps";
+  // And the bonds really were loaded: elastic energy is a sizeable share.
+  EXPECT_GT(sim.energies().bond_elastic, 0.05 * e0);
+}
+
+// Reversing all velocities retraces the trajectory: after N steps forward and N back the
+// state returns to the start up to round-off (1e-9 of the displacement scale).
+TEST(UndampedChain, TimeReversible) {
+  Model model = build_model(undamped_chain_case());
+  randomise_velocities(model.particles, 5, 0.01, 2.0);
+  const std::vector<Vec3> x0 = model.particles.position;
+  const std::vector<Quat> q0 = model.particles.orientation;
+  const Communicator comm = self_comm();
+  Simulation sim(std::move(model), comm, settings(0.0));
+  const int n = 20000;
+  sim.run_steps(n);
+  ParticleStore& p = sim.model().particles;
+  double moved = 0.0;
+  for (std::size_t k = 0; k < p.n_local(); ++k) moved = std::max(moved, norm(p.position[k] - x0[k]));
+  ASSERT_GT(moved, 1e-4);
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    p.velocity[k] = -p.velocity[k];
+    p.omega[k] = -p.omega[k];
+  }
+  sim.run_steps(n);
+  double err_x = 0.0, err_q = 0.0;
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    err_x = std::max(err_x, norm(p.position[k] - x0[k]));
+    const Quat d = p.orientation[k] * conjugate(q0[k]);
+    err_q = std::max(err_q, norm(rotation_vector(d)));
+  }
+  EXPECT_LT(err_x, 1e-9 * moved + 1e-13);
+  EXPECT_LT(err_q, 1e-8);
+}
+
+// Head-on collision of two free spheres through the whole step loop: restitution = input e
+// within 2 % (validation.md §1), and momentum conserved to round-off.
+TEST(Collision, RestitutionThroughTheStepLoop) {
+  for (double e : {0.2, 0.5, 0.9}) {
+    CaseConfig c = testing::base_case();
+    c.materials[0].restitution = e;
+    SphereConfig a, b;
+    a.position = {0, 0, 0};
+    a.velocity = {0.5, 0, 0};
+    b.position = {0.0095, 0, 0};
+    b.velocity = {-0.5, 0, 0};
+    c.spheres = {a, b};
+    const Communicator comm = self_comm();
+    Simulation sim(build_model(c), comm, settings(1e-8, 0.0005));
+    sim.run_steps(4000);  // contact lasts ~ 20 us; 40 us covers approach and separation
+    const ParticleStore& p = sim.model().particles;
+    const double v_rel_after = p.velocity[1].x - p.velocity[0].x;
+    EXPECT_NEAR(v_rel_after / 1.0, e, 0.02 * e) << "e = " << e;
+    EXPECT_NEAR(p.velocity[0].x + p.velocity[1].x, 0.0, 1e-12);
+  }
+}
+
+// A sphere resting on a fixed plane under gravity: the plane carries exactly its weight
+// once at rest (balance of forces, 1e-6 relative after damping has removed the bounce).
+TEST(RigidBodies, PlaneCarriesWeightOfRestingSphere) {
+  CaseConfig c = testing::base_case();
+  c.simulation.gravity = {0, 0, -9.81};
+  c.damping.global = 0.3;
+  SphereConfig s;
+  s.position = {0, 0, 0.0045};
+  c.spheres = {s};
+  RigidBodyConfig floor;
+  floor.name = "floor";
+  floor.shape = ShapeKind::kPlane;
+  c.rigid_bodies = {floor};
+  const Communicator comm = self_comm();
+  Simulation sim(build_model(c), comm, settings(0.0));
+  sim.run_steps(100000);
+  const double weight = sim.model().particles.mass[0] * 9.81;
+  EXPECT_NEAR(sim.model().bodies[0].force.z / -weight, 1.0, 1e-6);
+  EXPECT_NEAR(sim.model().bodies[0].force.x, 0.0, 1e-9 * weight);
+}
+
+// A free rigid sphere (boulder) under gravity alone follows z = z0 - g t^2 / 2 exactly
+// (velocity Verlet integrates constant acceleration without error).
+TEST(RigidBodies, FreeBodyFallsBallistically) {
+  CaseConfig c = testing::base_case();
+  c.simulation.gravity = {0, 0, -9.81};
+  RigidBodyConfig boulder;
+  boulder.name = "boulder";
+  boulder.shape = ShapeKind::kSphere;
+  boulder.radius = 0.4;
+  boulder.position = {0, 0, 3.0};
+  boulder.motion = MotionKind::kFree;
+  boulder.mass = 825.0;
+  c.rigid_bodies = {boulder};
+  SphereConfig far_away;  // one particle so that the time step has a scale
+  far_away.position = {10, 0, 0};
+  far_away.motion = MotionKind::kFixed;
+  c.spheres = {far_away};
+  const Communicator comm = self_comm();
+  Simulation sim(build_model(c), comm, settings(1e-4));
+  sim.run_steps(5000);
+  const double t = sim.time();
+  EXPECT_NEAR(sim.model().bodies[0].position.z, 3.0 - 0.5 * 9.81 * t * t, 1e-9);
+  EXPECT_NEAR(sim.model().bodies[0].velocity.z, -9.81 * t, 1e-9);
+}
+
+// A particle pushed against a fixed cylinder (a pin): contact normal is radial and the pin
+// carries the load; the contact history survives neighbour rebuilds.
+TEST(RigidBodies, PinCarriesRingWeight) {
+  CaseConfig c = testing::base_case();
+  c.simulation.gravity = {0, 0, -9.81};
+  c.damping.global = 0.5;
+  c.bonds[0].youngs_modulus = 292e9;
+  c.bonds[0].radius_multiplier = 0.43;
+  c.rings.push_back(testing::paper_ring());
+  RigidBodyConfig pin;
+  pin.name = "pin";
+  pin.shape = ShapeKind::kCylinder;
+  pin.axis = {0, 1, 0};
+  pin.radius = 0.01;
+  pin.length = 0.1;
+  pin.position = {0, 0, 0.15 - 0.0101};  // 0.1 mm below the ring's inner surface
+  c.rigid_bodies = {pin};
+  const Communicator comm = self_comm();
+  Simulation sim(build_model(c), comm, settings(0.0));
+  sim.run_steps(200000);
+  double weight = 0.0;
+  for (double m : sim.model().particles.mass) weight += m * 9.81;
+  const Vec3 f = sim.model().bodies[0].force;
+  EXPECT_NEAR(f.z / -weight, 1.0, 1e-3);
+  EXPECT_NEAR(f.x / weight, 0.0, 1e-3);
+  EXPECT_NEAR(f.y / weight, 0.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace ringdem
