@@ -50,7 +50,9 @@ double damping_of(const CaseConfig& c, const std::string& group) {
 }
 
 /// Rotation taking the body z axis onto the unit vector n.
-Quat orientation_for_axis(const Vec3& n) { return quat_between({0, 0, 1}, normalized(n)); }
+Quat orientation_for_axis(const Vec3& n) {
+  return quat_between({0, 0, 1}, normalized(n));
+}
 
 }  // namespace
 
@@ -62,8 +64,9 @@ void add_bond(Model& model, std::size_t index_a, std::size_t index_b, int bond_t
   const auto& params = model.bond_types[static_cast<std::size_t>(bond_type)];
   const double length0 = norm(p.position[b] - p.position[a]);
   const auto section = BondTimoshenko::Section::make(params, p.radius[a], p.radius[b], length0);
-  const auto ref = BondTimoshenko::Reference::make(p.position[a], rotation_matrix(p.orientation[a]),
-                                                   p.position[b], rotation_matrix(p.orientation[b]));
+  const auto ref =
+      BondTimoshenko::Reference::make(p.position[a], rotation_matrix(p.orientation[a]),
+                                      p.position[b], rotation_matrix(p.orientation[b]));
   const auto strength = BondTimoshenko::draw_strength(params, seed, p.gid[a], p.gid[b]);
   model.bonds.add(p.gid[a], p.gid[b], bond_type, section, ref, strength);
 }
@@ -118,7 +121,8 @@ Model build_model(const CaseConfig& c) {
     g.n_particles = ring.n_particles;
     const int group = ensure_group(model, ring.group);
     const int mat = material_index(model.materials, ring.material);
-    const auto bt_it = std::find(model.bond_type_names.begin(), model.bond_type_names.end(), ring.bond);
+    const auto bt_it =
+        std::find(model.bond_type_names.begin(), model.bond_type_names.end(), ring.bond);
     if (bt_it == model.bond_type_names.end())
       throw std::invalid_argument("unknown bond '" + ring.bond + "'");
     const int bond_type = static_cast<int>(bt_it - model.bond_type_names.begin());
@@ -157,8 +161,7 @@ Model build_model(const CaseConfig& c) {
           ParticleStore::NewParticle np;
           np.gid = next_gid++;
           np.position = lat.origin + Vec3{i * lat.spacing, j * lat.spacing, k * lat.spacing};
-          if (lat.jitter > 0.0)
-            np.position += Vec3{u(rng), u(rng), u(rng)} * (lat.jitter * gap);
+          if (lat.jitter > 0.0) np.position += Vec3{u(rng), u(rng), u(rng)} * (lat.jitter * gap);
           np.velocity = lat.velocity;
           np.radius = lat.particle_radius;
           np.density = model.materials[static_cast<std::size_t>(mat)].density;

@@ -26,15 +26,6 @@ std::string format_duration(double s) {
   return fmt::format("{}s", total);
 }
 
-SimulationSettings settings_from(const CaseConfig& c) {
-  SimulationSettings s;
-  s.dt = c.simulation.dt.value_or(0.0);
-  s.dt_safety = c.simulation.dt_safety;
-  s.skin = c.simulation.skin;
-  s.gravity = c.simulation.gravity;
-  return s;
-}
-
 }  // namespace
 
 int run_case(const CaseConfig& config, const RunOptions& options, const Communicator& comm) {
@@ -52,7 +43,7 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
                dump_case(config));
   }
 
-  Simulation sim(build_model(config), comm, settings_from(config));
+  Simulation sim(build_model(config), comm, settings_from_case(config));
   const Model& model = sim.model();
   const double end_time = config.simulation.end_time;
   const auto total_steps = static_cast<std::int64_t>(std::ceil(end_time / sim.dt() - 1e-9));
@@ -62,7 +53,8 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
                sim.global_particles(), sim.global_bonds(), model.bodies.size(),
                sim.interactions().n_contact_candidates());
     fmt::print("time step {:.4g} s ({}), {} steps to {:.4g} s\n", sim.dt(),
-               config.simulation.dt ? "fixed" : fmt::format("auto, safety {}", config.simulation.dt_safety),
+               config.simulation.dt ? "fixed"
+                                    : fmt::format("auto, safety {}", config.simulation.dt_safety),
                total_steps, end_time);
     for (const auto& [name, limit] : sim.limits().named())
       if (std::isfinite(limit))
@@ -76,11 +68,11 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
   }
 
   // series.csv columns: energies, broken bonds, and the contact force on each rigid body.
-  std::vector<std::string> columns{"time_s",           "kinetic_energy_J",
-                                   "potential_energy_J", "bond_energy_J",
-                                   "contact_energy_J", "broken_bonds"};
+  std::vector<std::string> columns{"time_s",        "kinetic_energy_J", "potential_energy_J",
+                                   "bond_energy_J", "contact_energy_J", "broken_bonds"};
   for (const auto& b : model.bodies)
-    for (const char* c : {"fx_N", "fy_N", "fz_N"}) columns.push_back(b.name + "_" + c);
+    for (const char* c : {"fx_N", "fy_N", "fz_N"})
+      columns.push_back(b.name + "_" + c);
   SeriesWriter series;
   if (comm.is_root()) series = SeriesWriter(out_dir + "/series.csv", columns);
 
@@ -90,8 +82,8 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
     const std::int64_t broken = sim.global_broken_bonds();
     max_kinetic = std::max(max_kinetic, e.kinetic);
     if (!comm.is_root()) return;
-    std::vector<double> row{sim.time(), e.kinetic, e.potential, e.bond_elastic, e.contact_elastic,
-                            static_cast<double>(broken)};
+    std::vector<double> row{sim.time(),     e.kinetic,         e.potential,
+                            e.bond_elastic, e.contact_elastic, static_cast<double>(broken)};
     for (const auto& b : sim.model().bodies) {
       row.push_back(b.force.x);
       row.push_back(b.force.y);
@@ -117,8 +109,7 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
       const double elapsed = std::chrono::duration<double>(now - loop_start).count();
       const double rate = sim.steps() / elapsed;
       fmt::print("step {:>10} t = {:.5f} s  {:>9.0f} steps/s  ETA {:>7}  broken bonds {}\n",
-                 sim.steps(), sim.time(), rate,
-                 format_duration((total_steps - sim.steps()) / rate),
+                 sim.steps(), sim.time(), rate, format_duration((total_steps - sim.steps()) / rate),
                  sim.model().bonds.count_broken());
       std::fflush(stdout);
     }
@@ -173,7 +164,8 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
                particle_steps_per_s > 0 ? 1e9 / particle_steps_per_s * comm.size() : 0.0);
     fmt::print("time per phase (rank 0):\n");
     double sum = 0;
-    for (double s : sim.phase_seconds()) sum += s;
+    for (double s : sim.phase_seconds())
+      sum += s;
     for (int ph = 0; ph < Simulation::kPhaseCount; ++ph)
       fmt::print("  {:<10} {:8.2f} s  {:5.1f} %\n", Simulation::phase_name(ph),
                  sim.phase_seconds()[ph], sum > 0 ? 100.0 * sim.phase_seconds()[ph] / sum : 0.0);

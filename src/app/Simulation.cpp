@@ -27,6 +27,15 @@ class PhaseTimer {
 
 }  // namespace
 
+SimulationSettings settings_from_case(const CaseConfig& c) {
+  SimulationSettings s;
+  s.dt = c.simulation.dt.value_or(0.0);
+  s.dt_safety = c.simulation.dt_safety;
+  s.skin = c.simulation.skin;
+  s.gravity = c.simulation.gravity;
+  return s;
+}
+
 const char* Simulation::phase_name(int phase) {
   static const char* names[] = {"integrate", "neighbour", "bonds", "contacts", "gather"};
   return names[phase];
@@ -53,7 +62,8 @@ void Simulation::rebuild() {
   ParticleStore& p = model_.particles;
   p.rebuild_index();
   interactions_.rebuild(p, model_.bonds, model_.bodies, settings_.skin);
-  position_at_rebuild_.assign(p.position.begin(), p.position.begin() + static_cast<std::ptrdiff_t>(p.n_local()));
+  position_at_rebuild_.assign(p.position.begin(),
+                              p.position.begin() + static_cast<std::ptrdiff_t>(p.n_local()));
   body_position_at_rebuild_.clear();
   body_orientation_at_rebuild_.clear();
   for (const auto& b : model_.bodies) {
@@ -127,7 +137,8 @@ void Simulation::step() {
 }
 
 void Simulation::run_steps(std::int64_t n) {
-  for (std::int64_t k = 0; k < n; ++k) step();
+  for (std::int64_t k = 0; k < n; ++k)
+    step();
 }
 
 std::int64_t Simulation::global_particles() const {

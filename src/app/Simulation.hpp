@@ -5,6 +5,7 @@
 
 #include "app/ModelBuilder.hpp"
 #include "comm/Communicator.hpp"
+#include "io/CaseConfig.hpp"
 #include "physics/Interactions.hpp"
 #include "physics/TimeStep.hpp"
 
@@ -16,6 +17,9 @@ struct SimulationSettings {
   double skin = 0.001;
   Vec3 gravity{0, 0, -9.81};
 };
+
+/// The settings a case file asks for.
+SimulationSettings settings_from_case(const CaseConfig& config);
 
 /// Global energies (summed over ranks in gid order).
 struct Energies {

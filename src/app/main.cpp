@@ -1,9 +1,9 @@
 #include <mpi.h>
 
+#include <fmt/format.h>
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
-#include <fmt/format.h>
 #include <iostream>
 
 #include "app/RunCommand.hpp"

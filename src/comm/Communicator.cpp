@@ -59,10 +59,12 @@ double Communicator::sum_by_key(const std::vector<std::int64_t>& keys,
   std::vector<std::size_t> order(static_cast<std::size_t>(total));
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return all_keys[a] < all_keys[b] || (all_keys[a] == all_keys[b] && all_values[a] < all_values[b]);
+    return all_keys[a] < all_keys[b] ||
+           (all_keys[a] == all_keys[b] && all_values[a] < all_values[b]);
   });
   double s = 0.0;
-  for (std::size_t i : order) s += all_values[i];
+  for (std::size_t i : order)
+    s += all_values[i];
   return s;
 }
 
@@ -73,6 +75,8 @@ bool Communicator::any(bool v) const {
   return r != 0;
 }
 
-void Communicator::barrier() const { MPI_Barrier(comm_); }
+void Communicator::barrier() const {
+  MPI_Barrier(comm_);
+}
 
 }  // namespace ringdem

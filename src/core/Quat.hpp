@@ -34,12 +34,13 @@ struct Quat {
 };
 
 constexpr Quat operator*(const Quat& a, const Quat& b) {
-  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
-          a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
-          a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+  return {
+      a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+      a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
 }
-constexpr Quat conjugate(const Quat& q) { return {q.w, -q.x, -q.y, -q.z}; }
+constexpr Quat conjugate(const Quat& q) {
+  return {q.w, -q.x, -q.y, -q.z};
+}
 
 inline Quat normalized(const Quat& q) {
   const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
@@ -76,7 +77,9 @@ constexpr Mat3 rotation_matrix(const Quat& q) {
                2 * (xz - wy), 2 * (yz + wx), 1 - 2 * (xx + yy)}};
 }
 
-inline Vec3 rotate(const Quat& q, const Vec3& v) { return rotation_matrix(q) * v; }
+inline Vec3 rotate(const Quat& q, const Vec3& v) {
+  return rotation_matrix(q) * v;
+}
 
 /// Shortest rotation taking unit vector a onto unit vector b.
 inline Quat quat_between(const Vec3& a, const Vec3& b) {

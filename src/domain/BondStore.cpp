@@ -28,7 +28,8 @@ void BondStore::add(std::int64_t gid_first, std::int64_t gid_second, std::int32_
 
 std::size_t BondStore::count_broken() const {
   std::size_t n = 0;
-  for (auto b : broken) n += b;
+  for (auto b : broken)
+    n += b;
   return n;
 }
 

@@ -55,7 +55,8 @@ void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclu
   cells_.reserve(n);
   for (std::uint32_t s = 0; s < n;) {
     std::uint32_t e = s + 1;
-    while (e < n && keyed_[e].first == keyed_[s].first) ++e;
+    while (e < n && keyed_[e].first == keyed_[s].first)
+      ++e;
     cells_.emplace(keyed_[s].first, std::make_pair(s, e));
     s = e;
   }

@@ -53,21 +53,25 @@ void ParticleStore::permute_local(const std::vector<std::size_t>& order) {
   if (order.size() != n_local_) throw std::invalid_argument("permute_local: wrong size");
   for_each_field([&](const FieldInfo&, auto& v) {
     auto old = v;
-    for (std::size_t i = 0; i < order.size(); ++i) v[i] = old[order[i]];
+    for (std::size_t i = 0; i < order.size(); ++i)
+      v[i] = old[order[i]];
   });
   auto old_rot = rotation;
-  for (std::size_t i = 0; i < order.size(); ++i) rotation[i] = old_rot[order[i]];
+  for (std::size_t i = 0; i < order.size(); ++i)
+    rotation[i] = old_rot[order[i]];
 }
 
 void ParticleStore::rebuild_index() {
   index_.clear();
   index_.reserve(n_total());
-  for (std::size_t i = 0; i < n_total(); ++i) index_[gid[i]] = static_cast<std::uint32_t>(i);
+  for (std::size_t i = 0; i < n_total(); ++i)
+    index_[gid[i]] = static_cast<std::uint32_t>(i);
 }
 
 void ParticleStore::update_rotations() {
   rotation.resize(n_total());
-  for (std::size_t i = 0; i < n_total(); ++i) rotation[i] = rotation_matrix(orientation[i]);
+  for (std::size_t i = 0; i < n_total(); ++i)
+    rotation[i] = rotation_matrix(orientation[i]);
 }
 
 }  // namespace ringdem

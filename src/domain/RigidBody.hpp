@@ -28,8 +28,8 @@ struct RigidBody {
   Quat orientation;
   Vec3 velocity;
   Vec3 omega;
-  double mass = 0.0;           ///< free bodies
-  Vec3 principal_inertia;      ///< free bodies, body frame
+  double mass = 0.0;       ///< free bodies
+  Vec3 principal_inertia;  ///< free bodies, body frame
   bool gravity = true;
 
   // Contact load of the current step (about position), and its accumulated impulse.

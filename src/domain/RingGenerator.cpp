@@ -27,7 +27,8 @@ std::vector<Vec3> RingGeometry::positions() const {
 std::vector<std::pair<int, int>> RingGeometry::bonded_pairs() const {
   std::vector<std::pair<int, int>> out;
   out.reserve(static_cast<std::size_t>(n_particles));
-  for (int k = 0; k < n_particles; ++k) out.emplace_back(k, (k + 1) % n_particles);
+  for (int k = 0; k < n_particles; ++k)
+    out.emplace_back(k, (k + 1) % n_particles);
   return out;
 }
 

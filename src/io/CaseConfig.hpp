@@ -50,7 +50,7 @@ enum class MotionKind { kFree, kFixed, kPrescribed };
 struct RingConfig {
   std::string group = "rings";
   Vec3 centre;
-  Vec3 normal{0, 1, 0};  ///< ring axis
+  Vec3 normal{0, 1, 0};     ///< ring axis
   Vec3 reference{1, 0, 0};  ///< direction of the first particle from the centre
   double internal_diameter = 0.3;
   int n_particles = 100;
@@ -91,17 +91,17 @@ enum class ShapeKind { kPlane, kCylinder, kSphere };
 struct RigidBodyConfig {
   std::string name;
   ShapeKind shape = ShapeKind::kPlane;
-  Vec3 position;           ///< plane: a point on it; cylinder, sphere: centre
-  Vec3 normal{0, 0, 1};    ///< plane normal (pointing to the side particles are on)
-  Vec3 axis{0, 0, 1};      ///< cylinder axis
-  double radius = 0.0;     ///< cylinder, sphere
-  double length = 0.0;     ///< cylinder length (finite, capped)
+  Vec3 position;         ///< plane: a point on it; cylinder, sphere: centre
+  Vec3 normal{0, 0, 1};  ///< plane normal (pointing to the side particles are on)
+  Vec3 axis{0, 0, 1};    ///< cylinder axis
+  double radius = 0.0;   ///< cylinder, sphere
+  double length = 0.0;   ///< cylinder length (finite, capped)
   std::string material = "steel";
   MotionKind motion = MotionKind::kFixed;
-  Vec3 velocity;           ///< prescribed velocity or initial velocity of a free body
+  Vec3 velocity;  ///< prescribed velocity or initial velocity of a free body
   Vec3 omega;
-  std::optional<double> mass;     ///< free body: mass (else from the material density)
-  bool gravity = true;     ///< free body feels gravity
+  std::optional<double> mass;  ///< free body: mass (else from the material density)
+  bool gravity = true;         ///< free body feels gravity
 };
 
 struct DampingGroupConfig {
@@ -115,11 +115,11 @@ struct DampingConfig {
 };
 
 struct SimulationConfig {
-  std::optional<double> dt;    ///< fixed time step; empty: auto
-  double dt_safety = 0.3;      ///< dt = safety * min(stability limits) when automatic
+  std::optional<double> dt;  ///< fixed time step; empty: auto
+  double dt_safety = 0.3;    ///< dt = safety * min(stability limits) when automatic
   double end_time = 1.0;
   Vec3 gravity{0, 0, -9.81};
-  double skin = 0.001;         ///< Verlet skin of the neighbour lists
+  double skin = 0.001;             ///< Verlet skin of the neighbour lists
   double progress_interval = 2.0;  ///< wall seconds between progress lines
   double series_interval = 1e-3;   ///< simulated seconds between series.csv rows
   std::string contact_model = "hertz_mindlin";

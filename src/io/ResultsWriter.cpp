@@ -58,7 +58,8 @@ JsonObject& JsonObject::set(const std::string& key, bool v) {
   return *this;
 }
 JsonObject& JsonObject::set(const std::string& key, const JsonObject& v) {
-  items_.emplace_back(key, fmt::format("\x01{}", v.str(0)));  // marker: nested object, re-indented in str()
+  items_.emplace_back(
+      key, fmt::format("\x01{}", v.str(0)));  // marker: nested object, re-indented in str()
   return *this;
 }
 JsonObject& JsonObject::set(const std::string& key, const std::vector<double>& v) {
@@ -105,7 +106,8 @@ void JsonObject::write(const std::string& path) const {
 SeriesWriter::SeriesWriter(const std::string& path, const std::vector<std::string>& columns)
     : out_(path), n_columns_(columns.size()) {
   if (!out_) throw std::runtime_error("cannot write " + path);
-  for (std::size_t i = 0; i < columns.size(); ++i) out_ << (i ? "," : "") << columns[i];
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    out_ << (i ? "," : "") << columns[i];
   out_ << "\n";
 }
 

@@ -7,7 +7,7 @@
 namespace ringdem {
 
 BondTimoshenko::Section BondTimoshenko::Section::make(const Params& p, double radius_a,
-                                                     double radius_b, double length0) {
+                                                      double radius_b, double length0) {
   Section s;
   s.r_b = p.radius_multiplier * std::min(radius_a, radius_b);  // Eq. 11
   s.area = M_PI * s.r_b * s.r_b;
@@ -56,8 +56,8 @@ inline Vec3 relative_rotation(const Vec3& cx, const Vec3& cy, const Vec3& cz, co
 }  // namespace
 
 BondTimoshenko::Result BondTimoshenko::compute(const Section& s, const Reference& ref,
-                                               const Vec3& x_a, const Mat3& rot_a,
-                                               const Vec3& x_b, const Mat3& rot_b) {
+                                               const Vec3& x_a, const Mat3& rot_a, const Vec3& x_b,
+                                               const Mat3& rot_b) {
   // Current end frames.
   const Vec3 ax = rot_a * ref.axis_a;
   const Vec3 ay = rot_a * ref.perp_a;
@@ -106,8 +106,8 @@ BondTimoshenko::Result BondTimoshenko::compute(const Section& s, const Reference
   r.bending_a = std::sqrt(my_a * my_a + mz_a * mz_a);
   r.bending_b = std::sqrt(my_b * my_b + mz_b * mz_b);
   // 1/2 q^T K q = 1/2 (F . u) summed over the DOFs.
-  r.energy = 0.5 * (fx_b * du + mx_b * (tbx - tax) + my_a * tay + mz_a * taz + my_b * tby +
-                    mz_b * tbz);
+  r.energy =
+      0.5 * (fx_b * du + mx_b * (tbx - tax) + my_a * tay + mz_a * taz + my_b * tby + mz_b * tbz);
   return r;
 }
 
@@ -116,8 +116,8 @@ BondTimoshenko::Stresses BondTimoshenko::stresses(const Section& s, const Result
   const double axial = r.axial_force / s.area;
   const double bend = s.r_b / s.inertia;
   const double m_max = std::max(r.bending_a, r.bending_b);
-  st.tensile = axial + bend * m_max;          // Eq. 4
-  st.compressive = -(axial - bend * m_max);   // Eq. 3
+  st.tensile = axial + bend * m_max;         // Eq. 4
+  st.compressive = -(axial - bend * m_max);  // Eq. 3
   // Eq. 5: torque over J = 2I, plus 4/3 of the mean shear stress of a circular section.
   st.shear = std::abs(r.torsion) * s.r_b / (2.0 * s.inertia) + 4.0 * r.shear_force / (3.0 * s.area);
   return st;

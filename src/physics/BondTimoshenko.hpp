@@ -27,10 +27,10 @@ struct BondTimoshenko {
 
   /// Section and stiffness coefficients of one bond, fixed at creation.
   struct Section {
-    double r_b = 0.0;     ///< bond radius lambda * min(r_a, r_b)
-    double area = 0.0;    ///< A = pi r_b^2
-    double inertia = 0.0; ///< I = pi r_b^4 / 4, J = 2I
-    double length0 = 0.0; ///< reference length L0
+    double r_b = 0.0;           ///< bond radius lambda * min(r_a, r_b)
+    double area = 0.0;          ///< A = pi r_b^2
+    double inertia = 0.0;       ///< I = pi r_b^4 / 4, J = 2I
+    double length0 = 0.0;       ///< reference length L0
     double k_axial = 0.0;       ///< E A / L
     double k_torsion = 0.0;     ///< G J / L
     double k_shear = 0.0;       ///< 12 c / L^3
@@ -54,14 +54,14 @@ struct BondTimoshenko {
   };
 
   struct Result {
-    Vec3 force_a, torque_a;  ///< on particle a (global frame)
-    Vec3 force_b, torque_b;  ///< on particle b
-    double axial_force = 0.0;   ///< F_x, tension positive
-    double shear_force = 0.0;   ///< |F_shear|
-    double torsion = 0.0;       ///< M_x
-    double bending_a = 0.0;     ///< |M_bend| at end a
-    double bending_b = 0.0;     ///< |M_bend| at end b
-    double energy = 0.0;        ///< 1/2 q^T K q
+    Vec3 force_a, torque_a;    ///< on particle a (global frame)
+    Vec3 force_b, torque_b;    ///< on particle b
+    double axial_force = 0.0;  ///< F_x, tension positive
+    double shear_force = 0.0;  ///< |F_shear|
+    double torsion = 0.0;      ///< M_x
+    double bending_a = 0.0;    ///< |M_bend| at end a
+    double bending_b = 0.0;    ///< |M_bend| at end b
+    double energy = 0.0;       ///< 1/2 q^T K q
   };
 
   static Result compute(const Section& s, const Reference& ref, const Vec3& x_a, const Mat3& rot_a,

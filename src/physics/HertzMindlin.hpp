@@ -14,18 +14,18 @@ namespace ringdem {
 /// the opposite force. The tangential spring is history carried by the caller.
 struct HertzMindlin {
   struct Params {
-    double e_star = 0.0;            ///< 1/E* = (1-nu_i^2)/E_i + (1-nu_j^2)/E_j
-    double g_star = 0.0;            ///< 1/G* = (2-nu_i)/G_i + (2-nu_j)/G_j (Mindlin, not the paper's typo)
-    double beta = 0.0;              ///< ln e / sqrt(ln^2 e + pi^2), negative
-    double friction = 0.0;          ///< mu_s
+    double e_star = 0.0;    ///< 1/E* = (1-nu_i^2)/E_i + (1-nu_j^2)/E_j
+    double g_star = 0.0;    ///< 1/G* = (2-nu_i)/G_i + (2-nu_j)/G_j (Mindlin, not the paper's typo)
+    double beta = 0.0;      ///< ln e / sqrt(ln^2 e + pi^2), negative
+    double friction = 0.0;  ///< mu_s
     double rolling_friction = 0.0;  ///< mu_r
 
     /// Mixing of two materials (E, nu) with the pair's restitution and friction coefficients.
     static Params mix(double youngs_i, double poisson_i, double youngs_j, double poisson_j,
                       double restitution, double friction, double rolling_friction) {
       Params p;
-      const double inv_e = (1.0 - poisson_i * poisson_i) / youngs_i +
-                           (1.0 - poisson_j * poisson_j) / youngs_j;
+      const double inv_e =
+          (1.0 - poisson_i * poisson_i) / youngs_i + (1.0 - poisson_j * poisson_j) / youngs_j;
       p.e_star = 1.0 / inv_e;
       const double g_i = youngs_i / (2.0 * (1.0 + poisson_i));
       const double g_j = youngs_j / (2.0 * (1.0 + poisson_j));
@@ -45,15 +45,15 @@ struct HertzMindlin {
   };
 
   struct Input {
-    Vec3 normal;          ///< unit, from i to j
-    double overlap;       ///< delta_n > 0
-    double r_star;        ///< effective radius R*
-    double m_star;        ///< effective mass m*
-    Vec3 v_rel;           ///< velocity of j's surface relative to i's at the contact point
-    double dt;            ///< time step (tangential spring increment)
-    double arm_i;         ///< distance from i's centre to the contact point
-    double arm_j;         ///< same for j (0 for a rigid body whose torque the caller computes)
-    Vec3 omega_i;         ///< angular velocities, for the rolling-friction direction
+    Vec3 normal;     ///< unit, from i to j
+    double overlap;  ///< delta_n > 0
+    double r_star;   ///< effective radius R*
+    double m_star;   ///< effective mass m*
+    Vec3 v_rel;      ///< velocity of j's surface relative to i's at the contact point
+    double dt;       ///< time step (tangential spring increment)
+    double arm_i;    ///< distance from i's centre to the contact point
+    double arm_j;    ///< same for j (0 for a rigid body whose torque the caller computes)
+    Vec3 omega_i;    ///< angular velocities, for the rolling-friction direction
     Vec3 omega_j;
   };
 
@@ -76,7 +76,7 @@ struct HertzMindlin {
     // Eq. 6; normal stiffness S_n of Eq. 7.
     const double f_spring = 4.0 / 3.0 * p.e_star * sqrt_rd * in.overlap;
     const double s_n = 2.0 * p.e_star * sqrt_rd;
-    const double v_n = dot(in.v_rel, n);  // > 0: separating
+    const double v_n = dot(in.v_rel, n);                      // > 0: separating
     const double damp = 2.0 * std::sqrt(5.0 / 6.0) * p.beta;  // negative
     // Eq. 7: beta < 0, so the damping force opposes the normal relative velocity.
     const double f_n_damp = damp * std::sqrt(s_n * in.m_star) * v_n;

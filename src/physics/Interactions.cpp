@@ -19,8 +19,8 @@ struct PairKey {
 struct PairKeyHash {
   std::size_t operator()(const PairKey& k) const {
     const auto x = static_cast<std::uint64_t>(k.a) * 0x9e3779b97f4a7c15ull;
-    return static_cast<std::size_t>(x ^ (static_cast<std::uint64_t>(k.b) + 0x7f4a7c159e3779b9ull +
-                                         (x << 6) + (x >> 2)));
+    return static_cast<std::size_t>(
+        x ^ (static_cast<std::uint64_t>(k.b) + 0x7f4a7c159e3779b9ull + (x << 6) + (x >> 2)));
   }
 };
 
@@ -59,7 +59,8 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
     }
   }
   exclusions_.offset.assign(n_total + 1, 0);
-  for (std::size_t k = 0; k < n_total; ++k) exclusions_.offset[k + 1] = exclusions_.offset[k] + count[k + 1];
+  for (std::size_t k = 0; k < n_total; ++k)
+    exclusions_.offset[k + 1] = exclusions_.offset[k] + count[k + 1];
   exclusions_.partner_gid.assign(exclusions_.offset[n_total], 0);
   {
     std::vector<std::uint32_t> fill(exclusions_.offset.begin(), exclusions_.offset.end() - 1);
@@ -73,7 +74,8 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
   // Particle pairs, carrying the tangential springs over by gid pair.
   std::unordered_map<PairKey, Vec3, PairKeyHash> old_springs;
   for (std::size_t m = 0; m < pairs_.size(); ++m)
-    if (norm2(pair_spring_[m]) > 0.0) old_springs.emplace(PairKey{pair_gid_a_[m], pair_gid_b_[m]}, pair_spring_[m]);
+    if (norm2(pair_spring_[m]) > 0.0)
+      old_springs.emplace(PairKey{pair_gid_a_[m], pair_gid_b_[m]}, pair_spring_[m]);
   search_.build(p, skin, exclusions_, pairs_);
   pair_spring_.assign(pairs_.size(), Vec3{});
   pair_gid_a_.resize(pairs_.size());
@@ -123,7 +125,8 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
   std::vector<Entry> entries;
   entries.reserve(slot_force_.size());
   auto add = [&](std::uint32_t particle, std::int64_t key, std::uint32_t kind, std::size_t slot) {
-    if (particle < n_local) entries.push_back({particle, key, kind, static_cast<std::uint32_t>(slot)});
+    if (particle < n_local)
+      entries.push_back({particle, key, kind, static_cast<std::uint32_t>(slot)});
   };
   for (std::size_t k = 0; k < nb; ++k) {
     add(bonds.index_a[k], bonds.gid_b[k], 0, 2 * k);
@@ -144,7 +147,8 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
     ++gather_offset_[entries[e].particle + 1];
     gather_slot_[e] = entries[e].slot;
   }
-  for (std::size_t k = 0; k < n_local; ++k) gather_offset_[k + 1] += gather_offset_[k];
+  for (std::size_t k = 0; k < n_local; ++k)
+    gather_offset_[k + 1] += gather_offset_[k];
 }
 
 void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, double time) {
@@ -186,7 +190,6 @@ void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, doubl
     bonds.energy[k] = r.energy;
     energy_.bond_elastic += r.energy;
   }
-
 }
 
 void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBody>& bodies,
@@ -228,8 +231,8 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
     in.arm_j = arm_b;
     in.omega_i = p.omega[a];
     in.omega_j = p.omega[b];
-    const auto r = HertzMindlin::compute(materials.pair(p.material[a], p.material[b]), in,
-                                         pair_spring_[m]);
+    const auto r =
+        HertzMindlin::compute(materials.pair(p.material[a], p.material[b]), in, pair_spring_[m]);
     fa = r.force_i;
     fb = -r.force_i;
     ta = cross(n * arm_a, r.force_i) + r.rolling_torque_i;
@@ -264,15 +267,16 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
     in.normal = n;
     in.overlap = overlap;
     in.r_star = std::isinf(r_body) ? p.radius[k] : p.radius[k] * r_body / (p.radius[k] + r_body);
-    in.m_star = body.has_finite_mass() ? p.mass[k] * body.mass / (p.mass[k] + body.mass) : p.mass[k];
+    in.m_star =
+        body.has_finite_mass() ? p.mass[k] * body.mass / (p.mass[k] + body.mass) : p.mass[k];
     in.v_rel = body.velocity_at(contact) - (p.velocity[k] + cross(p.omega[k], n * arm));
     in.dt = dt;
     in.arm_i = arm;
     in.arm_j = 0.0;
     in.omega_i = p.omega[k];
     in.omega_j = body.omega;
-    const auto r = HertzMindlin::compute(materials.pair(p.material[k], body.material), in,
-                                         wall_spring_[w]);
+    const auto r =
+        HertzMindlin::compute(materials.pair(p.material[k], body.material), in, wall_spring_[w]);
     fk = r.force_i;
     tk = cross(n * arm, r.force_i) + r.rolling_torque_i;
     body.force -= r.force_i;

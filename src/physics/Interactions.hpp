@@ -36,7 +36,8 @@ class Interactions {
   void compute_contacts(const ParticleStore& p, std::vector<RigidBody>& bodies,
                         const MaterialTable& materials, double dt);
 
-  /// force = gravity * mass + external force + sum of the slots, torque = sum of the slots (owned particles).
+  /// force = gravity * mass + external force + sum of the slots, torque = sum of the slots (owned
+  /// particles).
   void gather(ParticleStore& p, const Vec3& gravity) const;
 
   /// Set when a bond broke during the last compute(): its pair may now touch.

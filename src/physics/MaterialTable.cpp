@@ -23,9 +23,8 @@ MaterialTable::MaterialTable(std::vector<Material> materials,
         if (o.friction >= 0.0) mu = o.friction;
         if (o.rolling_friction >= 0.0) mu_r = o.rolling_friction;
       }
-      pair_[a * n + b] = HertzMindlin::Params::mix(ma.youngs_modulus, ma.poisson_ratio,
-                                                   mb.youngs_modulus, mb.poisson_ratio, e, mu,
-                                                   mu_r);
+      pair_[a * n + b] = HertzMindlin::Params::mix(
+          ma.youngs_modulus, ma.poisson_ratio, mb.youngs_modulus, mb.poisson_ratio, e, mu, mu_r);
     }
 }
 

@@ -36,8 +36,8 @@ StabilityLimits stability_limits(const ParticleStore& p, const BondStore& bonds,
     const auto& sec = bonds.section[k];
     s.bond_axial = std::min(s.bond_axial, std::sqrt(mass / sec.k_axial));
     s.bond_shear = std::min(s.bond_shear, std::sqrt(mass / sec.k_shear));
-    s.bond_rotation = std::min(
-        s.bond_rotation, std::sqrt(inertia / std::max(sec.k_bend_self, sec.k_torsion)));
+    s.bond_rotation =
+        std::min(s.bond_rotation, std::sqrt(inertia / std::max(sec.k_bend_self, sec.k_torsion)));
   }
   return s;
 }

@@ -13,7 +13,8 @@ namespace {
 std::set<std::pair<std::int64_t, std::int64_t>> as_gid_set(const ParticleStore& p,
                                                            const PairCandidates& c) {
   std::set<std::pair<std::int64_t, std::int64_t>> s;
-  for (std::size_t m = 0; m < c.size(); ++m) s.emplace(p.gid[c.i[m]], p.gid[c.j[m]]);
+  for (std::size_t m = 0; m < c.size(); ++m)
+    s.emplace(p.gid[c.i[m]], p.gid[c.j[m]]);
   return s;
 }
 
@@ -23,7 +24,8 @@ ParticleStore random_cloud(int n, double box, double r_min, double r_max, unsign
   std::uniform_real_distribution<double> pos(0.0, box), rad(r_min, r_max);
   // gids shuffled so that index order and gid order differ.
   std::vector<std::int64_t> gids(static_cast<std::size_t>(n));
-  for (int k = 0; k < n; ++k) gids[static_cast<std::size_t>(k)] = 1000 + 7 * k;
+  for (int k = 0; k < n; ++k)
+    gids[static_cast<std::size_t>(k)] = 1000 + 7 * k;
   std::shuffle(gids.begin(), gids.end(), rng);
   for (int k = 0; k < n; ++k) {
     ParticleStore::NewParticle np;
@@ -49,7 +51,8 @@ TEST(NeighbourSearch, EqualsBruteForceForPolydisperseCloud) {
   ASSERT_GT(brute.size(), 100u) << "the cloud must be dense enough to test anything";
   EXPECT_EQ(cells.size(), brute.size());  // no duplicates
   EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
-  for (std::size_t m = 0; m < cells.size(); ++m) EXPECT_LT(p.gid[cells.i[m]], p.gid[cells.j[m]]);
+  for (std::size_t m = 0; m < cells.size(); ++m)
+    EXPECT_LT(p.gid[cells.i[m]], p.gid[cells.j[m]]);
 }
 
 // Ghosts: pairs of two ghosts are never candidates; owned–ghost pairs are.
@@ -62,7 +65,8 @@ TEST(NeighbourSearch, SkipsGhostGhostPairs) {
     full.for_each_field([&](const FieldInfo& other, auto& w) {
       if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::decay_t<decltype(w)>>)
         if (info.name == other.name)
-          for (std::size_t k = 400; k < 600; ++k) v[k] = w[k];
+          for (std::size_t k = 400; k < 600; ++k)
+            v[k] = w[k];
     });
   });
   p.rebuild_index();
@@ -96,7 +100,8 @@ TEST(NeighbourSearch, ExcludesBondedPairs) {
   PairExclusions ex;
   ex.offset.push_back(0);
   for (const auto& list : partners) {
-    for (auto g : list) ex.partner_gid.push_back(g);
+    for (auto g : list)
+      ex.partner_gid.push_back(g);
     ex.offset.push_back(static_cast<std::uint32_t>(ex.partner_gid.size()));
   }
   PairCandidates some;

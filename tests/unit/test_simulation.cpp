@@ -3,6 +3,8 @@
 #include <mpi.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
 
 #include "TestCases.hpp"
@@ -12,13 +14,14 @@
 namespace ringdem {
 namespace {
 
-Communicator self_comm() { return Communicator(MPI_COMM_SELF); }
+Communicator self_comm() {
+  return Communicator(MPI_COMM_SELF);
+}
 
-SimulationSettings settings(double dt, double skin = 0.001, Vec3 gravity = {}) {
-  SimulationSettings s;
+SimulationSettings settings(const CaseConfig& c, double dt, double skin = 0.001) {
+  SimulationSettings s = settings_from_case(c);
   s.dt = dt;
   s.skin = skin;
-  s.gravity = gravity;
   return s;
 }
 
@@ -45,7 +48,7 @@ TEST(RingUnderPointLoads, ElongationMatchesThinRingTheory) {
   const double l0 = norm(p.position[0] - p.position[50]);
 
   const Communicator comm = self_comm();
-  Simulation sim(std::move(model), comm, settings(0.0));
+  Simulation sim(std::move(model), comm, settings(c, 0.0));
   sim.run_steps(150000);
   const ParticleStore& q = sim.model().particles;
   const double elongation = norm(q.position[0] - q.position[50]) - l0;
@@ -74,42 +77,64 @@ void randomise_velocities(ParticleStore& p, unsigned seed, double v_scale, doubl
   }
 }
 
-// Velocity Verlet with conservative bond forces: the total energy oscillates at O(dt^2)
-// without drift. Bound: 1 % of the initial (kinetic) energy over 1e5 steps at a quarter of
-// the stability limit.
-TEST(UndampedChain, EnergyDriftBounded) {
-  Model model = build_model(undamped_chain_case());
+// Relative total-energy error of the undamped chain, sampled every 1000 steps.
+std::vector<double> energy_errors(double dt_safety, int blocks) {
+  const CaseConfig c = undamped_chain_case();
+  Model model = build_model(c);
   randomise_velocities(model.particles, 11, 0.01, 2.0);
   const Communicator comm = self_comm();
-  SimulationSettings s = settings(0.0);
-  s.dt_safety = 0.25;
+  SimulationSettings s = settings(c, 0.0);
+  s.dt_safety = dt_safety;
   Simulation sim(std::move(model), comm, s);
   const double e0 = sim.energies().total();
-  ASSERT_GT(e0, 0.0);
-  double worst = 0.0;
-  for (int block = 0; block < 100; ++block) {
-    sim.run_steps(1000);
-    worst = std::max(worst, std::abs(sim.energies().total() - e0) / e0);
+  std::vector<double> err;
+  for (int block = 0; block < blocks; ++block) {
+    sim.run_steps(static_cast<std::int64_t>(1000 * 0.25 / dt_safety));
+    err.push_back((sim.energies().total() - e0) / e0);
   }
-  EXPECT_LT(worst, 0.01) << "largest relative energy error over 1e5 steps";
-  // And the bonds really were loaded: elastic energy is a sizeable share.
-  EXPECT_GT(sim.energies().bond_elastic, 0.05 * e0);
+  return err;
+}
+
+double mean(const std::vector<double>& v, std::size_t from, std::size_t to) {
+  double s = 0.0;
+  for (std::size_t k = from; k < to; ++k)
+    s += v[k];
+  return s / static_cast<double>(to - from);
+}
+
+// Velocity Verlet with conservative bond forces: the energy error is bounded and O(dt^2),
+// with no drift. Bounds over 1e5 steps at a quarter of the stability limit: fluctuation
+// below 2 % of the initial energy, drift (mean of the last 20 samples minus mean of the
+// first 20) below 0.1 %; halving dt divides the fluctuation by 4 (between 3 and 5).
+TEST(UndampedChain, EnergyDriftBounded) {
+  const std::vector<double> err = energy_errors(0.25, 100);
+  double worst = 0.0;
+  for (double e : err)
+    worst = std::max(worst, std::abs(e));
+  EXPECT_LT(worst, 0.02);
+  EXPECT_LT(std::abs(mean(err, 80, 100) - mean(err, 0, 20)), 1e-3);
+  const std::vector<double> fine = energy_errors(0.125, 20);
+  const double ratio = mean(err, 0, 20) / mean(fine, 0, 20);
+  EXPECT_GT(ratio, 3.0);
+  EXPECT_LT(ratio, 5.0);
 }
 
 // Reversing all velocities retraces the trajectory: after N steps forward and N back the
 // state returns to the start up to round-off (1e-9 of the displacement scale).
 TEST(UndampedChain, TimeReversible) {
-  Model model = build_model(undamped_chain_case());
-  randomise_velocities(model.particles, 5, 0.01, 2.0);
+  const CaseConfig c = undamped_chain_case();
+  Model model = build_model(c);
+  randomise_velocities(model.particles, 5, 0.05, 2.0);
   const std::vector<Vec3> x0 = model.particles.position;
   const std::vector<Quat> q0 = model.particles.orientation;
   const Communicator comm = self_comm();
-  Simulation sim(std::move(model), comm, settings(0.0));
+  Simulation sim(std::move(model), comm, settings(c, 0.0));
   const int n = 20000;
   sim.run_steps(n);
   ParticleStore& p = sim.model().particles;
   double moved = 0.0;
-  for (std::size_t k = 0; k < p.n_local(); ++k) moved = std::max(moved, norm(p.position[k] - x0[k]));
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    moved = std::max(moved, norm(p.position[k] - x0[k]));
   ASSERT_GT(moved, 1e-4);
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     p.velocity[k] = -p.velocity[k];
@@ -135,12 +160,12 @@ TEST(Collision, RestitutionThroughTheStepLoop) {
     SphereConfig a, b;
     a.position = {0, 0, 0};
     a.velocity = {0.5, 0, 0};
-    b.position = {0.0095, 0, 0};
+    b.position = {0.00901, 0, 0};  // 10 um gap: contact after 10 us
     b.velocity = {-0.5, 0, 0};
     c.spheres = {a, b};
     const Communicator comm = self_comm();
-    Simulation sim(build_model(c), comm, settings(1e-8, 0.0005));
-    sim.run_steps(4000);  // contact lasts ~ 20 us; 40 us covers approach and separation
+    Simulation sim(build_model(c), comm, settings(c, 1e-8, 0.0005));
+    sim.run_steps(6000);  // Hertz contact at 1 m/s lasts ~ 27 us; 60 us covers all of it
     const ParticleStore& p = sim.model().particles;
     const double v_rel_after = p.velocity[1].x - p.velocity[0].x;
     EXPECT_NEAR(v_rel_after / 1.0, e, 0.02 * e) << "e = " << e;
@@ -162,7 +187,7 @@ TEST(RigidBodies, PlaneCarriesWeightOfRestingSphere) {
   floor.shape = ShapeKind::kPlane;
   c.rigid_bodies = {floor};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c), comm, settings(0.0));
+  Simulation sim(build_model(c), comm, settings(c, 0.0));
   sim.run_steps(100000);
   const double weight = sim.model().particles.mass[0] * 9.81;
   EXPECT_NEAR(sim.model().bodies[0].force.z / -weight, 1.0, 1e-6);
@@ -187,7 +212,7 @@ TEST(RigidBodies, FreeBodyFallsBallistically) {
   far_away.motion = MotionKind::kFixed;
   c.spheres = {far_away};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c), comm, settings(1e-4));
+  Simulation sim(build_model(c), comm, settings(c, 1e-4));
   sim.run_steps(5000);
   const double t = sim.time();
   EXPECT_NEAR(sim.model().bodies[0].position.z, 3.0 - 0.5 * 9.81 * t * t, 1e-9);
@@ -212,10 +237,11 @@ TEST(RigidBodies, PinCarriesRingWeight) {
   pin.position = {0, 0, 0.15 - 0.0101};  // 0.1 mm below the ring's inner surface
   c.rigid_bodies = {pin};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c), comm, settings(0.0));
+  Simulation sim(build_model(c), comm, settings(c, 0.0));
   sim.run_steps(200000);
   double weight = 0.0;
-  for (double m : sim.model().particles.mass) weight += m * 9.81;
+  for (double m : sim.model().particles.mass)
+    weight += m * 9.81;
   const Vec3 f = sim.model().bodies[0].force;
   EXPECT_NEAR(f.z / -weight, 1.0, 1e-3);
   EXPECT_NEAR(f.x / weight, 0.0, 1e-3);

@@ -1,0 +1,118 @@
+// Micro-benchmarks of the hot kernels and of whole steps (issue: foundation, item 8).
+// Run: scripts/bench/run.sh  (builds the "native" preset and runs this binary).
+#include <benchmark/benchmark.h>
+#include <mpi.h>
+
+#include <random>
+
+#include "../../tests/support/TestCases.hpp"
+#include "app/ModelBuilder.hpp"
+#include "app/Simulation.hpp"
+#include "physics/BondTimoshenko.hpp"
+#include "physics/HertzMindlin.hpp"
+
+namespace ringdem {
+namespace {
+
+// One bond evaluation (forces, stresses, failure check) on a bent, stretched, twisted state.
+void BM_BondKernel(benchmark::State& state) {
+  BondTimoshenko::Params params;
+  params.youngs_modulus = 292e9;
+  params.radius_multiplier = 0.43;
+  params.tensile_strength = params.compressive_strength = 41e9;
+  params.shear_strength = 12e9;
+  const double l0 = 0.0097;
+  const auto section = BondTimoshenko::Section::make(params, 0.0045, 0.0045, l0);
+  const Mat3 identity;
+  const auto ref = BondTimoshenko::Reference::make({0, 0, 0}, identity, {l0, 0, 0}, identity);
+  constexpr int kStates = 256;
+  std::vector<Vec3> xb(kStates);
+  std::vector<Mat3> ra(kStates), rb(kStates);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+  for (int k = 0; k < kStates; ++k) {
+    xb[k] = {l0 * (1 + u(rng)), l0 * u(rng), l0 * u(rng)};
+    ra[k] = rotation_matrix(quat_from_rotation_vector({u(rng), u(rng), u(rng)}));
+    rb[k] = rotation_matrix(quat_from_rotation_vector({u(rng), u(rng), u(rng)}));
+  }
+  const BondTimoshenko::Strength strength{41e9, 41e9, 12e9};
+  int k = 0;
+  for (auto _ : state) {
+    const auto r = BondTimoshenko::compute(section, ref, {0, 0, 0}, ra[k], xb[k], rb[k]);
+    const auto st = BondTimoshenko::stresses(section, r);
+    benchmark::DoNotOptimize(BondTimoshenko::check_failure(st, strength));
+    benchmark::DoNotOptimize(r);
+    k = (k + 1) & (kStates - 1);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_BondKernel);
+
+// One Hertz–Mindlin contact evaluation with tangential history.
+void BM_ContactKernel(benchmark::State& state) {
+  const auto params = HertzMindlin::Params::mix(200e9, 0.3, 200e9, 0.3, 0.5, 1.0, 0.0);
+  constexpr int kStates = 256;
+  std::vector<HertzMindlin::Input> inputs(kStates);
+  std::vector<Vec3> springs(kStates);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (auto& in : inputs) {
+    in.normal = normalized(Vec3{u(rng), u(rng), u(rng)});
+    in.overlap = 1e-6 * (1.5 + u(rng));
+    in.r_star = 0.00225;
+    in.m_star = 1.5e-3;
+    in.v_rel = Vec3{u(rng), u(rng), u(rng)} * 0.01;
+    in.dt = 7.87e-7;
+    in.arm_i = in.arm_j = 0.0045;
+  }
+  int k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(HertzMindlin::compute(params, inputs[k], springs[k]));
+    k = (k + 1) & (kStates - 1);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_ContactKernel);
+
+// Whole steps of n_rings separate paper rings (100 particles each) falling and swinging
+// under gravity with the paper's global damping, calibrated bonds, dt of the paper.
+void BM_StepRings(benchmark::State& state) {
+  const int n_rings = static_cast<int>(state.range(0));
+  CaseConfig c = testing::base_case();
+  c.simulation.gravity = {0, 0, -9.81};
+  c.bonds[0].youngs_modulus = 292e9;
+  c.bonds[0].radius_multiplier = 0.43;
+  c.damping.global = 0.95;
+  const int side = static_cast<int>(std::ceil(std::sqrt(n_rings)));
+  for (int r = 0; r < n_rings; ++r) {
+    auto ring = testing::paper_ring({0.4 * (r % side), 0.4 * (r / side), 0.0});
+    ring.velocity = {0.01 * (r % 3), 0.0, 0.05};
+    c.rings.push_back(ring);
+  }
+  Communicator comm(MPI_COMM_SELF);
+  SimulationSettings s;
+  s.dt = 7.87e-7;
+  s.gravity = c.simulation.gravity;
+  Simulation sim(build_model(c), comm, s);
+  sim.run_steps(100);  // warm up
+  for (auto _ : state)
+    sim.step();
+  const auto particles = static_cast<double>(sim.model().particles.n_local());
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * particles));
+  state.counters["time_per_particle_step"] =
+      benchmark::Counter(particles * static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_StepRings)->Arg(1)->Arg(100)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace ringdem
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  MPI_Finalize();
+  return 0;
+}

@@ -1,0 +1,49 @@
+# Shared set-up for scripts/run.sh and scripts/test.sh: Debian packages, MPI environment,
+# configure and build. Sourced, not run.
+
+RINGDEM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+RINGDEM_PACKAGES=(
+  cmake make g++ pkg-config
+  libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libmetis-dev libeigen3-dev
+  libyaml-cpp-dev libcli11-dev libfmt-dev libgtest-dev libbenchmark-dev
+  python3-numpy python3-h5py python3-matplotlib
+)
+
+# Open MPI refuses root and more ranks than cores unless told; CI and containers run as root.
+export OMPI_ALLOW_RUN_AS_ROOT=1
+export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1
+# Keep Open MPI quiet about missing high-speed fabrics on a workstation.
+export OMPI_MCA_btl_base_warn_component_unused=0
+
+ringdem_log() { printf '[ringdem] %s\n' "$*" >&2; }
+
+ringdem_install_packages() {
+  local missing=()
+  for p in "${RINGDEM_PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  if [ "$(id -u)" -eq 0 ]; then
+    ringdem_log "installing missing Debian packages: ${missing[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq </dev/null
+    apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
+  else
+    ringdem_log "missing Debian packages: ${missing[*]}"
+    ringdem_log "install them with: sudo apt-get install ${missing[*]}"
+    exit 1
+  fi
+}
+
+# ringdem_build PRESET: configure (once) and build with all cores.
+ringdem_build() {
+  local preset="$1"
+  cd "$RINGDEM_ROOT"
+  if [ ! -f "build/$preset/CMakeCache.txt" ]; then
+    ringdem_log "configuring ($preset)"
+    cmake --preset "$preset" >/dev/null
+  fi
+  ringdem_log "building ($preset)"
+  cmake --build --preset "$preset" -j "$(nproc)"
+}

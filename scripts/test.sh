@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Runs the test suite: installs missing Debian packages, configures, builds, runs ctest.
+#   scripts/test.sh            fast tests (unit + MPI at 1, 2, 3 ranks); the CI set
+#   scripts/test.sh --all      also the long validation runs (ctest label "long")
+#   scripts/test.sh --preset asan   the same under AddressSanitizer + UBSan
+#   extra arguments after -- go to ctest (e.g. -- -R Bond)
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+
+preset=release
+label_args=(-LE long)
+ctest_extra=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --all) label_args=(); shift ;;
+    --preset) preset="$2"; shift 2 ;;
+    --) shift; ctest_extra=("$@"); break ;;
+    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+    *) ringdem_log "unknown option $1"; exit 2 ;;
+  esac
+done
+
+ringdem_install_packages
+ringdem_build "$preset"
+cd "$RINGDEM_ROOT"
+ctest --test-dir "build/$preset" --output-on-failure -j "$(nproc)" "${label_args[@]}" "${ctest_extra[@]}"
