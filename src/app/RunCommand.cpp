@@ -77,10 +77,14 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
   if (comm.is_root()) series = SeriesWriter(out_dir + "/series.csv", columns);
 
   double max_kinetic = 0.0;
+  double max_util = 0.0;  // largest bond utilisation seen at any record
   auto record = [&]() {
     const Energies e = sim.energies();
     const std::int64_t broken = sim.global_broken_bonds();
     max_kinetic = std::max(max_kinetic, e.kinetic);
+    double util = 0.0;
+    for (double u : sim.model().bonds.utilisation) util = std::max(util, u);
+    max_util = std::max(max_util, comm.max(util));
     if (!comm.is_root()) return;
     std::vector<double> row{sim.time(),     e.kinetic,         e.potential,
                             e.bond_elastic, e.contact_elastic, static_cast<double>(broken)};
@@ -121,10 +125,6 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
   const std::int64_t n_particles = sim.global_particles();
   const std::int64_t n_bonds = sim.global_bonds();
   const std::int64_t n_broken = sim.global_broken_bonds();
-  double max_util = 0.0;
-  for (std::size_t k = 0; k < model.bonds.size(); ++k)
-    max_util = std::max(max_util, model.bonds.utilisation[k]);
-  max_util = comm.max(max_util);
   const double particle_steps_per_s =
       loop_seconds > 0 ? static_cast<double>(n_particles) * sim.steps() / loop_seconds : 0.0;
 

@@ -153,7 +153,8 @@ std::int64_t Simulation::global_broken_bonds() const {
   return comm_.sum(static_cast<std::int64_t>(model_.bonds.count_broken()));
 }
 
-Energies Simulation::energies() const {
+Energies Simulation::energies() {
+  interactions_.update_bond_diagnostics(model_.particles, model_.bonds);
   const ParticleStore& p = model_.particles;
   std::vector<std::int64_t> keys;
   std::vector<double> kin, pot;
@@ -182,7 +183,7 @@ Energies Simulation::energies() const {
   }
   e.bond_elastic = comm_.sum_by_key(bond_keys, bond_energy);
   e.contact_elastic = comm_.sum_by_key({static_cast<std::int64_t>(comm_.rank())},
-                                       {interactions_.energy().contact_elastic});
+                                       {interactions_.contact_energy()});
   for (const auto& b : model_.bodies) {
     if (b.motion != RigidMotion::kFree) continue;
     const Mat3 r = rotation_matrix(b.orientation);

@@ -54,7 +54,8 @@ class Simulation {
   std::int64_t global_particles() const;
   std::int64_t global_bonds() const;
   std::int64_t global_broken_bonds() const;
-  Energies energies() const;
+  /// Refreshes the bond diagnostics (forces, utilisation, energy) and sums the energies.
+  Energies energies();
 
   /// Seconds spent per phase since the start (this rank).
   enum Phase { kIntegrate, kNeighbour, kBonds, kContacts, kGather, kPhaseCount };

@@ -50,7 +50,8 @@ constexpr Vec3 operator*(double s, Vec3 a) {
   return a *= s;
 }
 constexpr Vec3 operator/(const Vec3& a, double s) {
-  return {a.x / s, a.y / s, a.z / s};
+  const double inv = 1.0 / s;  // one division, three products
+  return {a.x * inv, a.y * inv, a.z * inv};
 }
 
 constexpr double dot(const Vec3& a, const Vec3& b) {

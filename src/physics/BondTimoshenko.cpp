@@ -26,6 +26,8 @@ BondTimoshenko::Section BondTimoshenko::Section::make(const Params& p, double ra
   s.k_couple = 6.0 * c / (l * l);
   s.k_bend_self = (4.0 + phi) * c / l;
   s.k_bend_cross = (2.0 - phi) * c / l;
+  s.inv_area = 1.0 / s.area;
+  s.bend_factor = s.r_b / s.inertia;
   return s;
 }
 
@@ -43,14 +45,21 @@ BondTimoshenko::Reference BondTimoshenko::Reference::make(const Vec3& x_a, const
 
 namespace {
 
-/// Rotation vector of the small rotation taking frame (cx, cy, cz) to frame (ax, ay, az):
-/// the axial vector of the skew part of R is sin(theta) * axis; asin restores the angle
-/// to third order, which covers the per-bond angles of any ring deformation.
-inline Vec3 relative_rotation(const Vec3& cx, const Vec3& cy, const Vec3& cz, const Vec3& ax,
-                              const Vec3& ay, const Vec3& az) {
-  const Vec3 s = (cross(cx, ax) + cross(cy, ay) + cross(cz, az)) * 0.5;
-  const double s2 = norm2(s);
-  return s * (1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0)));
+/// Small rotation taking the chord frame C = (cx, cy, cz) to an end frame A = (ax, ay, az),
+/// in chord components: the axial vector of the skew part of C^T A is sin(theta) * axis;
+/// the cubic asin series restores the angle, exact to O(theta^5) for the per-bond angles of
+/// any ring deformation.
+struct LocalRotation {
+  double x, y, z;
+};
+inline LocalRotation relative_rotation(const Vec3& cx, const Vec3& cy, const Vec3& cz,
+                                       const Vec3& ax, const Vec3& ay, const Vec3& az) {
+  const double sx = 0.5 * (dot(cz, ay) - dot(cy, az));
+  const double sy = 0.5 * (dot(cx, az) - dot(cz, ax));
+  const double sz = 0.5 * (dot(cy, ax) - dot(cx, ay));
+  const double s2 = sx * sx + sy * sy + sz * sz;
+  const double f = 1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0));
+  return {sx * f, sy * f, sz * f};
 }
 
 }  // namespace
@@ -66,38 +75,38 @@ BondTimoshenko::Result BondTimoshenko::compute(const Section& s, const Reference
   const Vec3 by = rot_b * ref.perp_b;
   const Vec3 bz = cross(bx, by);
 
-  // Chord frame.
+  // Chord frame: x along the bond, y the bisector of the end frames' y axes.
   const Vec3 d = x_b - x_a;
-  const double length = norm(d);
-  const Vec3 cx = d / length;
+  const double inv_length = 1.0 / std::sqrt(norm2(d));
+  const double length = norm2(d) * inv_length;
+  const Vec3 cx = d * inv_length;
   const Vec3 ysum = ay + by;
-  const Vec3 cy = normalized(ysum - cx * dot(ysum, cx));
+  const Vec3 yperp = ysum - cx * dot(ysum, cx);
+  const Vec3 cy = yperp * (1.0 / std::sqrt(norm2(yperp)));
   const Vec3 cz = cross(cx, cy);
 
   // Local deformations: q = [0,0,0, th_a, dL,0,0, th_b] (physics.md §1 DOF order).
-  const Vec3 ra = relative_rotation(cx, cy, cz, ax, ay, az);
-  const Vec3 rb = relative_rotation(cx, cy, cz, bx, by, bz);
-  const double tax = dot(ra, cx), tay = dot(ra, cy), taz = dot(ra, cz);
-  const double tbx = dot(rb, cx), tby = dot(rb, cy), tbz = dot(rb, cz);
+  const LocalRotation ta = relative_rotation(cx, cy, cz, ax, ay, az);
+  const LocalRotation tb = relative_rotation(cx, cy, cz, bx, by, bz);
   const double du = length - s.length0;
 
   // K q, rows of physics.md §1 (external end loads holding the deformation).
-  const double fx_b = s.k_axial * du;                              // K[6,6] u_bx
-  const double mx_b = s.k_torsion * (tbx - tax);                   // K[9,9], K[9,3]
-  const double my_a = s.k_bend_self * tay + s.k_bend_cross * tby;  // K[4,4], K[4,10]
-  const double mz_a = s.k_bend_self * taz + s.k_bend_cross * tbz;  // K[5,5], K[5,11]
-  const double my_b = s.k_bend_cross * tay + s.k_bend_self * tby;  // K[10,4], K[10,10]
-  const double mz_b = s.k_bend_cross * taz + s.k_bend_self * tbz;  // K[11,5], K[11,11]
+  const double fx_b = s.k_axial * du;                                // K[6,6] u_bx
+  const double mx_b = s.k_torsion * (tb.x - ta.x);                   // K[9,9], K[9,3]
+  const double my_a = s.k_bend_self * ta.y + s.k_bend_cross * tb.y;  // K[4,4], K[4,10]
+  const double mz_a = s.k_bend_self * ta.z + s.k_bend_cross * tb.z;  // K[5,5], K[5,11]
+  const double my_b = s.k_bend_cross * ta.y + s.k_bend_self * tb.y;  // K[10,4], K[10,10]
+  const double mz_b = s.k_bend_cross * ta.z + s.k_bend_self * tb.z;  // K[11,5], K[11,11]
   // Shear rows K[7,*], K[8,*] equal -(M_a + M_b) / L0; dividing by the current length
   // instead makes the end loads balance exactly, so angular momentum is conserved.
-  const double fy_b = -(mz_a + mz_b) / length;
-  const double fz_b = (my_a + my_b) / length;
+  const double fy_b = -(mz_a + mz_b) * inv_length;
+  const double fz_b = (my_a + my_b) * inv_length;
 
   // The beam acts on the particles with -K q; end a carries the opposite forces of end b.
   Result r;
-  r.force_b = -(cx * fx_b + cy * fy_b + cz * fz_b);
-  r.force_a = -r.force_b;
-  r.torque_a = -(cx * (-mx_b) + cy * my_a + cz * mz_a);
+  r.force_a = cx * fx_b + cy * fy_b + cz * fz_b;
+  r.force_b = -r.force_a;
+  r.torque_a = cx * mx_b - cy * my_a - cz * mz_a;
   r.torque_b = -(cx * mx_b + cy * my_b + cz * mz_b);
 
   r.axial_force = fx_b;
@@ -106,20 +115,19 @@ BondTimoshenko::Result BondTimoshenko::compute(const Section& s, const Reference
   r.bending_a = std::sqrt(my_a * my_a + mz_a * mz_a);
   r.bending_b = std::sqrt(my_b * my_b + mz_b * mz_b);
   // 1/2 q^T K q = 1/2 (F . u) summed over the DOFs.
-  r.energy =
-      0.5 * (fx_b * du + mx_b * (tbx - tax) + my_a * tay + mz_a * taz + my_b * tby + mz_b * tbz);
+  r.energy = 0.5 * (fx_b * du + mx_b * (tb.x - ta.x) + my_a * ta.y + mz_a * ta.z + my_b * tb.y +
+                    mz_b * tb.z);
   return r;
 }
 
 BondTimoshenko::Stresses BondTimoshenko::stresses(const Section& s, const Result& r) {
   Stresses st;
-  const double axial = r.axial_force / s.area;
-  const double bend = s.r_b / s.inertia;
-  const double m_max = std::max(r.bending_a, r.bending_b);
-  st.tensile = axial + bend * m_max;         // Eq. 4
-  st.compressive = -(axial - bend * m_max);  // Eq. 3
+  const double axial = r.axial_force * s.inv_area;
+  const double bend = s.bend_factor * std::max(r.bending_a, r.bending_b);
+  st.tensile = axial + bend;       // Eq. 4
+  st.compressive = bend - axial;   // Eq. 3
   // Eq. 5: torque over J = 2I, plus 4/3 of the mean shear stress of a circular section.
-  st.shear = std::abs(r.torsion) * s.r_b / (2.0 * s.inertia) + 4.0 * r.shear_force / (3.0 * s.area);
+  st.shear = 0.5 * s.bend_factor * std::abs(r.torsion) + 4.0 / 3.0 * r.shear_force * s.inv_area;
   return st;
 }
 

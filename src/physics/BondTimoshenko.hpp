@@ -37,6 +37,8 @@ struct BondTimoshenko {
     double k_couple = 0.0;      ///< 6 c / L^2
     double k_bend_self = 0.0;   ///< (4 + Phi) c / L
     double k_bend_cross = 0.0;  ///< (2 - Phi) c / L
+    double inv_area = 0.0;      ///< 1 / A, for Eq. 3–5
+    double bend_factor = 0.0;   ///< r_b / I
 
     static Section make(const Params& p, double radius_a, double radius_b, double length0);
   };

@@ -12,8 +12,14 @@ inline double damp_component(double f, double v, double alpha) {
   return f - alpha * std::abs(f) * s;
 }
 
+/// q <- dq(omega dt) q with the Cayley form dq(phi) = (1, phi/2) / sqrt(1 + |phi|^2/4): a unit
+/// quaternion of angle 2 atan(|phi|/2) = |phi| (1 - |phi|^2/12 + ...), exactly inverted by
+/// dq(-phi), so the update stays time-reversible; for |omega dt| ~ 1e-5 the angle error is
+/// ~1e-11 relative, and it needs one square root instead of sin, cos and a norm.
 inline void rotate_by(Quat& q, const Vec3& omega, double dt) {
-  q = normalized(quat_from_rotation_vector(omega * dt) * q);
+  const Vec3 h = omega * (0.5 * dt);
+  const double s = 1.0 / std::sqrt(1.0 + norm2(h));
+  q = normalized(Quat{s, h.x * s, h.y * s, h.z * s} * q);
 }
 
 /// Angular velocity update of a rigid body with principal inertia I (body frame).

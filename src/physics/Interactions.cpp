@@ -153,10 +153,9 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
 
 void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, double time) {
   bonds_broke_ = false;
-  energy_.bond_elastic = 0.0;
   const std::size_t nb = bonds.size();
-
-  // Bonds (physics.md §1).
+  // Bonds (physics.md §1). Only forces and the failure test run every step; the output
+  // quantities are recomputed on demand by update_bond_diagnostics().
   for (std::size_t k = 0; k < nb; ++k) {
     Vec3* f = &slot_force_[2 * k];
     Vec3* t = &slot_torque_[2 * k];
@@ -168,14 +167,12 @@ void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, doubl
     const std::uint32_t b = bonds.index_b[k];
     const auto r = BondTimoshenko::compute(bonds.section[k], bonds.reference[k], p.position[a],
                                            p.rotation[a], p.position[b], p.rotation[b]);
-    const auto st = BondTimoshenko::stresses(bonds.section[k], r);
-    const auto fail = BondTimoshenko::check_failure(st, bonds.strength[k]);
-    if (fail != BondTimoshenko::Failure::kNone) {
+    const auto fail = BondTimoshenko::check_failure(BondTimoshenko::stresses(bonds.section[k], r),
+                                                    bonds.strength[k]);
+    if (fail != BondTimoshenko::Failure::kNone) [[unlikely]] {
       bonds.broken[k] = 1;
       bonds.failure[k] = fail;
       bonds.break_time[k] = time;
-      bonds.axial_force[k] = bonds.bending_moment[k] = bonds.energy[k] = 0.0;
-      bonds.utilisation[k] = 0.0;
       f[0] = f[1] = t[0] = t[1] = Vec3{};
       bonds_broke_ = true;
       continue;
@@ -184,17 +181,34 @@ void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, doubl
     f[1] = r.force_b;
     t[0] = r.torque_a;
     t[1] = r.torque_b;
+  }
+}
+
+double Interactions::update_bond_diagnostics(const ParticleStore& p, BondStore& bonds) const {
+  double total = 0.0;
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    if (bonds.broken[k]) {
+      bonds.axial_force[k] = bonds.bending_moment[k] = bonds.utilisation[k] = 0.0;
+      bonds.energy[k] = 0.0;
+      continue;
+    }
+    const std::uint32_t a = bonds.index_a[k];
+    const std::uint32_t b = bonds.index_b[k];
+    const auto r = BondTimoshenko::compute(bonds.section[k], bonds.reference[k], p.position[a],
+                                           p.rotation[a], p.position[b], p.rotation[b]);
     bonds.axial_force[k] = r.axial_force;
     bonds.bending_moment[k] = std::max(r.bending_a, r.bending_b);
-    bonds.utilisation[k] = BondTimoshenko::utilisation(st, bonds.strength[k]);
+    bonds.utilisation[k] = BondTimoshenko::utilisation(
+        BondTimoshenko::stresses(bonds.section[k], r), bonds.strength[k]);
     bonds.energy[k] = r.energy;
-    energy_.bond_elastic += r.energy;
+    total += r.energy;
   }
+  return total;
 }
 
 void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBody>& bodies,
                                     const MaterialTable& materials, double dt) {
-  energy_.contact_elastic = 0.0;
+  contact_energy_ = 0.0;
   n_active_ = 0;
   // Particle contacts (physics.md §3).
   const std::size_t base = slot_force_.size() - 2 * pairs_.size() - wall_particle_.size();
@@ -237,7 +251,7 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
     fb = -r.force_i;
     ta = cross(n * arm_a, r.force_i) + r.rolling_torque_i;
     tb = cross(n * (-arm_b), fb) + r.rolling_torque_j;
-    energy_.contact_elastic += r.elastic_energy;
+    contact_energy_ += r.elastic_energy;
   }
 
   // Particle–rigid-body contacts; the body load is summed in (body, particle gid) order.
@@ -281,7 +295,7 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
     tk = cross(n * arm, r.force_i) + r.rolling_torque_i;
     body.force -= r.force_i;
     body.torque += cross(contact - body.position, -r.force_i);
-    energy_.contact_elastic += r.elastic_energy;
+    contact_energy_ += r.elastic_energy;
   }
 }
 

@@ -11,12 +11,6 @@
 
 namespace ringdem {
 
-/// Elastic energies of the current step (dissipation is tallied by the caller).
-struct InteractionEnergy {
-  double bond_elastic = 0.0;
-  double contact_elastic = 0.0;
-};
-
 /// Every force between particles and between particles and rigid bodies: bonds, particle
 /// contacts, particle–rigid-body contacts. Each interaction writes its contribution to its
 /// own slots; gather() then sums, for every owned particle, the slots in partner-gid order,
@@ -31,6 +25,9 @@ class Interactions {
   /// Evaluates every bond for the current positions and orientations (rotation matrices
   /// must be up to date). Bonds that fail are marked broken with their time.
   void compute_bonds(const ParticleStore& p, BondStore& bonds, double time);
+  /// Recomputes the output state of every bond (axial force, largest bending moment,
+  /// utilisation, elastic energy) for the current configuration; returns the summed energy.
+  double update_bond_diagnostics(const ParticleStore& p, BondStore& bonds) const;
   /// Evaluates particle–particle and particle–rigid-body contacts; sets the rigid bodies'
   /// contact force and torque of this step.
   void compute_contacts(const ParticleStore& p, std::vector<RigidBody>& bodies,
@@ -45,7 +42,8 @@ class Interactions {
   std::size_t n_contact_candidates() const { return pairs_.size(); }
   std::size_t n_wall_candidates() const { return wall_particle_.size(); }
   std::size_t n_active_contacts() const { return n_active_; }
-  const InteractionEnergy& energy() const { return energy_; }
+  /// Elastic energy stored in the contacts of the last compute_contacts().
+  double contact_energy() const { return contact_energy_; }
 
  private:
   NeighbourSearch search_;
@@ -62,7 +60,7 @@ class Interactions {
 
   bool bonds_broke_ = false;
   std::size_t n_active_ = 0;
-  InteractionEnergy energy_;
+  double contact_energy_ = 0.0;
 };
 
 }  // namespace ringdem

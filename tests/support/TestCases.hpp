@@ -2,9 +2,20 @@
 
 // Small cases built in code (no YAML), shared by tests and benchmarks.
 
+#include <mpi.h>
+
+#include "comm/Communicator.hpp"
 #include "io/CaseConfig.hpp"
 
 namespace ringdem::testing {
+
+/// A one-rank communicator; initialises MPI on first use (the test main finalises it).
+inline Communicator self_comm() {
+  int initialised = 0;
+  MPI_Initialized(&initialised);
+  if (!initialised) MPI_Init(nullptr, nullptr);
+  return Communicator(MPI_COMM_SELF);
+}
 
 /// Steel (Table 1) and the Table 1 bond, no gravity, no damping.
 inline CaseConfig base_case() {

@@ -14,9 +14,7 @@
 namespace ringdem {
 namespace {
 
-Communicator self_comm() {
-  return Communicator(MPI_COMM_SELF);
-}
+using testing::self_comm;
 
 SimulationSettings settings(const CaseConfig& c, double dt, double skin = 0.001) {
   SimulationSettings s = settings_from_case(c);

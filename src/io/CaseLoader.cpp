@@ -1,0 +1,735 @@
+#include "io/CaseLoader.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "io/Schema.hpp"
+
+namespace ringdem {
+
+namespace {
+
+using schema::above;
+using schema::at_least;
+using schema::Context;
+using schema::interval;
+using schema::Location;
+using schema::Table;
+using schema::Type;
+
+// ---- the schema -------------------------------------------------------------------------------
+
+std::vector<std::pair<std::string, MotionKind>> motions() {
+  return {{"free", MotionKind::kFree},
+          {"fixed", MotionKind::kFixed},
+          {"prescribed", MotionKind::kPrescribed}};
+}
+
+const Table<SimulationConfig>& simulation_table() {
+  using S = SimulationConfig;
+  static const Table<S> table{
+      "simulation",
+      "Time integration and global settings.",
+      {
+          schema::number_or_auto("dt", &S::dt, above(0), "s",
+                                 "Time step; `auto`: dt_safety times the smallest stability "
+                                 "limit of contacts and bonds"),
+          schema::number("dt_safety", &S::dt_safety, interval(0, false, 1, true), "",
+                         "Fraction of the stability limit used when dt is `auto`"),
+          schema::number("end_time", &S::end_time, above(0), "s", "Simulated end time").required(),
+          schema::vec3("gravity", &S::gravity, "m/s^2", "Gravitational acceleration"),
+          schema::number("skin", &S::skin, above(0), "m", "Verlet skin of the neighbour lists"),
+          schema::number("progress_interval", &S::progress_interval, above(0), "s (wall)",
+                         "Wall-clock time between progress lines"),
+          schema::number("series_interval", &S::series_interval, above(0), "s",
+                         "Simulated time between rows of series.csv"),
+          schema::choice("contact_model", &S::contact_model, {"hertz_mindlin"},
+                         "Particle contact law"),
+      }};
+  return table;
+}
+
+const Table<MaterialConfig>& material_table() {
+  using M = MaterialConfig;
+  static const Table<M> table{
+      "materials[]",
+      "Contact materials of particles and rigid bodies; names must be unique.",
+      {
+          schema::text("name", &M::name, Type::kName, "Name the other sections refer to")
+              .required(),
+          schema::number("density", &M::density, above(0), "kg/m^3", "Density"),
+          schema::number("youngs_modulus", &M::youngs_modulus, above(0), "Pa",
+                         "Young's modulus (contact stiffness)"),
+          schema::number("poisson_ratio", &M::poisson_ratio, interval(-1, false, 0.5, false), "",
+                         "Poisson's ratio"),
+          schema::number("restitution", &M::restitution, interval(0, false, 1, true), "",
+                         "Coefficient of restitution (normal contact damping)"),
+          schema::number("friction", &M::friction, at_least(0), "", "Sliding friction coefficient"),
+          schema::number("rolling_friction", &M::rolling_friction, at_least(0), "",
+                         "Rolling friction coefficient"),
+      }};
+  return table;
+}
+
+const Table<InteractionConfig>& interaction_table() {
+  using I = InteractionConfig;
+  const std::string mean = "mean of the two materials";
+  static const Table<I> table{
+      "interactions[]",
+      "Coefficients of one pair of materials; pairs not listed use the mean of the two "
+      "materials' values. Each pair may appear once.",
+      {
+          schema::name_pair("materials", &I::material_a, &I::material_b,
+                            "The two materials (both must be defined; may be equal)")
+              .required(),
+          schema::optional_number("restitution", &I::restitution, interval(0, false, 1, true), "",
+                                  "Coefficient of restitution of the pair")
+              .default_text(mean),
+          schema::optional_number("friction", &I::friction, at_least(0), "",
+                                  "Sliding friction coefficient of the pair")
+              .default_text(mean),
+          schema::optional_number("rolling_friction", &I::rolling_friction, at_least(0), "",
+                                  "Rolling friction coefficient of the pair")
+              .default_text(mean),
+      }};
+  return table;
+}
+
+const Table<BondConfig>& bond_table() {
+  using B = BondConfig;
+  static const Table<B> table{
+      "bonds[]",
+      "Parallel-bond properties of the ring wire; names must be unique.",
+      {
+          schema::text("name", &B::name, Type::kName, "Name the rings refer to").required(),
+          schema::choice("model", &B::model, {"timoshenko"}, "Bond beam model"),
+          schema::number("youngs_modulus", &B::youngs_modulus, above(0), "Pa",
+                         "Young's modulus of the bond beam"),
+          schema::number("poisson_ratio", &B::poisson_ratio, interval(-1, false, 0.5, false), "",
+                         "Poisson's ratio of the bond beam (shear modulus)"),
+          schema::number("radius_multiplier", &B::radius_multiplier, interval(0, false, 2, true),
+                         "", "Bond radius as a multiple of the particle radius"),
+          schema::number("tensile_strength", &B::tensile_strength, above(0), "Pa",
+                         "Mean tensile strength (normal + bending stress)"),
+          schema::number("compressive_strength", &B::compressive_strength, above(0), "Pa",
+                         "Mean compressive strength"),
+          schema::number("shear_strength", &B::shear_strength, above(0), "Pa",
+                         "Mean shear strength (shear + torsion stress)"),
+          schema::number("strength_cov", &B::strength_cov, interval(0, true, 1, false), "",
+                         "Coefficient of variation of the strengths (0: deterministic)"),
+          schema::unsigned_integer("seed", &B::seed, "Random seed of the strength scatter"),
+      }};
+  return table;
+}
+
+const Table<DampingConfig>& damping_table() {
+  using D = DampingConfig;
+  static const Table<D> table{
+      "damping",
+      "Cundall non-viscous damping of particle motion.",
+      {
+          schema::number("global", &D::global, interval(0, true, 1, false), "",
+                         "Coefficient of every particle group not listed in `groups`"),
+          schema::number_map("groups", &D::groups, &DampingGroupConfig::group,
+                             &DampingGroupConfig::coefficient, interval(0, true, 1, false),
+                             "Coefficient per particle group (`group: coefficient`); each group "
+                             "must be used by some particles"),
+      }};
+  return table;
+}
+
+const Table<RingConfig>& ring_table() {
+  using R = RingConfig;
+  static const Table<R> table{
+      "particles.rings[]",
+      "A ring of bonded spheres on a circle (centreline radius = internal_diameter / 2 + "
+      "particle_radius), bonds between consecutive particles.",
+      {
+          schema::text("group", &R::group, Type::kName, "Particle group (damping, output)"),
+          schema::vec3("centre", &R::centre, "m", "Centre of the ring"),
+          schema::vec3("normal", &R::normal, "", "Ring axis (normalised)").nonzero(),
+          schema::vec3("reference", &R::reference, "",
+                       "Direction of the first particle from the centre (projected onto the "
+                       "ring plane and normalised; must not be parallel to normal)")
+              .nonzero(),
+          schema::number("internal_diameter", &R::internal_diameter, above(0), "m",
+                         "Clear inside diameter of the ring"),
+          schema::integer("n_particles", &R::n_particles, at_least(3), "Spheres in the ring"),
+          schema::number("particle_radius", &R::particle_radius, above(0), "m",
+                         "Radius of the bonded spheres (the wire radius)"),
+          schema::number("contact_radius", &R::contact_radius, above(0), "m",
+                         "Radius used for contacts with other rings and bodies; must be >= "
+                         "particle_radius")
+              .default_text("max(0.008, particle_radius)"),
+          schema::text("material", &R::material, Type::kName, "Material (from `materials`)"),
+          schema::text("bond", &R::bond, Type::kName, "Bond properties (from `bonds`)"),
+          schema::enum_choice("motion", &R::motion, motions(),
+                              "free: integrated; fixed: never moves; prescribed: moves at "
+                              "`velocity`"),
+          schema::vec3("velocity", &R::velocity, "m/s", "Initial or prescribed velocity"),
+      }};
+  return table;
+}
+
+const Table<LatticeConfig>& lattice_table() {
+  using L = LatticeConfig;
+  static const Table<L> table{
+      "particles.lattices[]",
+      "Free, unbonded spheres on a regular lattice.",
+      {
+          schema::text("group", &L::group, Type::kName, "Particle group (damping, output)"),
+          schema::vec3("origin", &L::origin, "m", "Centre of the first sphere"),
+          schema::int_triple("count", &L::count, at_least(1), "Spheres along x, y and z"),
+          schema::number("spacing", &L::spacing, above(0), "m",
+                         "Centre distance; must be >= 2 * particle_radius"),
+          schema::number("particle_radius", &L::particle_radius, above(0), "m", "Sphere radius"),
+          schema::text("material", &L::material, Type::kName, "Material (from `materials`)"),
+          schema::vec3("velocity", &L::velocity, "m/s", "Initial velocity"),
+          schema::number("jitter", &L::jitter, interval(0, true, 1, false), "",
+                         "Random offset as a fraction of the gap between spheres"),
+          schema::unsigned_integer("seed", &L::seed, "Random seed of the jitter"),
+      }};
+  return table;
+}
+
+const Table<SphereConfig>& sphere_table() {
+  using P = SphereConfig;
+  static const Table<P> table{
+      "particles.spheres[]",
+      "Explicitly listed spheres.",
+      {
+          schema::text("group", &P::group, Type::kName, "Particle group (damping, output)"),
+          schema::vec3("position", &P::position, "m", "Centre"),
+          schema::vec3("velocity", &P::velocity, "m/s", "Initial or prescribed velocity"),
+          schema::vec3("omega", &P::omega, "rad/s", "Initial angular velocity"),
+          schema::number("radius", &P::radius, above(0), "m", "Radius"),
+          schema::text("material", &P::material, Type::kName, "Material (from `materials`)"),
+          schema::enum_choice("motion", &P::motion, motions(),
+                              "free: integrated; fixed: never moves; prescribed: moves at "
+                              "`velocity`"),
+      }};
+  return table;
+}
+
+const Table<CaseConfig>& particles_table() {
+  using C = CaseConfig;
+  static const Table<C> table{
+      "particles",
+      "Particle generators; together they must create at least one particle.",
+      {
+          schema::list("rings", &C::rings, ring_table(), "Rings of bonded spheres"),
+          schema::list("lattices", &C::lattices, lattice_table(), "Lattices of free spheres"),
+          schema::list("spheres", &C::spheres, sphere_table(), "Single spheres"),
+      }};
+  return table;
+}
+
+const Table<RigidBodyConfig>& rigid_body_table() {
+  using B = RigidBodyConfig;
+  static const Table<B> table{
+      "rigid_bodies[]",
+      "Walls, pins and boulders interacting with the particles; names must be unique. Keys that "
+      "do not apply to the shape are rejected.",
+      {
+          schema::text("name", &B::name, Type::kName, "Name (output, series)").required(),
+          schema::enum_choice("shape", &B::shape,
+                              {{"plane", ShapeKind::kPlane},
+                               {"cylinder", ShapeKind::kCylinder},
+                               {"sphere", ShapeKind::kSphere}},
+                              "Geometry")
+              .required(),
+          schema::vec3("position", &B::position, "m",
+                       "plane: a point on it; cylinder, sphere: centre"),
+          schema::vec3("normal", &B::normal, "",
+                       "plane only: normal, pointing to the particle side (normalised)")
+              .nonzero()
+              .dump_if([](const B& b) { return b.shape == ShapeKind::kPlane; }),
+          schema::vec3("axis", &B::axis, "", "cylinder only: axis (normalised)")
+              .nonzero()
+              .dump_if([](const B& b) { return b.shape == ShapeKind::kCylinder; }),
+          schema::number("radius", &B::radius, above(0), "m", "cylinder, sphere: radius")
+              .default_text("required for cylinder and sphere")
+              .dump_if([](const B& b) { return b.shape != ShapeKind::kPlane; }),
+          schema::number("length", &B::length, above(0), "m", "cylinder only: length (capped ends)")
+              .default_text("required for cylinder")
+              .dump_if([](const B& b) { return b.shape == ShapeKind::kCylinder; }),
+          schema::text("material", &B::material, Type::kName, "Material (from `materials`)"),
+          schema::enum_choice("motion", &B::motion, motions(),
+                              "fixed: never moves; prescribed: moves at `velocity`/`omega`; "
+                              "free: integrated from contact forces (not for planes)"),
+          schema::vec3("velocity", &B::velocity, "m/s", "Prescribed or initial velocity"),
+          schema::vec3("omega", &B::omega, "rad/s", "Prescribed or initial angular velocity"),
+          schema::optional_number("mass", &B::mass, above(0), "kg",
+                                  "Free body: mass (overrides material density x volume)")
+              .default_text("from the material density"),
+          schema::boolean("gravity", &B::gravity, "Free body: whether gravity acts on it"),
+      }};
+  return table;
+}
+
+const Table<CaseConfig>& case_table() {
+  using C = CaseConfig;
+  static const Table<C> table{
+      "",
+      "Top level of a case file.",
+      {
+          schema::integer("schema_version", &C::schema_version, schema::exactly(1),
+                          "Version of this file format")
+              .required(),
+          schema::text("name", &C::name, Type::kString, "Case name (output, banner)")
+              .default_text("file name without extension"),
+          schema::text("description", &C::description, Type::kString, "Free text"),
+          schema::section("simulation", &C::simulation, simulation_table(),
+                          "Time integration settings")
+              .required(),
+          schema::list("materials", &C::materials, material_table(), "Contact materials")
+              .required(),
+          schema::list("interactions", &C::interactions, interaction_table(),
+                       "Pair-specific contact coefficients"),
+          schema::list("bonds", &C::bonds, bond_table(), "Bond properties of the rings"),
+          schema::section("damping", &C::damping, damping_table(), "Numerical damping"),
+          schema::inline_section("particles", particles_table(), "Particle generators").required(),
+          schema::list("rigid_bodies", &C::rigid_bodies, rigid_body_table(),
+                       "Rigid walls, pins, boulders"),
+      }};
+  return table;
+}
+
+// ---- --set overrides --------------------------------------------------------------------------
+
+std::string trim(const std::string& s) {
+  std::size_t b = 0, e = s.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(s[b])))
+    ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1])))
+    --e;
+  return s.substr(b, e - b);
+}
+
+/// "a.b[2].c" and "a.b.2.c" -> {a, b, 2, c}; nothing if malformed.
+std::optional<std::vector<std::string>> split_key_path(const std::string& path) {
+  std::string normalised;
+  for (char ch : path) {
+    if (ch == '[') {
+      normalised += '.';
+    } else if (ch != ']') {
+      normalised += ch;
+    }
+  }
+  std::vector<std::string> segments;
+  std::stringstream stream(normalised);
+  std::string segment;
+  while (std::getline(stream, segment, '.')) {
+    if (segment.empty()) return std::nullopt;
+    segments.push_back(segment);
+  }
+  if (segments.empty() || normalised.back() == '.') return std::nullopt;
+  return segments;
+}
+
+std::optional<std::size_t> parse_index(const std::string& s) {
+  if (s.empty() || s.size() > 9) return std::nullopt;
+  if (!std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c) != 0; }))
+    return std::nullopt;
+  return static_cast<std::size_t>(std::stoul(s));
+}
+
+/// Makes map[key] a map (creating it if absent or empty); false if it holds something else.
+bool ensure_map(YAML::Node& map, const std::string& key) {
+  const YAML::Node existing = map[key];
+  if (!existing.IsDefined() || existing.IsNull()) {
+    map[key] = YAML::Node(YAML::NodeType::Map);
+    return true;
+  }
+  return existing.IsMap();
+}
+
+/// Applies one "key.path=value" to the document, checking the path against the schema.
+void apply_override(YAML::Node& root, const std::string& argument, int index, Context& ctx) {
+  const Location at{"--set", index, 1};
+  const std::size_t eq = argument.find('=');
+  if (eq == std::string::npos) {
+    ctx.error(at, "", "expected key.path=value, got '" + argument + "'");
+    return;
+  }
+  const std::string path_text = trim(argument.substr(0, eq));
+  const std::string value_text = argument.substr(eq + 1);
+  const int value_column = static_cast<int>(eq) + 2;
+  const auto segments = split_key_path(path_text);
+  if (!segments) {
+    ctx.error(at, path_text, "malformed key path '" + path_text + "' (expected e.g. a.b.0.c)");
+    return;
+  }
+  YAML::Node value;
+  try {
+    value = YAML::Load(value_text);
+  } catch (const YAML::ParserException& e) {
+    ctx.error(Location{"--set", index, value_column + std::max(0, e.mark.column)}, path_text,
+              "cannot parse value '" + value_text + "': " + e.msg);
+    return;
+  }
+  if (!root.IsMap()) return;  // the file itself is reported as not being a map
+
+  const schema::SectionInfo* section = &case_table().info();
+  YAML::Node current = root;
+  std::string display;  // path in diagnostic form, e.g. rigid_bodies[0].radius
+  for (std::size_t i = 0; i < segments->size(); ++i) {
+    const std::string& segment = (*segments)[i];
+    const bool last = i + 1 == segments->size();
+    const schema::KeyInfo* key = section->find(segment);
+    const std::string key_path = schema::join_path(display, segment);
+    if (key == nullptr) {
+      std::string message = "unknown key '" + segment + "'";
+      message += display.empty() ? " at the top level" : " in '" + display + "'";
+      const std::string hint = schema::did_you_mean(segment, section->key_names());
+      message +=
+          hint.empty() ? " (valid keys: " + schema::join_names(section->key_names()) + ")" : hint;
+      ctx.error(at, key_path, message);
+      return;
+    }
+    if (last) {
+      current[segment] = value;
+      ctx.add_override(key_path, index, value_column);
+      return;
+    }
+    switch (key->type) {
+      case Type::kSection: {
+        if (!ensure_map(current, segment)) {
+          ctx.error(at, key_path,
+                    "cannot set a key inside '" + key_path + "': it is not a map in the case file");
+          return;
+        }
+        const YAML::Node next = current[segment];
+        current.reset(next);
+        section = key->child;
+        display = key_path;
+        break;
+      }
+      case Type::kList: {
+        const std::string& index_text = (*segments)[++i];
+        const auto item = parse_index(index_text);
+        if (!item) {
+          ctx.error(at, key_path,
+                    "expected a list index after '" + key_path + "', got '" + index_text + "'");
+          return;
+        }
+        YAML::Node items = current[segment];
+        const std::size_t size = items.IsSequence() ? items.size() : 0;
+        if (*item >= size) {
+          ctx.error(at, schema::index_path(key_path, *item),
+                    fmt::format("no entry {} to override: '{}' has {} entries in the case file",
+                                *item, key_path, size));
+          return;
+        }
+        display = schema::index_path(key_path, *item);
+        if (i + 1 == segments->size()) {
+          items[*item] = value;
+          ctx.add_override(display, index, value_column);
+          return;
+        }
+        const YAML::Node next = items[*item];
+        if (!next.IsMap()) {
+          ctx.error(at, display, "cannot set a key inside '" + display + "': it is not a map");
+          return;
+        }
+        current.reset(next);
+        section = key->child;
+        break;
+      }
+      case Type::kNumberMap: {
+        if (i + 2 != segments->size()) {
+          ctx.error(at, key_path, "expected '" + key_path + ".NAME=value'");
+          return;
+        }
+        if (!ensure_map(current, segment)) {
+          ctx.error(at, key_path,
+                    "cannot set a key inside '" + key_path + "': it is not a map in the case file");
+          return;
+        }
+        YAML::Node entries = current[segment];
+        entries[(*segments)[i + 1]] = value;
+        ctx.add_override(schema::join_path(key_path, (*segments)[i + 1]), index, value_column);
+        return;
+      }
+      default:
+        ctx.error(at, key_path,
+                  "'" + key_path + "' is a value, not a section: cannot set '" + path_text + "'");
+        return;
+    }
+  }
+}
+
+// ---- checks across keys -----------------------------------------------------------------------
+
+template <class E>
+std::vector<std::string> unique_names(const std::vector<E>& items, std::string E::*name,
+                                      const std::string& list_path, const std::string& what,
+                                      Context& ctx, bool* reliable) {
+  std::vector<std::string> names;
+  std::map<std::string, std::size_t> first;
+  // A missing or malformed list would make every reference to it an error too.
+  *reliable = !ctx.failed_here(list_path);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::string item_path = schema::index_path(list_path, i);
+    const std::string name_path = item_path + ".name";
+    if (ctx.failed(name_path) || !ctx.given(name_path)) {
+      *reliable = false;
+      continue;
+    }
+    const std::string& n = items[i].*name;
+    const auto [it, inserted] = first.emplace(n, i);
+    if (!inserted) {
+      ctx.error(ctx.where(name_path, item_path), name_path,
+                fmt::format("duplicate {} name '{}' (already used by {})", what, n,
+                            schema::index_path(list_path, it->second)));
+      continue;
+    }
+    names.push_back(n);
+  }
+  return names;
+}
+
+/// Reports `value` at `key_path` if it is not one of `names` (defined in `defined_in`).
+/// `fallback` locates the error when the key itself was not given (a default value).
+void check_reference(const std::string& value, const std::vector<std::string>& names,
+                     bool names_reliable, const std::string& key_path, const std::string& fallback,
+                     const std::string& what, const std::string& defined_in, Context& ctx) {
+  if (ctx.failed(key_path) || std::find(names.begin(), names.end(), value) != names.end()) return;
+  if (!names_reliable) return;  // the list itself has errors; do not guess
+  std::string message =
+      fmt::format("{} '{}'{} is not defined in '{}'", what, value,
+                  ctx.given(key_path) ? "" : " (the default, key not given)", defined_in);
+  const std::string hint = schema::did_you_mean(value, names);
+  if (!hint.empty())
+    message += hint;
+  else if (names.empty())
+    message += " (none defined)";
+  else
+    message += " (defined: " + schema::join_names(names) + ")";
+  ctx.error(ctx.where(key_path, fallback), key_path, message);
+}
+
+void validate(CaseConfig& c, Context& ctx) {
+  // Names and references.
+  bool materials_ok = true, bonds_ok = true, bodies_ok = true;
+  const auto materials =
+      unique_names(c.materials, &MaterialConfig::name, "materials", "material", ctx, &materials_ok);
+  const auto bonds = unique_names(c.bonds, &BondConfig::name, "bonds", "bond", ctx, &bonds_ok);
+  unique_names(c.rigid_bodies, &RigidBodyConfig::name, "rigid_bodies", "rigid body", ctx,
+               &bodies_ok);
+  if (c.materials.empty() && ctx.given("materials") && !ctx.failed("materials"))
+    ctx.error(ctx.where("materials"), "materials", "must define at least one material, got none");
+
+  std::map<std::pair<std::string, std::string>, std::size_t> pairs;
+  for (std::size_t i = 0; i < c.interactions.size(); ++i) {
+    const InteractionConfig& in = c.interactions[i];
+    const std::string p = schema::index_path("interactions", i);
+    if (ctx.failed(p + ".materials") || !ctx.given(p + ".materials")) continue;
+    for (int k = 0; k < 2; ++k) {
+      const std::string& m = k == 0 ? in.material_a : in.material_b;
+      check_reference(m, materials, materials_ok, fmt::format("{}.materials[{}]", p, k),
+                      p + ".materials", "material", "materials", ctx);
+    }
+    const auto key = std::minmax(in.material_a, in.material_b);
+    const auto [it, inserted] = pairs.emplace(std::make_pair(key.first, key.second), i);
+    if (!inserted)
+      ctx.error(ctx.where(p + ".materials", p), p + ".materials",
+                fmt::format("pair [{}, {}] is already defined by {}", in.material_a, in.material_b,
+                            schema::index_path("interactions", it->second)));
+  }
+
+  std::set<std::string> groups;
+  long long total_particles = 0;
+  for (std::size_t i = 0; i < c.rings.size(); ++i) {
+    RingConfig& r = c.rings[i];
+    const std::string p = schema::index_path("particles.rings", i);
+    groups.insert(r.group);
+    total_particles += r.n_particles;
+    check_reference(r.material, materials, materials_ok, p + ".material", p, "material",
+                    "materials", ctx);
+    check_reference(r.bond, bonds, bonds_ok, p + ".bond", p, "bond", "bonds", ctx);
+    if (!ctx.given(p + ".contact_radius")) {
+      r.contact_radius = std::max(0.008, r.particle_radius);
+    } else if (!ctx.failed(p + ".contact_radius") && !ctx.failed(p + ".particle_radius") &&
+               r.contact_radius < r.particle_radius) {
+      ctx.error(ctx.where(p + ".contact_radius"), p + ".contact_radius",
+                fmt::format("must be >= particle_radius ({} m), got {}",
+                            schema::format_number(r.particle_radius),
+                            schema::format_number(r.contact_radius)));
+    }
+    if (!ctx.failed(p + ".normal") && !ctx.failed(p + ".reference")) {
+      r.normal = normalized(r.normal);
+      const Vec3 in_plane = r.reference - dot(r.reference, r.normal) * r.normal;
+      if (norm(in_plane) > 1e-9 * norm(r.reference)) {
+        r.reference = normalized(in_plane);
+      } else if (!ctx.given(p + ".reference")) {
+        r.reference = any_perpendicular(r.normal);
+      } else {
+        ctx.error(ctx.where(p + ".reference", p), p + ".reference",
+                  fmt::format("must not be parallel to normal {}, got {}",
+                              schema::format_vec3(r.normal), schema::format_vec3(r.reference)));
+      }
+    }
+  }
+  for (std::size_t i = 0; i < c.lattices.size(); ++i) {
+    LatticeConfig& l = c.lattices[i];
+    const std::string p = schema::index_path("particles.lattices", i);
+    groups.insert(l.group);
+    total_particles += static_cast<long long>(l.count[0]) * l.count[1] * l.count[2];
+    check_reference(l.material, materials, materials_ok, p + ".material", p, "material",
+                    "materials", ctx);
+    if (!ctx.failed(p + ".spacing") && !ctx.failed(p + ".particle_radius") &&
+        l.spacing < 2.0 * l.particle_radius) {
+      ctx.error(ctx.where(p + ".spacing", p), p + ".spacing",
+                fmt::format("must be >= 2 * particle_radius = {} m (spheres would overlap), got {}",
+                            schema::format_number(2.0 * l.particle_radius),
+                            schema::format_number(l.spacing)));
+    }
+  }
+  for (std::size_t i = 0; i < c.spheres.size(); ++i) {
+    const SphereConfig& s = c.spheres[i];
+    const std::string p = schema::index_path("particles.spheres", i);
+    groups.insert(s.group);
+    total_particles += 1;
+    check_reference(s.material, materials, materials_ok, p + ".material", p, "material",
+                    "materials", ctx);
+  }
+  if (total_particles == 0 && ctx.given("particles") && !ctx.failed("particles")) {
+    ctx.error(ctx.where("particles"), "particles",
+              "no particles: add at least one entry to rings, lattices or spheres");
+  }
+
+  for (const DampingGroupConfig& g : c.damping.groups) {
+    const std::string p = "damping.groups." + g.group;
+    if (groups.count(g.group) != 0) continue;
+    const std::vector<std::string> names(groups.begin(), groups.end());
+    std::string message = "particle group '" + g.group + "' is not used by any particles";
+    const std::string hint = schema::did_you_mean(g.group, names);
+    message += hint.empty() ? " (groups: " + schema::join_names(names) + ")" : hint;
+    ctx.error(ctx.where(p, "damping.groups"), p, message);
+  }
+
+  for (std::size_t i = 0; i < c.rigid_bodies.size(); ++i) {
+    RigidBodyConfig& b = c.rigid_bodies[i];
+    const std::string p = schema::index_path("rigid_bodies", i);
+    check_reference(b.material, materials, materials_ok, p + ".material", p, "material",
+                    "materials", ctx);
+    if (!ctx.given(p + ".shape") || ctx.failed(p + ".shape")) continue;
+    std::vector<std::string> needs, unused;
+    std::string shape_name;
+    switch (b.shape) {
+      case ShapeKind::kPlane:
+        shape_name = "plane";
+        unused = {"axis", "radius", "length", "mass"};
+        break;
+      case ShapeKind::kCylinder:
+        shape_name = "cylinder";
+        needs = {"radius", "length"};
+        unused = {"normal"};
+        break;
+      case ShapeKind::kSphere:
+        shape_name = "sphere";
+        needs = {"radius"};
+        unused = {"normal", "axis", "length"};
+        break;
+    }
+    for (const std::string& k : needs) {
+      if (!ctx.given(p + "." + k))
+        ctx.error(ctx.where(p), p + "." + k,
+                  fmt::format("missing key '{}', required for shape '{}'", k, shape_name));
+    }
+    for (const std::string& k : unused) {
+      if (ctx.given(p + "." + k))
+        ctx.error(ctx.where(p + "." + k), p + "." + k,
+                  fmt::format("does not apply to shape '{}' (remove it)", shape_name));
+    }
+    if (b.shape == ShapeKind::kPlane && b.motion == MotionKind::kFree &&
+        !ctx.failed(p + ".motion")) {
+      ctx.error(ctx.where(p + ".motion", p), p + ".motion",
+                "'free' is not allowed for a plane (allowed: fixed, prescribed)");
+    }
+    b.normal = normalized(b.normal);
+    b.axis = normalized(b.axis);
+  }
+}
+
+std::string default_name(const std::string& display_name) {
+  const std::string stem = std::filesystem::path(display_name).stem().string();
+  return stem.empty() ? "case" : stem;
+}
+
+}  // namespace
+
+// ---- public API -------------------------------------------------------------------------------
+
+CaseConfig load_case_from_string(const std::string& yaml_text, const std::string& display_name,
+                                 const std::vector<std::string>& overrides) {
+  Context ctx(display_name);
+  CaseConfig config;
+  try {
+    YAML::Node root;
+    try {
+      root = YAML::Load(yaml_text);
+    } catch (const YAML::ParserException& e) {
+      throw InputError({Diagnostic{display_name, e.mark.line + 1, e.mark.column + 1, "",
+                                   "invalid YAML: " + e.msg}});
+    }
+    if (!root.IsDefined() || root.IsNull()) root.reset(YAML::Node(YAML::NodeType::Map));
+    for (std::size_t i = 0; i < overrides.size(); ++i)
+      apply_override(root, overrides[i], static_cast<int>(i) + 1, ctx);
+    case_table().parse(config, root, root, "", ctx);
+    validate(config, ctx);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    ctx.error(Location{display_name, 0, 0}, "",
+              std::string("internal error while reading the case: ") + e.what());
+  }
+  if (!ctx.diagnostics().empty()) throw InputError(ctx.sorted_diagnostics());
+  if (config.name.empty()) config.name = default_name(display_name);
+  config.source_path = display_name;
+  return config;
+}
+
+CaseConfig load_case(const std::string& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  std::string problem;
+  if (!std::filesystem::exists(status))
+    problem = "case file not found";
+  else if (std::filesystem::is_directory(status))
+    problem = "is a directory, not a case file";
+  std::string text;
+  if (problem.empty()) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream buffer;
+    buffer << in.rdbuf();
+    if (!in && !in.eof())
+      problem = "cannot read the case file";
+    else
+      text = buffer.str();
+  }
+  if (!problem.empty()) throw InputError({Diagnostic{path, 0, 0, "", problem}});
+  return load_case_from_string(text, path, overrides);
+}
+
+std::string dump_case(const CaseConfig& config) {
+  YAML::Emitter out;
+  out.SetIndent(2);
+  case_table().dump(config, out);
+  return std::string(out.c_str()) + "\n";
+}
+
+std::string describe_case_schema() {
+  return schema::markdown_reference(case_table().info(), "Top level");
+}
+
+}  // namespace ringdem

@@ -1,0 +1,501 @@
+// Case-file loader: values and defaults, --set overrides, and the diagnostics for bad input
+// (each checked against the line where the mistake is in the fixture text).
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "io/CaseLoader.hpp"
+
+namespace ringdem {
+namespace {
+
+constexpr const char* kValidCase = R"(schema_version: 1
+description: "a ring, debris and a boulder"
+simulation:
+  dt: auto
+  end_time: 0.5
+  gravity: [0, 0, -9.81]
+materials:
+  - {name: steel, density: 7800, youngs_modulus: 200e9, poisson_ratio: 0.3}
+  - name: rock
+    density: 2600
+    youngs_modulus: 30e9
+    restitution: 0.4
+    friction: 0.6
+interactions:
+  - {materials: [steel, rock], friction: 0.5}
+bonds:
+  - {name: ring, youngs_modulus: 120e9, radius_multiplier: 0.8, seed: 7}
+damping:
+  global: 0.05
+  groups: {rings: 0.3}
+particles:
+  rings:
+    - group: rings
+      centre: [0, 0, 1]
+      normal: [0, 2, 0]
+      internal_diameter: 0.3
+      n_particles: 100
+      particle_radius: 0.0045
+      material: steel
+      bond: ring
+  lattices:
+    - {group: debris, origin: [0, 0, 2], count: [2, 3, 4], spacing: 0.02, particle_radius: 0.005, material: rock}
+  spheres:
+    - {position: [1, 1, 1], radius: 0.01, material: rock, motion: fixed}
+rigid_bodies:
+  - {name: floor, shape: plane, position: [0, 0, 0], normal: [0, 0, 3], material: steel}
+  - name: pin
+    shape: cylinder
+    position: [0, 0, 0.1]
+    axis: [2, 0, 0]
+    radius: 0.01
+    length: 0.1
+    motion: prescribed
+    velocity: [0, 0, 0.005]
+  - {name: boulder, shape: sphere, position: [0, 0, 3], radius: 0.4, motion: free, mass: 825, material: rock}
+)";
+
+/// 1-based line of the first occurrence of `needle` in `text` (0 if absent).
+int line_of(const std::string& text, const std::string& needle) {
+  const std::size_t pos = text.find(needle);
+  if (pos == std::string::npos) return 0;
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + pos, '\n'));
+}
+
+/// `text` with the first occurrence of `from` replaced by `to`.
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << "fixture does not contain: " << from;
+  if (pos != std::string::npos) text.replace(pos, from.size(), to);
+  return text;
+}
+
+/// The diagnostics of loading `text`; fails the test if it loads.
+std::vector<Diagnostic> errors_of(const std::string& text,
+                                  const std::vector<std::string>& overrides = {}) {
+  try {
+    load_case_from_string(text, "case.yaml", overrides);
+  } catch (const InputError& e) {
+    EXPECT_FALSE(e.diagnostics.empty());
+    EXPECT_EQ(e.format(), std::string(e.what()));
+    return e.diagnostics;
+  }
+  ADD_FAILURE() << "expected an InputError";
+  return {};
+}
+
+const Diagnostic* find_path(const std::vector<Diagnostic>& diags, const std::string& path) {
+  for (const Diagnostic& d : diags)
+    if (d.key_path == path) return &d;
+  return nullptr;
+}
+
+std::string all(const std::vector<Diagnostic>& diags) {
+  return InputError(diags).format();
+}
+
+TEST(CaseLoader, ValidCaseLoadsValuesAndDefaults) {
+  const CaseConfig c = load_case_from_string(kValidCase, "cases/ring_drop.yaml");
+  EXPECT_EQ(c.schema_version, 1);
+  EXPECT_EQ(c.name, "ring_drop");  // default: file stem
+  EXPECT_EQ(c.description, "a ring, debris and a boulder");
+  EXPECT_EQ(c.source_path, "cases/ring_drop.yaml");
+  EXPECT_FALSE(c.simulation.dt.has_value());  // auto
+  EXPECT_DOUBLE_EQ(c.simulation.dt_safety, 0.3);
+  EXPECT_DOUBLE_EQ(c.simulation.end_time, 0.5);
+  EXPECT_EQ(c.simulation.gravity, (Vec3{0, 0, -9.81}));
+  EXPECT_DOUBLE_EQ(c.simulation.skin, 0.001);
+  EXPECT_EQ(c.simulation.contact_model, "hertz_mindlin");
+
+  ASSERT_EQ(c.materials.size(), 2u);
+  EXPECT_EQ(c.materials[0].name, "steel");
+  EXPECT_DOUBLE_EQ(c.materials[0].youngs_modulus, 200e9);
+  EXPECT_DOUBLE_EQ(c.materials[0].restitution, 0.5);  // default
+  EXPECT_EQ(c.materials[1].name, "rock");
+  EXPECT_DOUBLE_EQ(c.materials[1].density, 2600);
+  EXPECT_DOUBLE_EQ(c.materials[1].friction, 0.6);
+
+  ASSERT_EQ(c.interactions.size(), 1u);
+  EXPECT_EQ(c.interactions[0].material_a, "steel");
+  EXPECT_EQ(c.interactions[0].material_b, "rock");
+  EXPECT_EQ(c.interactions[0].friction, 0.5);
+  EXPECT_FALSE(c.interactions[0].restitution.has_value());
+
+  ASSERT_EQ(c.bonds.size(), 1u);
+  EXPECT_EQ(c.bonds[0].model, "timoshenko");
+  EXPECT_DOUBLE_EQ(c.bonds[0].tensile_strength, 16e9);
+  EXPECT_EQ(c.bonds[0].seed, 7u);
+
+  EXPECT_DOUBLE_EQ(c.damping.global, 0.05);
+  ASSERT_EQ(c.damping.groups.size(), 1u);
+  EXPECT_EQ(c.damping.groups[0].group, "rings");
+  EXPECT_DOUBLE_EQ(c.damping.groups[0].coefficient, 0.3);
+
+  ASSERT_EQ(c.rings.size(), 1u);
+  const RingConfig& r = c.rings[0];
+  EXPECT_EQ(r.centre, (Vec3{0, 0, 1}));
+  EXPECT_EQ(r.normal, (Vec3{0, 1, 0}));  // normalised
+  EXPECT_EQ(r.reference, (Vec3{1, 0, 0}));
+  EXPECT_EQ(r.n_particles, 100);
+  EXPECT_DOUBLE_EQ(r.contact_radius, 0.008);  // default
+  EXPECT_EQ(r.motion, MotionKind::kFree);
+
+  ASSERT_EQ(c.lattices.size(), 1u);
+  EXPECT_EQ(c.lattices[0].group, "debris");
+  EXPECT_EQ(c.lattices[0].count, (std::array<int, 3>{2, 3, 4}));
+  EXPECT_DOUBLE_EQ(c.lattices[0].jitter, 0.0);
+
+  ASSERT_EQ(c.spheres.size(), 1u);
+  EXPECT_EQ(c.spheres[0].group, "spheres");
+  EXPECT_EQ(c.spheres[0].motion, MotionKind::kFixed);
+
+  ASSERT_EQ(c.rigid_bodies.size(), 3u);
+  EXPECT_EQ(c.rigid_bodies[0].shape, ShapeKind::kPlane);
+  EXPECT_EQ(c.rigid_bodies[0].normal, (Vec3{0, 0, 1}));
+  EXPECT_EQ(c.rigid_bodies[0].motion, MotionKind::kFixed);
+  EXPECT_EQ(c.rigid_bodies[1].shape, ShapeKind::kCylinder);
+  EXPECT_EQ(c.rigid_bodies[1].axis, (Vec3{1, 0, 0}));
+  EXPECT_EQ(c.rigid_bodies[1].motion, MotionKind::kPrescribed);
+  EXPECT_EQ(c.rigid_bodies[1].velocity, (Vec3{0, 0, 0.005}));
+  EXPECT_EQ(c.rigid_bodies[1].material, "steel");
+  EXPECT_EQ(c.rigid_bodies[2].shape, ShapeKind::kSphere);
+  EXPECT_EQ(c.rigid_bodies[2].mass, 825.0);
+  EXPECT_TRUE(c.rigid_bodies[2].gravity);
+}
+
+TEST(CaseLoader, ContactRadiusDefaultIsAtLeastParticleRadius) {
+  const CaseConfig c = load_case_from_string(
+      replaced(kValidCase, "particle_radius: 0.0045", "particle_radius: 0.01"), "x.yaml");
+  EXPECT_DOUBLE_EQ(c.rings[0].contact_radius, 0.01);
+}
+
+TEST(CaseLoader, ShippedInputsLoad) {
+  const std::filesystem::path inputs = std::filesystem::path(RINGDEM_SOURCE_DIR) / "inputs";
+  if (!std::filesystem::exists(inputs)) GTEST_SKIP() << "no inputs/ directory";
+  int loaded = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(inputs)) {
+    const auto path = entry.path();
+    if (path.extension() != ".yaml" || path.parent_path().filename() == "sweeps") continue;
+    EXPECT_NO_THROW({
+      try {
+        load_case(path.string());
+      } catch (const InputError& e) {
+        ADD_FAILURE() << e.format();
+      }
+    }) << path;
+    ++loaded;
+  }
+  EXPECT_GT(loaded, 0);
+}
+
+TEST(CaseLoader, OverridesScalarListIndexVectorAndMaps) {
+  const CaseConfig c = load_case_from_string(
+      kValidCase, "x.yaml",
+      {"simulation.dt=1e-6", "rigid_bodies.1.radius=0.02", "rigid_bodies[2].velocity=[0, 0, -5]",
+       "simulation.gravity=[0,0,-1.62]", "damping.groups.debris=0.5", "name=moon_drop",
+       "particles.rings.0.motion=fixed"});
+  EXPECT_EQ(c.simulation.dt, 1e-6);
+  EXPECT_DOUBLE_EQ(c.rigid_bodies[1].radius, 0.02);
+  EXPECT_EQ(c.rigid_bodies[2].velocity, (Vec3{0, 0, -5}));
+  EXPECT_EQ(c.simulation.gravity, (Vec3{0, 0, -1.62}));
+  ASSERT_EQ(c.damping.groups.size(), 2u);
+  EXPECT_EQ(c.damping.groups[1].group, "debris");
+  EXPECT_EQ(c.name, "moon_drop");
+  EXPECT_EQ(c.rings[0].motion, MotionKind::kFixed);
+}
+
+TEST(CaseLoader, OverrideCreatesMissingSectionAndKey) {
+  std::string text = kValidCase;
+  text = replaced(text, "damping:\n  global: 0.05\n  groups: {rings: 0.3}\n", "");
+  const CaseConfig c = load_case_from_string(text, "x.yaml", {"damping.global=0.1"});
+  EXPECT_DOUBLE_EQ(c.damping.global, 0.1);
+}
+
+TEST(CaseLoader, OverrideErrorsNameTheOverride) {
+  const auto diags = errors_of(kValidCase, {"simulation.dt=1e-6", "simulation.dt_safty=0.2",
+                                            "rigid_bodies.7.radius=1", "simulation.skin=-1"});
+  ASSERT_EQ(diags.size(), 3u) << all(diags);
+  EXPECT_EQ(diags[0].file, "--set");
+  EXPECT_EQ(diags[0].line, 2);  // second --set
+  EXPECT_EQ(diags[0].key_path, "simulation.dt_safty");
+  EXPECT_NE(diags[0].message.find("did you mean 'dt_safety'"), std::string::npos);
+  EXPECT_EQ(diags[1].line, 3);
+  EXPECT_NE(diags[1].message.find("has 3 entries"), std::string::npos) << diags[1].message;
+  EXPECT_EQ(diags[2].line, 4);
+  EXPECT_EQ(diags[2].column, 17);  // the value in "simulation.skin=-1"
+  EXPECT_EQ(diags[2].key_path, "simulation.skin");
+  EXPECT_NE(diags[2].message.find("must be > 0 m, got -1"), std::string::npos);
+}
+
+TEST(CaseLoader, MalformedYamlReportsParserLine) {
+  const std::string text = replaced(kValidCase, "gravity: [0, 0, -9.81]", "gravity: [0, 0, -9.81");
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].file, "case.yaml");
+  // The parser notices the unclosed list at the next line.
+  EXPECT_EQ(diags[0].line, line_of(text, "gravity:") + 1);
+  EXPECT_EQ(diags[0].line, 7);
+  EXPECT_NE(diags[0].message.find("invalid YAML"), std::string::npos);
+}
+
+TEST(CaseLoader, UnknownKeySuggestsClosestKey) {
+  const std::string text =
+      replaced(kValidCase, "      particle_radius: 0.0045", "      partcle_radius: 0.0045");
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].line, line_of(text, "partcle_radius"));
+  EXPECT_EQ(diags[0].line, 28);
+  EXPECT_EQ(diags[0].column, 7);
+  EXPECT_EQ(diags[0].key_path, "particles.rings[0].partcle_radius");
+  EXPECT_NE(diags[0].message.find("unknown key 'partcle_radius'; did you mean 'particle_radius'?"),
+            std::string::npos)
+      << diags[0].message;
+  EXPECT_EQ(InputError(diags).format(),
+            "case.yaml:28:7: error: particles.rings[0].partcle_radius: unknown key "
+            "'partcle_radius'; did you mean 'particle_radius'?\n");
+}
+
+TEST(CaseLoader, UnknownKeyWithoutCloseMatchListsValidKeys) {
+  const std::string text = replaced(kValidCase, "  dt: auto", "  dt: auto\n  banana: 3");
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].line, line_of(text, "banana"));
+  EXPECT_NE(diags[0].message.find("valid keys: dt, dt_safety"), std::string::npos);
+}
+
+TEST(CaseLoader, NegativeRadiusReportsValueAndRange) {
+  const std::string text = replaced(kValidCase, "radius: 0.01, material: rock, motion: fixed",
+                                    "radius: -0.002, material: rock, motion: fixed");
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].line, line_of(text, "radius: -0.002"));
+  EXPECT_EQ(diags[0].key_path, "particles.spheres[0].radius");
+  EXPECT_EQ(diags[0].message, "must be > 0 m, got -0.002");
+}
+
+TEST(CaseLoader, MissingSectionIsNamed) {
+  std::string text = kValidCase;
+  const std::size_t begin = text.find("materials:\n");
+  const std::size_t end = text.find("interactions:");
+  text.erase(begin, end - begin);
+  const auto diags = errors_of(text);
+  const Diagnostic* d = find_path(diags, "materials");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, 1);  // the document (parent of the missing section)
+  EXPECT_NE(d->message.find("missing required section 'materials'"), std::string::npos);
+  // References to the missing materials are not reported on top of it.
+  EXPECT_EQ(diags.size(), 1u) << all(diags);
+}
+
+TEST(CaseLoader, MissingRequiredKeyUsesParentLine) {
+  const std::string text = replaced(kValidCase, "  end_time: 0.5\n", "");
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "simulation.end_time");
+  EXPECT_EQ(diags[0].line, line_of(text, "  dt: auto"));  // first line of the simulation map
+}
+
+TEST(CaseLoader, WrongTypesNameTheExpectedType) {
+  std::string text = replaced(kValidCase, "density: 2600", "density: heavy");
+  text = replaced(text, "interactions:\n  - {materials: [steel, rock], friction: 0.5}",
+                  "interactions: {materials: [steel, rock]}");
+  text = replaced(text, "centre: [0, 0, 1]", "centre: [0, 1]");
+  text = replaced(text, "n_particles: 100", "n_particles: 10.5");
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 4u) << all(diags);
+  const Diagnostic* d = find_path(diags, "materials[1].density");
+  ASSERT_NE(d, nullptr);
+  EXPECT_EQ(d->line, line_of(text, "heavy"));
+  EXPECT_EQ(d->message, "expected a number, got 'heavy'");
+  d = find_path(diags, "interactions");
+  ASSERT_NE(d, nullptr);
+  EXPECT_EQ(d->line, line_of(text, "interactions:"));
+  EXPECT_NE(d->message.find("expected a list of maps"), std::string::npos);
+  EXPECT_NE(d->message.find("got a map"), std::string::npos);
+  d = find_path(diags, "particles.rings[0].centre");
+  ASSERT_NE(d, nullptr);
+  EXPECT_EQ(d->line, line_of(text, "centre: [0, 1]"));
+  EXPECT_NE(d->message.find("expected a 3-vector [x, y, z] m, got a list of 2 entries"),
+            std::string::npos)
+      << d->message;
+  d = find_path(diags, "particles.rings[0].n_particles");
+  ASSERT_NE(d, nullptr);
+  EXPECT_EQ(d->message, "expected an integer, got '10.5'");
+}
+
+TEST(CaseLoader, SeveralErrorsReportedAtOnceInFileOrder) {
+  std::string text = replaced(kValidCase, "schema_version: 1", "schema_version: 2");
+  text = replaced(text, "dt: auto", "dt: -1");
+  text = replaced(text, "poisson_ratio: 0.3}", "poisson_ratio: 0.5}");
+  text = replaced(text, "global: 0.05", "global: 1.0");
+  text = replaced(text, "motion: prescribed", "motion: prescribd");
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 5u) << all(diags);
+  EXPECT_EQ(diags[0].line, 1);
+  EXPECT_EQ(diags[0].message, "must be 1, got 2");
+  EXPECT_EQ(diags[1].line, line_of(text, "dt: -1"));
+  EXPECT_EQ(diags[1].message, "must be > 0 s, got -1");
+  EXPECT_EQ(diags[2].line, line_of(text, "poisson_ratio: 0.5"));
+  EXPECT_EQ(diags[2].message, "must be in (-1, 0.5), got 0.5");
+  EXPECT_EQ(diags[3].line, line_of(text, "global: 1.0"));
+  EXPECT_EQ(diags[3].message, "must be in [0, 1), got 1.0");
+  EXPECT_EQ(diags[4].line, line_of(text, "prescribd"));
+  EXPECT_EQ(diags[4].message,
+            "'prescribd' is not one of: free, fixed, prescribed; did you mean 'prescribed'?");
+}
+
+TEST(CaseLoader, UnknownMaterialReference) {
+  const std::string text = replaced(kValidCase, "position: [1, 1, 1], radius: 0.01, material: rock",
+                                    "position: [1, 1, 1], radius: 0.01, material: rok");
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].line, line_of(text, "material: rok"));
+  EXPECT_EQ(diags[0].key_path, "particles.spheres[0].material");
+  EXPECT_EQ(diags[0].message, "material 'rok' is not defined in 'materials'; did you mean 'rock'?");
+}
+
+TEST(CaseLoader, CrossChecks) {
+  std::string text = replaced(kValidCase, "bond: ring", "bond: chain");        // unknown bond
+  text = replaced(text, "spacing: 0.02", "spacing: 0.008");                    // < 2 * radius
+  text = replaced(text, "groups: {rings: 0.3}", "groups: {ring: 0.3}");        // unknown group
+  text = replaced(text, "interactions:", "  - {name: steel}\ninteractions:");  // duplicate
+  text = replaced(text, "material: steel}\n", "material: steel, motion: free, radius: 1}\n");
+  text = replaced(text, "    length: 0.1\n", "");  // cylinder without length
+  const auto diags = errors_of(text);
+  EXPECT_EQ(diags.size(), 7u) << all(diags);
+  const Diagnostic* d = find_path(diags, "materials[2].name");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "  - {name: steel}"));
+  d = find_path(diags, "particles.rings[0].bond");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "bond: chain"));
+  EXPECT_EQ(d->message, "bond 'chain' is not defined in 'bonds' (defined: ring)");
+  d = find_path(diags, "particles.lattices[0].spacing");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_NE(d->message.find("must be >= 2 * particle_radius = 0.01 m"), std::string::npos);
+  d = find_path(diags, "damping.groups.ring");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_NE(d->message.find("did you mean 'rings'?"), std::string::npos);
+  d = find_path(diags, "rigid_bodies[0].motion");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_NE(d->message.find("not allowed for a plane"), std::string::npos);
+  d = find_path(diags, "rigid_bodies[0].radius");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_NE(d->message.find("does not apply to shape 'plane'"), std::string::npos);
+  d = find_path(diags, "rigid_bodies[1].length");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "  - name: pin"));
+}
+
+TEST(CaseLoader, DuplicateKeyAndNonVectorNormal) {
+  std::string text = replaced(kValidCase, "  end_time: 0.5\n", "  end_time: 0.5\n  end_time: 1\n");
+  text = replaced(text, "normal: [0, 2, 0]", "normal: [0, 0, 0]");
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 2u) << all(diags);
+  EXPECT_EQ(diags[0].line, line_of(text, "end_time: 1"));
+  EXPECT_EQ(diags[0].message, "duplicate key 'end_time'");
+  EXPECT_EQ(diags[1].key_path, "particles.rings[0].normal");
+  EXPECT_EQ(diags[1].message, "must be a non-zero vector, got [0, 0, 0]");
+}
+
+TEST(CaseLoader, EmptyFileReportsEveryRequiredSection) {
+  const auto diags = errors_of("");
+  ASSERT_EQ(diags.size(), 4u) << all(diags);
+  for (const char* key : {"schema_version", "simulation", "materials", "particles"})
+    EXPECT_NE(find_path(diags, key), nullptr) << key;
+}
+
+TEST(CaseLoader, NoParticlesIsAnError) {
+  std::string text = kValidCase;
+  const std::size_t begin = text.find("particles:\n");
+  const std::size_t end = text.find("rigid_bodies:");
+  text.replace(begin, end - begin, "particles: {rings: []}\n");
+  text = replaced(text, "groups: {rings: 0.3}", "groups: {}");
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "particles");
+  EXPECT_EQ(diags[0].line, line_of(text, "particles:"));
+}
+
+TEST(CaseLoader, MissingFileIsAnInputError) {
+  try {
+    load_case("/nonexistent/case.yaml");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    ASSERT_EQ(e.diagnostics.size(), 1u);
+    EXPECT_EQ(e.format(), "/nonexistent/case.yaml: error: case file not found\n");
+  }
+}
+
+TEST(CaseLoader, FixtureFileReportsItsPath) {
+  const std::string path =
+      std::string(RINGDEM_SOURCE_DIR) + "/tests/data/bad_cases/negative_radius.yaml";
+  try {
+    load_case(path);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    ASSERT_EQ(e.diagnostics.size(), 1u) << e.format();
+    EXPECT_EQ(e.diagnostics[0].file, path);
+    EXPECT_EQ(e.diagnostics[0].line, 19);
+    EXPECT_EQ(e.diagnostics[0].key_path, "particles.rings[0].particle_radius");
+  }
+}
+
+TEST(CaseLoader, DumpRoundTrips) {
+  const CaseConfig c = load_case_from_string(kValidCase, "x.yaml", {"simulation.dt=2e-7"});
+  const std::string dumped = dump_case(c);
+  EXPECT_NE(dumped.find("dt: 2e-7"), std::string::npos) << dumped;
+  EXPECT_NE(dumped.find("contact_radius: 0.008"), std::string::npos) << dumped;
+  const CaseConfig again = load_case_from_string(dumped, "x.yaml");
+  EXPECT_EQ(dump_case(again), dumped);
+  EXPECT_EQ(again.rigid_bodies[2].mass, 825.0);
+  EXPECT_EQ(again.rings[0].normal, c.rings[0].normal);
+}
+
+TEST(CaseLoader, DocsMatchTheSchema) {
+  const std::string path = std::string(RINGDEM_SOURCE_DIR) + "/docs/case-file.md";
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << path;
+  std::stringstream doc;
+  doc << in.rdbuf();
+  const std::string reference = describe_case_schema();
+  if (doc.str().find(reference) == std::string::npos) {
+    const auto out = std::filesystem::temp_directory_path() / "case-file-reference.md";
+    std::ofstream(out) << reference;
+    FAIL() << "docs/case-file.md is out of date with the schema in src/io/CaseLoader.cpp; "
+              "replace its reference section with "
+           << out;
+  }
+}
+
+TEST(CaseLoader, CliCheckExitsWithCode2AndPrintsLocation) {
+  const std::string binary = RINGDEM_BINARY;
+  ASSERT_TRUE(std::filesystem::exists(binary)) << binary;
+  const std::string bad =
+      std::string(RINGDEM_SOURCE_DIR) + "/tests/data/bad_cases/negative_radius.yaml";
+  const auto err = std::filesystem::temp_directory_path() /
+                   ("ringdem_check_" + std::to_string(::getpid()) + ".txt");
+  const std::string command = "'" + binary + "' check '" + bad + "' 2> '" + err.string() + "'";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  std::ifstream in(err);
+  std::stringstream stderr_text;
+  stderr_text << in.rdbuf();
+  std::filesystem::remove(err);
+  EXPECT_NE(stderr_text.str().find(bad + ":19:"), std::string::npos) << stderr_text.str();
+}
+
+}  // namespace
+}  // namespace ringdem
