@@ -43,8 +43,17 @@ constexpr Quat conjugate(const Quat& q) {
 }
 
 inline Quat normalized(const Quat& q) {
-  const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-  return {q.w / n, q.x / n, q.y / n, q.z / n};
+  const double inv = 1.0 / std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  return {q.w * inv, q.x * inv, q.y * inv, q.z * inv};
+}
+
+/// Renormalises a quaternion whose norm is already 1 to within round-off (a product of unit
+/// quaternions) with one Newton step for 1/sqrt, no square root or division: the norm error
+/// e becomes O(e^2).
+inline Quat renormalized(const Quat& q) {
+  const double n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+  const double f = 0.5 * (3.0 - n2);
+  return {q.w * f, q.x * f, q.y * f, q.z * f};
 }
 
 /// Rotation by the rotation vector phi (axis * angle), exact exponential map.

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 #include "core/Quat.hpp"
@@ -66,8 +68,19 @@ struct BondTimoshenko {
     double energy = 0.0;       ///< 1/2 q^T K q
   };
 
+  /// Forces, moments and stress resultants of one bond (inline: the bond loop vectorises it).
   static Result compute(const Section& s, const Reference& ref, const Vec3& x_a, const Mat3& rot_a,
                         const Vec3& x_b, const Mat3& rot_b);
+
+  /// Small rotation taking the chord frame C = (cx, cy, cz) to an end frame A = (ax, ay, az),
+  /// in chord components: the axial vector of the skew part of C^T A is sin(theta) * axis;
+  /// the cubic asin series restores the angle, exact to O(theta^5) for the per-bond angles
+  /// of any ring deformation.
+  struct LocalRotation {
+    double x, y, z;
+  };
+  static LocalRotation relative_rotation(const Vec3& cx, const Vec3& cy, const Vec3& cz,
+                                         const Vec3& ax, const Vec3& ay, const Vec3& az);
 
   /// Largest stresses of Eq. 3–5 for a computed state.
   struct Stresses {
@@ -88,5 +101,82 @@ struct BondTimoshenko {
   static Strength draw_strength(const Params& p, std::uint64_t seed, std::int64_t gid_a,
                                 std::int64_t gid_b);
 };
+
+[[gnu::always_inline]] inline BondTimoshenko::LocalRotation BondTimoshenko::relative_rotation(
+    const Vec3& cx, const Vec3& cy, const Vec3& cz, const Vec3& ax, const Vec3& ay, const Vec3& az) {
+  const double sx = 0.5 * (dot(cz, ay) - dot(cy, az));
+  const double sy = 0.5 * (dot(cx, az) - dot(cz, ax));
+  const double sz = 0.5 * (dot(cy, ax) - dot(cx, ay));
+  const double s2 = sx * sx + sy * sy + sz * sz;
+  const double f = 1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0));
+  return {sx * f, sy * f, sz * f};
+}
+
+[[gnu::always_inline]] inline BondTimoshenko::Result BondTimoshenko::compute(const Section& s, const Reference& ref,
+                                               const Vec3& x_a, const Mat3& rot_a, const Vec3& x_b,
+                                               const Mat3& rot_b) {
+  // Current end frames.
+  const Vec3 ax = rot_a * ref.axis_a;
+  const Vec3 ay = rot_a * ref.perp_a;
+  const Vec3 az = cross(ax, ay);
+  const Vec3 bx = rot_b * ref.axis_b;
+  const Vec3 by = rot_b * ref.perp_b;
+  const Vec3 bz = cross(bx, by);
+
+  // Chord frame: x along the bond, y the bisector of the end frames' y axes.
+  const Vec3 d = x_b - x_a;
+  const double inv_length = 1.0 / std::sqrt(norm2(d));
+  const double length = norm2(d) * inv_length;
+  const Vec3 cx = d * inv_length;
+  const Vec3 ysum = ay + by;
+  const Vec3 yperp = ysum - cx * dot(ysum, cx);
+  const Vec3 cy = yperp * (1.0 / std::sqrt(norm2(yperp)));
+  const Vec3 cz = cross(cx, cy);
+
+  // Local deformations: q = [0,0,0, th_a, dL,0,0, th_b] (physics.md §1 DOF order).
+  const LocalRotation ta = relative_rotation(cx, cy, cz, ax, ay, az);
+  const LocalRotation tb = relative_rotation(cx, cy, cz, bx, by, bz);
+  const double du = length - s.length0;
+
+  // K q, rows of physics.md §1 (external end loads holding the deformation).
+  const double fx_b = s.k_axial * du;                                // K[6,6] u_bx
+  const double mx_b = s.k_torsion * (tb.x - ta.x);                   // K[9,9], K[9,3]
+  const double my_a = s.k_bend_self * ta.y + s.k_bend_cross * tb.y;  // K[4,4], K[4,10]
+  const double mz_a = s.k_bend_self * ta.z + s.k_bend_cross * tb.z;  // K[5,5], K[5,11]
+  const double my_b = s.k_bend_cross * ta.y + s.k_bend_self * tb.y;  // K[10,4], K[10,10]
+  const double mz_b = s.k_bend_cross * ta.z + s.k_bend_self * tb.z;  // K[11,5], K[11,11]
+  // Shear rows K[7,*], K[8,*] equal -(M_a + M_b) / L0; dividing by the current length
+  // instead makes the end loads balance exactly, so angular momentum is conserved.
+  const double fy_b = -(mz_a + mz_b) * inv_length;
+  const double fz_b = (my_a + my_b) * inv_length;
+
+  // The beam acts on the particles with -K q; end a carries the opposite forces of end b.
+  Result r;
+  r.force_a = cx * fx_b + cy * fy_b + cz * fz_b;
+  r.force_b = -r.force_a;
+  r.torque_a = cx * mx_b - cy * my_a - cz * mz_a;
+  r.torque_b = -(cx * mx_b + cy * my_b + cz * mz_b);
+
+  r.axial_force = fx_b;
+  r.shear_force = std::sqrt(fy_b * fy_b + fz_b * fz_b);
+  r.torsion = mx_b;
+  r.bending_a = std::sqrt(my_a * my_a + mz_a * mz_a);
+  r.bending_b = std::sqrt(my_b * my_b + mz_b * mz_b);
+  // 1/2 q^T K q = 1/2 (F . u) summed over the DOFs.
+  r.energy = 0.5 * (fx_b * du + mx_b * (tb.x - ta.x) + my_a * ta.y + mz_a * ta.z + my_b * tb.y +
+                    mz_b * tb.z);
+  return r;
+}
+
+[[gnu::always_inline]] inline BondTimoshenko::Stresses BondTimoshenko::stresses(const Section& s, const Result& r) {
+  Stresses st;
+  const double axial = r.axial_force * s.inv_area;
+  const double bend = s.bend_factor * std::max(r.bending_a, r.bending_b);
+  st.tensile = axial + bend;       // Eq. 4
+  st.compressive = bend - axial;   // Eq. 3
+  // Eq. 5: torque over J = 2I, plus 4/3 of the mean shear stress of a circular section.
+  st.shear = 0.5 * s.bend_factor * std::abs(r.torsion) + 4.0 / 3.0 * r.shear_force * s.inv_area;
+  return st;
+}
 
 }  // namespace ringdem

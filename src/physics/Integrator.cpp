@@ -19,7 +19,7 @@ inline double damp_component(double f, double v, double alpha) {
 inline void rotate_by(Quat& q, const Vec3& omega, double dt) {
   const Vec3 h = omega * (0.5 * dt);
   const double s = 1.0 / std::sqrt(1.0 + norm2(h));
-  q = normalized(Quat{s, h.x * s, h.y * s, h.z * s} * q);
+  q = renormalized(Quat{s, h.x * s, h.y * s, h.z * s} * q);
 }
 
 /// Angular velocity update of a rigid body with principal inertia I (body frame).

@@ -154,33 +154,49 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
 void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, double time) {
   bonds_broke_ = false;
   const std::size_t nb = bonds.size();
-  // Bonds (physics.md §1). Only forces and the failure test run every step; the output
+  bond_failed_.resize(nb);
+  // Bonds (physics.md §1): forces and the failure test of Eq. 3–5 every step, written so the
+  // loop vectorises (no branches; broken or failing bonds are masked to zero force). Output
   // quantities are recomputed on demand by update_bond_diagnostics().
+  const Vec3* const pos = p.position.data();
+  const Mat3* const rot = p.rotation.data();
+  const std::uint32_t* const ia = bonds.index_a.data();
+  const std::uint32_t* const ib = bonds.index_b.data();
+  const BondTimoshenko::Section* const sec = bonds.section.data();
+  const BondTimoshenko::Reference* const ref = bonds.reference.data();
+  const BondTimoshenko::Strength* const strength = bonds.strength.data();
+  const std::uint8_t* const broken = bonds.broken.data();
+  std::uint8_t* const failed = bond_failed_.data();
+  Vec3* const force = slot_force_.data();
+  Vec3* const torque = slot_torque_.data();
+  int any_failed = 0;
+#pragma omp simd reduction(| : any_failed)
   for (std::size_t k = 0; k < nb; ++k) {
-    Vec3* f = &slot_force_[2 * k];
-    Vec3* t = &slot_torque_[2 * k];
-    if (bonds.broken[k]) {
-      f[0] = f[1] = t[0] = t[1] = Vec3{};
-      continue;
-    }
-    const std::uint32_t a = bonds.index_a[k];
-    const std::uint32_t b = bonds.index_b[k];
-    const auto r = BondTimoshenko::compute(bonds.section[k], bonds.reference[k], p.position[a],
-                                           p.rotation[a], p.position[b], p.rotation[b]);
-    const auto fail = BondTimoshenko::check_failure(BondTimoshenko::stresses(bonds.section[k], r),
-                                                    bonds.strength[k]);
-    if (fail != BondTimoshenko::Failure::kNone) [[unlikely]] {
-      bonds.broken[k] = 1;
-      bonds.failure[k] = fail;
-      bonds.break_time[k] = time;
-      f[0] = f[1] = t[0] = t[1] = Vec3{};
-      bonds_broke_ = true;
-      continue;
-    }
-    f[0] = r.force_a;
-    f[1] = r.force_b;
-    t[0] = r.torque_a;
-    t[1] = r.torque_b;
+    const auto r =
+        BondTimoshenko::compute(sec[k], ref[k], pos[ia[k]], rot[ia[k]], pos[ib[k]], rot[ib[k]]);
+    const auto st = BondTimoshenko::stresses(sec[k], r);
+    const int fails = (st.tensile > strength[k].tensile) |
+                      (st.compressive > strength[k].compressive) |
+                      (st.shear > strength[k].shear);
+    const int newly = fails & (broken[k] == 0);
+    failed[k] = static_cast<std::uint8_t>(newly);
+    any_failed |= newly;
+    const double keep = (fails | broken[k]) ? 0.0 : 1.0;
+    force[2 * k] = r.force_a * keep;
+    force[2 * k + 1] = r.force_b * keep;
+    torque[2 * k] = r.torque_a * keep;
+    torque[2 * k + 1] = r.torque_b * keep;
+  }
+  if (!any_failed) return;
+  for (std::size_t k = 0; k < nb; ++k) {
+    if (!failed[k]) continue;
+    const auto r = BondTimoshenko::compute(sec[k], ref[k], pos[ia[k]], rot[ia[k]], pos[ib[k]],
+                                           rot[ib[k]]);
+    bonds.broken[k] = 1;
+    bonds.failure[k] =
+        BondTimoshenko::check_failure(BondTimoshenko::stresses(sec[k], r), strength[k]);
+    bonds.break_time[k] = time;
+    bonds_broke_ = true;
   }
 }
 

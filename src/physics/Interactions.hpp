@@ -56,6 +56,7 @@ class Interactions {
   std::vector<Vec3> wall_spring_;
 
   std::vector<Vec3> slot_force_, slot_torque_;
+  std::vector<std::uint8_t> bond_failed_;  ///< scratch: bonds that failed in this step
   std::vector<std::uint32_t> gather_offset_, gather_slot_;
 
   bool bonds_broke_ = false;
