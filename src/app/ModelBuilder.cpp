@@ -64,9 +64,8 @@ void add_bond(Model& model, std::size_t index_a, std::size_t index_b, int bond_t
   const auto& params = model.bond_types[static_cast<std::size_t>(bond_type)];
   const double length0 = norm(p.position[b] - p.position[a]);
   const auto section = BondTimoshenko::Section::make(params, p.radius[a], p.radius[b], length0);
-  const auto ref =
-      BondTimoshenko::Reference::make(p.position[a], rotation_matrix(p.orientation[a]),
-                                      p.position[b], rotation_matrix(p.orientation[b]));
+  const auto ref = BondTimoshenko::Reference::make(p.position[a], p.orientation[a], p.position[b],
+                                                   p.orientation[b]);
   const auto strength = BondTimoshenko::draw_strength(params, seed, p.gid[a], p.gid[b]);
   model.bonds.add(p.gid[a], p.gid[b], bond_type, section, ref, strength);
 }

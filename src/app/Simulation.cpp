@@ -45,7 +45,6 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
     : model_(std::move(model)), comm_(comm), settings_(settings) {
   ParticleStore& p = model_.particles;
   p.rebuild_index();
-  p.update_rotations();
   limits_ = stability_limits(p, model_.bonds, model_.materials);
   limits_.rayleigh = comm_.min(limits_.rayleigh);
   limits_.bond_axial = comm_.min(limits_.bond_axial);
@@ -100,7 +99,6 @@ void Simulation::compute_forces() {
   ParticleStore& p = model_.particles;
   {
     PhaseTimer t(phase_seconds_[kBonds]);
-    p.update_rotations();
     interactions_.compute_bonds(p, model_.bonds, time_);
   }
   {
@@ -182,8 +180,8 @@ Energies Simulation::energies() {
     bond_energy.push_back(bonds.energy[k]);
   }
   e.bond_elastic = comm_.sum_by_key(bond_keys, bond_energy);
-  e.contact_elastic = comm_.sum_by_key({static_cast<std::int64_t>(comm_.rank())},
-                                       {interactions_.contact_energy()});
+  e.contact_elastic =
+      comm_.sum_by_key({static_cast<std::int64_t>(comm_.rank())}, {interactions_.contact_energy()});
   for (const auto& b : model_.bodies) {
     if (b.motion != RigidMotion::kFree) continue;
     const Mat3 r = rotation_matrix(b.orientation);

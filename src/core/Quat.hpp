@@ -86,8 +86,63 @@ constexpr Mat3 rotation_matrix(const Quat& q) {
                2 * (xz - wy), 2 * (yz + wx), 1 - 2 * (xx + yy)}};
 }
 
-inline Vec3 rotate(const Quat& q, const Vec3& v) {
-  return rotation_matrix(q) * v;
+/// Rotates v by the unit quaternion q: v + w t + q_v x t with t = 2 q_v x v (no matrix).
+constexpr Vec3 rotate(const Quat& q, const Vec3& v) {
+  const Vec3 qv{q.x, q.y, q.z};
+  const Vec3 t = cross(qv, v) * 2.0;
+  return v + t * q.w + cross(qv, t);
+}
+
+/// Unit quaternion of a rotation matrix (Shepperd: pivot on the largest diagonal term).
+inline Quat quat_from_matrix(const Mat3& r) {
+  const double* m = r.m;
+  const double tr = m[0] + m[4] + m[8];
+  Quat q;
+  if (tr >= m[0] && tr >= m[4] && tr >= m[8]) {
+    const double s = 2.0 * std::sqrt(1.0 + tr);
+    q = {0.25 * s, (m[7] - m[5]) / s, (m[2] - m[6]) / s, (m[3] - m[1]) / s};
+  } else if (m[0] >= m[4] && m[0] >= m[8]) {
+    const double s = 2.0 * std::sqrt(1.0 + m[0] - m[4] - m[8]);
+    q = {(m[7] - m[5]) / s, 0.25 * s, (m[1] + m[3]) / s, (m[2] + m[6]) / s};
+  } else if (m[4] >= m[8]) {
+    const double s = 2.0 * std::sqrt(1.0 - m[0] + m[4] - m[8]);
+    q = {(m[2] - m[6]) / s, (m[1] + m[3]) / s, 0.25 * s, (m[5] + m[7]) / s};
+  } else {
+    const double s = 2.0 * std::sqrt(1.0 - m[0] - m[4] + m[8]);
+    q = {(m[3] - m[1]) / s, (m[2] + m[6]) / s, (m[5] + m[7]) / s, 0.25 * s};
+  }
+  return normalized(q);
+}
+
+/// Either representation of a rotation as a quaternion (used by templated kernels).
+constexpr const Quat& as_quat(const Quat& q) {
+  return q;
+}
+inline Quat as_quat(const Mat3& r) {
+  return quat_from_matrix(r);
+}
+
+/// Columns of the rotation matrix of q (the body axes in the world frame), without the
+/// full matrix.
+constexpr Vec3 body_x_axis(const Quat& q) {
+  return {1 - 2 * (q.y * q.y + q.z * q.z), 2 * (q.x * q.y + q.w * q.z),
+          2 * (q.x * q.z - q.w * q.y)};
+}
+constexpr Vec3 body_y_axis(const Quat& q) {
+  return {2 * (q.x * q.y - q.w * q.z), 1 - 2 * (q.x * q.x + q.z * q.z),
+          2 * (q.y * q.z + q.w * q.x)};
+}
+constexpr Vec3 body_z_axis(const Quat& q) {
+  return {2 * (q.x * q.z + q.w * q.y), 2 * (q.y * q.z - q.w * q.x),
+          1 - 2 * (q.x * q.x + q.y * q.y)};
+}
+
+/// The same operation for either representation of a rotation (used by templated kernels).
+constexpr Vec3 apply_rotation(const Mat3& r, const Vec3& v) {
+  return r * v;
+}
+constexpr Vec3 apply_rotation(const Quat& q, const Vec3& v) {
+  return rotate(q, v);
 }
 
 /// Shortest rotation taking unit vector a onto unit vector b.

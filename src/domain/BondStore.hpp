@@ -1,39 +1,90 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
+#include "domain/ParticleStore.hpp"
 #include "physics/BondTimoshenko.hpp"
 
 namespace ringdem {
 
-/// All bonds a rank holds, structure of arrays, keyed by the ordered gid pair
-/// (gid_a < gid_b). Bonds reference particles by gid; the local indices are resolved after
-/// every rebuild of the particle index.
+/// All bonds a rank holds, structure of arrays (one array per scalar or vector member, so the
+/// bond loop loads them contiguously and vectorises), keyed by the ordered gid pair
+/// (gid_a < gid_b). Bonds reference particles by gid; local indices are resolved after every
+/// rebuild of the particle index. for_each_field() is the bond field registry, with the same
+/// flags as the particle one.
 class BondStore {
  public:
-  // --- persistent state (migrates, checkpoints) ---
+  // --- identity ---
   std::vector<std::int64_t> gid_a, gid_b;
   std::vector<std::int32_t> type;  ///< bond type (case-file table)
-  std::vector<BondTimoshenko::Section> section;
-  std::vector<BondTimoshenko::Reference> reference;
-  std::vector<BondTimoshenko::Strength> strength;
+  // --- section and stiffness (BondTimoshenko::Section, member by member) ---
+  std::vector<double> r_b, area, inertia, length0;
+  std::vector<double> k_axial, k_torsion, k_shear, k_couple, k_bend_self, k_bend_cross;
+  std::vector<double> inv_area, bend_factor;
+  // --- reference frame in each end's body frame (BondTimoshenko::Reference) ---
+  std::vector<Quat> frame_a, frame_b;
+  // --- strengths (BondTimoshenko::Strength) ---
+  std::vector<double> tensile_strength, compressive_strength, shear_strength;
+  // --- state ---
   std::vector<std::uint8_t> broken;  ///< 0 intact, 1 broken
   std::vector<BondTimoshenko::Failure> failure;
   std::vector<double> break_time;  ///< simulated time of failure, -1 while intact
-
-  // --- per-step results (output only) ---
+  // --- output quantities, refreshed by Interactions::update_bond_diagnostics ---
   std::vector<double> axial_force, bending_moment, utilisation, energy;
 
-  // --- local indices of the two ends, resolved by resolve_indices() ---
+  template <class F>
+  void for_each_field(F&& f) {
+    using namespace field_flag;
+    constexpr unsigned kState = kMigrate | kCheckpoint;
+    f(FieldInfo{"gid_a", kState | kOutput}, gid_a);
+    f(FieldInfo{"gid_b", kState | kOutput}, gid_b);
+    f(FieldInfo{"type", kState}, type);
+    f(FieldInfo{"r_b", kState}, r_b);
+    f(FieldInfo{"area", kState}, area);
+    f(FieldInfo{"inertia", kState}, inertia);
+    f(FieldInfo{"length0", kState}, length0);
+    f(FieldInfo{"k_axial", kState}, k_axial);
+    f(FieldInfo{"k_torsion", kState}, k_torsion);
+    f(FieldInfo{"k_shear", kState}, k_shear);
+    f(FieldInfo{"k_couple", kState}, k_couple);
+    f(FieldInfo{"k_bend_self", kState}, k_bend_self);
+    f(FieldInfo{"k_bend_cross", kState}, k_bend_cross);
+    f(FieldInfo{"inv_area", kState}, inv_area);
+    f(FieldInfo{"bend_factor", kState}, bend_factor);
+    f(FieldInfo{"frame_a", kState}, frame_a);
+    f(FieldInfo{"frame_b", kState}, frame_b);
+    f(FieldInfo{"tensile_strength", kState}, tensile_strength);
+    f(FieldInfo{"compressive_strength", kState}, compressive_strength);
+    f(FieldInfo{"shear_strength", kState}, shear_strength);
+    f(FieldInfo{"broken", kState | kOutput}, broken);
+    f(FieldInfo{"failure", kState | kOutput}, failure);
+    f(FieldInfo{"break_time", kState | kOutput}, break_time);
+    f(FieldInfo{"axial_force", kOutput}, axial_force);
+    f(FieldInfo{"bending_moment", kOutput}, bending_moment);
+    f(FieldInfo{"utilisation", kOutput}, utilisation);
+    f(FieldInfo{"energy", kOutput}, energy);
+  }
+
+  /// Local indices of the two ends (not a field: resolved from the gids).
   std::vector<std::uint32_t> index_a, index_b;
 
   std::size_t size() const { return gid_a.size(); }
 
-  /// Adds a bond between a and b in canonical order (swaps so that gid_a < gid_b).
+  /// Adds an intact bond; expects gid_first < gid_second (the canonical order).
   void add(std::int64_t gid_first, std::int64_t gid_second, std::int32_t bond_type,
-           const BondTimoshenko::Section& s, const BondTimoshenko::Reference& ref_low_high,
+           const BondTimoshenko::Section& s, const BondTimoshenko::Reference& ref,
            const BondTimoshenko::Strength& st);
+
+  BondTimoshenko::Section section(std::size_t k) const {
+    return {r_b[k],     area[k],     inertia[k],     length0[k],      k_axial[k],  k_torsion[k],
+            k_shear[k], k_couple[k], k_bend_self[k], k_bend_cross[k], inv_area[k], bend_factor[k]};
+  }
+  BondTimoshenko::Reference reference(std::size_t k) const { return {frame_a[k], frame_b[k]}; }
+  BondTimoshenko::Strength strength(std::size_t k) const {
+    return {tensile_strength[k], compressive_strength[k], shear_strength[k]};
+  }
 
   std::size_t count_broken() const;
 };

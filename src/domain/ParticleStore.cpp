@@ -7,7 +7,6 @@ namespace ringdem {
 
 void ParticleStore::resize_all(std::size_t n) {
   for_each_field([n](const FieldInfo&, auto& v) { v.resize(n); });
-  rotation.resize(n);
 }
 
 std::size_t ParticleStore::add(const NewParticle& p) {
@@ -18,8 +17,10 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   n_local_ = i + 1;
   gid[i] = p.gid;
   position[i] = p.position;
-  velocity[i] = p.velocity;
-  omega[i] = p.omega;
+  // A fixed particle never moves: the integrator relies on its velocities being zero.
+  const bool fixed = p.motion == Motion::kFixed;
+  velocity[i] = fixed ? Vec3{} : p.velocity;
+  omega[i] = fixed ? Vec3{} : p.omega;
   orientation[i] = p.orientation;
   force[i] = {};
   torque[i] = {};
@@ -33,7 +34,6 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   body[i] = p.body;
   group[i] = p.group;
   motion[i] = p.motion;
-  rotation[i] = rotation_matrix(p.orientation);
   index_[p.gid] = static_cast<std::uint32_t>(i);
   return i;
 }
@@ -56,9 +56,6 @@ void ParticleStore::permute_local(const std::vector<std::size_t>& order) {
     for (std::size_t i = 0; i < order.size(); ++i)
       v[i] = old[order[i]];
   });
-  auto old_rot = rotation;
-  for (std::size_t i = 0; i < order.size(); ++i)
-    rotation[i] = old_rot[order[i]];
 }
 
 void ParticleStore::rebuild_index() {
@@ -66,12 +63,6 @@ void ParticleStore::rebuild_index() {
   index_.reserve(n_total());
   for (std::size_t i = 0; i < n_total(); ++i)
     index_[gid[i]] = static_cast<std::uint32_t>(i);
-}
-
-void ParticleStore::update_rotations() {
-  rotation.resize(n_total());
-  for (std::size_t i = 0; i < n_total(); ++i)
-    rotation[i] = rotation_matrix(orientation[i]);
 }
 
 }  // namespace ringdem

@@ -119,10 +119,6 @@ class ParticleStore {
     return it == index_.end() ? -1 : static_cast<std::int64_t>(it->second);
   }
 
-  /// Rotation matrices of all particles, refreshed from the orientations each step.
-  std::vector<Mat3> rotation;
-  void update_rotations();
-
  private:
   void resize_all(std::size_t n);
 

@@ -31,18 +31,6 @@ BondTimoshenko::Section BondTimoshenko::Section::make(const Params& p, double ra
   return s;
 }
 
-BondTimoshenko::Reference BondTimoshenko::Reference::make(const Vec3& x_a, const Mat3& rot_a,
-                                                          const Vec3& x_b, const Mat3& rot_b) {
-  const Vec3 axis = normalized(x_b - x_a);
-  const Vec3 perp = any_perpendicular(axis);
-  Reference r;
-  r.axis_a = rot_a.transpose_times(axis);
-  r.perp_a = rot_a.transpose_times(perp);
-  r.axis_b = rot_b.transpose_times(axis);
-  r.perp_b = rot_b.transpose_times(perp);
-  return r;
-}
-
 BondTimoshenko::Failure BondTimoshenko::check_failure(const Stresses& st,
                                                       const Strength& strength) {
   if (st.tensile > strength.tensile) return Failure::kTensile;

@@ -47,10 +47,17 @@ struct BondTimoshenko {
 
   /// Orientation of the bond frame at creation, stored in each particle's body frame.
   struct Reference {
-    Vec3 axis_a, perp_a;  ///< bond x and y axes in a's body frame
-    Vec3 axis_b, perp_b;  ///< same in b's body frame
+    Quat frame_a;  ///< the bond frame (x along the bond) relative to a's body frame
+    Quat frame_b;  ///< the same relative to b's body frame
 
-    static Reference make(const Vec3& x_a, const Mat3& rot_a, const Vec3& x_b, const Mat3& rot_b);
+    /// Rotation is a Mat3 or a unit Quat (body to world) of each end particle.
+    template <class Rotation>
+    static Reference make(const Vec3& x_a, const Rotation& rot_a, const Vec3& x_b,
+                          const Rotation& rot_b) {
+      const Quat bond = quat_between({1, 0, 0}, normalized(x_b - x_a));
+      return {normalized(conjugate(as_quat(rot_a)) * bond),
+              normalized(conjugate(as_quat(rot_b)) * bond)};
+    }
   };
 
   struct Strength {
@@ -69,8 +76,10 @@ struct BondTimoshenko {
   };
 
   /// Forces, moments and stress resultants of one bond (inline: the bond loop vectorises it).
-  static Result compute(const Section& s, const Reference& ref, const Vec3& x_a, const Mat3& rot_a,
-                        const Vec3& x_b, const Mat3& rot_b);
+  /// Rotation is a Mat3 or a unit Quat (body to world) of each end particle.
+  template <class Rotation>
+  static Result compute(const Section& s, const Reference& ref, const Vec3& x_a,
+                        const Rotation& rot_a, const Vec3& x_b, const Rotation& rot_b);
 
   /// Small rotation taking the chord frame C = (cx, cy, cz) to an end frame A = (ax, ay, az),
   /// in chord components: the axial vector of the skew part of C^T A is sin(theta) * axis;
@@ -103,7 +112,8 @@ struct BondTimoshenko {
 };
 
 [[gnu::always_inline]] inline BondTimoshenko::LocalRotation BondTimoshenko::relative_rotation(
-    const Vec3& cx, const Vec3& cy, const Vec3& cz, const Vec3& ax, const Vec3& ay, const Vec3& az) {
+    const Vec3& cx, const Vec3& cy, const Vec3& cz, const Vec3& ax, const Vec3& ay,
+    const Vec3& az) {
   const double sx = 0.5 * (dot(cz, ay) - dot(cy, az));
   const double sy = 0.5 * (dot(cx, az) - dot(cz, ax));
   const double sz = 0.5 * (dot(cy, ax) - dot(cx, ay));
@@ -112,16 +122,15 @@ struct BondTimoshenko {
   return {sx * f, sy * f, sz * f};
 }
 
-[[gnu::always_inline]] inline BondTimoshenko::Result BondTimoshenko::compute(const Section& s, const Reference& ref,
-                                               const Vec3& x_a, const Mat3& rot_a, const Vec3& x_b,
-                                               const Mat3& rot_b) {
-  // Current end frames.
-  const Vec3 ax = rot_a * ref.axis_a;
-  const Vec3 ay = rot_a * ref.perp_a;
-  const Vec3 az = cross(ax, ay);
-  const Vec3 bx = rot_b * ref.axis_b;
-  const Vec3 by = rot_b * ref.perp_b;
-  const Vec3 bz = cross(bx, by);
+template <class Rotation>
+[[gnu::always_inline]] inline BondTimoshenko::Result BondTimoshenko::compute(
+    const Section& s, const Reference& ref, const Vec3& x_a, const Rotation& rot_a, const Vec3& x_b,
+    const Rotation& rot_b) {
+  // Current end frames: particle orientation times the bond frame stored at creation.
+  const Quat frame_a = as_quat(rot_a) * ref.frame_a;
+  const Quat frame_b = as_quat(rot_b) * ref.frame_b;
+  const Vec3 ax = body_x_axis(frame_a), ay = body_y_axis(frame_a), az = body_z_axis(frame_a);
+  const Vec3 bx = body_x_axis(frame_b), by = body_y_axis(frame_b), bz = body_z_axis(frame_b);
 
   // Chord frame: x along the bond, y the bisector of the end frames' y axes.
   const Vec3 d = x_b - x_a;
@@ -151,29 +160,24 @@ struct BondTimoshenko {
   const double fz_b = (my_a + my_b) * inv_length;
 
   // The beam acts on the particles with -K q; end a carries the opposite forces of end b.
-  Result r;
-  r.force_a = cx * fx_b + cy * fy_b + cz * fz_b;
-  r.force_b = -r.force_a;
-  r.torque_a = cx * mx_b - cy * my_a - cz * mz_a;
-  r.torque_b = -(cx * mx_b + cy * my_b + cz * mz_b);
-
-  r.axial_force = fx_b;
-  r.shear_force = std::sqrt(fy_b * fy_b + fz_b * fz_b);
-  r.torsion = mx_b;
-  r.bending_a = std::sqrt(my_a * my_a + mz_a * mz_a);
-  r.bending_b = std::sqrt(my_b * my_b + mz_b * mz_b);
-  // 1/2 q^T K q = 1/2 (F . u) summed over the DOFs.
-  r.energy = 0.5 * (fx_b * du + mx_b * (tb.x - ta.x) + my_a * ta.y + mz_a * ta.z + my_b * tb.y +
-                    mz_b * tb.z);
-  return r;
+  // Built in one aggregate so the compiler can keep every member in registers (the bond
+  // loop vectorises only then).
+  const Vec3 force_a = cx * fx_b + cy * fy_b + cz * fz_b;
+  return Result{force_a, cx * mx_b - cy * my_a - cz * mz_a, -force_a,
+                -(cx * mx_b + cy * my_b + cz * mz_b), fx_b, std::sqrt(fy_b * fy_b + fz_b * fz_b),
+                mx_b, std::sqrt(my_a * my_a + mz_a * mz_a), std::sqrt(my_b * my_b + mz_b * mz_b),
+                // 1/2 q^T K q = 1/2 (F . u) summed over the DOFs.
+                0.5 * (fx_b * du + mx_b * (tb.x - ta.x) + my_a * ta.y + mz_a * ta.z + my_b * tb.y +
+                       mz_b * tb.z)};
 }
 
-[[gnu::always_inline]] inline BondTimoshenko::Stresses BondTimoshenko::stresses(const Section& s, const Result& r) {
+[[gnu::always_inline]] inline BondTimoshenko::Stresses BondTimoshenko::stresses(const Section& s,
+                                                                                const Result& r) {
   Stresses st;
   const double axial = r.axial_force * s.inv_area;
   const double bend = s.bend_factor * std::max(r.bending_a, r.bending_b);
-  st.tensile = axial + bend;       // Eq. 4
-  st.compressive = bend - axial;   // Eq. 3
+  st.tensile = axial + bend;      // Eq. 4
+  st.compressive = bend - axial;  // Eq. 3
   // Eq. 5: torque over J = 2I, plus 4/3 of the mean shear stress of a circular section.
   st.shear = 0.5 * s.bend_factor * std::abs(r.torsion) + 4.0 / 3.0 * r.shear_force * s.inv_area;
   return st;

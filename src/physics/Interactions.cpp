@@ -108,12 +108,10 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
     if (it != old_wall_springs.end()) wall_spring_[w] = it->second;
   }
 
-  // Slots: bonds [0, 2 nb), pairs [2 nb, 2 nb + 2 np), walls after.
   const std::size_t nb = bonds.size();
   const std::size_t np = pairs_.size();
   const std::size_t nw = wall_particle_.size();
-  slot_force_.assign(2 * nb + 2 * np + nw, Vec3{});
-  slot_torque_.assign(slot_force_.size(), Vec3{});
+  slots_.assign(2 * nb + 2 * np + nw);
 
   // Gather map: for each owned particle, its slots ordered by (partner key, kind).
   struct Entry {
@@ -123,18 +121,18 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
     std::uint32_t slot;
   };
   std::vector<Entry> entries;
-  entries.reserve(slot_force_.size());
+  entries.reserve(slots_.size());
   auto add = [&](std::uint32_t particle, std::int64_t key, std::uint32_t kind, std::size_t slot) {
     if (particle < n_local)
       entries.push_back({particle, key, kind, static_cast<std::uint32_t>(slot)});
   };
   for (std::size_t k = 0; k < nb; ++k) {
-    add(bonds.index_a[k], bonds.gid_b[k], 0, 2 * k);
-    add(bonds.index_b[k], bonds.gid_a[k], 0, 2 * k + 1);
+    add(bonds.index_a[k], bonds.gid_b[k], 0, k);
+    add(bonds.index_b[k], bonds.gid_a[k], 0, nb + k);
   }
   for (std::size_t m = 0; m < np; ++m) {
-    add(pairs_.i[m], p.gid[pairs_.j[m]], 1, 2 * nb + 2 * m);
-    add(pairs_.j[m], p.gid[pairs_.i[m]], 1, 2 * nb + 2 * m + 1);
+    add(pairs_.i[m], p.gid[pairs_.j[m]], 1, 2 * nb + m);
+    add(pairs_.j[m], p.gid[pairs_.i[m]], 1, 2 * nb + np + m);
   }
   for (std::size_t w = 0; w < nw; ++w)
     add(wall_particle_[w], kBodyKeyBase + wall_body_[w], 2, 2 * nb + 2 * np + w);
@@ -156,45 +154,73 @@ void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, doubl
   const std::size_t nb = bonds.size();
   bond_failed_.resize(nb);
   // Bonds (physics.md §1): forces and the failure test of Eq. 3–5 every step, written so the
-  // loop vectorises (no branches; broken or failing bonds are masked to zero force). Output
-  // quantities are recomputed on demand by update_bond_diagnostics().
+  // loop vectorises: bond data in contiguous arrays, particle data gathered by index, no
+  // branches (broken or failing bonds are masked to zero force). Output quantities are
+  // recomputed on demand by update_bond_diagnostics().
   const Vec3* const pos = p.position.data();
-  const Mat3* const rot = p.rotation.data();
+  const Quat* const rot = p.orientation.data();
   const std::uint32_t* const ia = bonds.index_a.data();
   const std::uint32_t* const ib = bonds.index_b.data();
-  const BondTimoshenko::Section* const sec = bonds.section.data();
-  const BondTimoshenko::Reference* const ref = bonds.reference.data();
-  const BondTimoshenko::Strength* const strength = bonds.strength.data();
   const std::uint8_t* const broken = bonds.broken.data();
-  std::uint8_t* const failed = bond_failed_.data();
-  Vec3* const force = slot_force_.data();
-  Vec3* const torque = slot_torque_.data();
-  int any_failed = 0;
-#pragma omp simd reduction(| : any_failed)
+  std::uint8_t* __restrict__ const failed = bond_failed_.data();
+  double* __restrict__ const fx = slots_.fx.data();
+  double* __restrict__ const fy = slots_.fy.data();
+  double* __restrict__ const fz = slots_.fz.data();
+  double* __restrict__ const tx = slots_.tx.data();
+  double* __restrict__ const ty = slots_.ty.data();
+  double* __restrict__ const tz = slots_.tz.data();
+  // Raw pointers, read once: the vectoriser needs loop-invariant bases it can prove.
+  const double* const l0 = bonds.length0.data();
+  const double* const k_ax = bonds.k_axial.data();
+  const double* const k_tor = bonds.k_torsion.data();
+  const double* const k_self = bonds.k_bend_self.data();
+  const double* const k_cross = bonds.k_bend_cross.data();
+  const double* const inv_area = bonds.inv_area.data();
+  const double* const bend_factor = bonds.bend_factor.data();
+  const Quat* const frame_a = bonds.frame_a.data();
+  const Quat* const frame_b = bonds.frame_b.data();
+  const double* const sigma_t = bonds.tensile_strength.data();
+  const double* const sigma_c = bonds.compressive_strength.data();
+  const double* const tau = bonds.shear_strength.data();
+#pragma GCC ivdep
   for (std::size_t k = 0; k < nb; ++k) {
+    BondTimoshenko::Section sec;
+    sec.length0 = l0[k];
+    sec.k_axial = k_ax[k];
+    sec.k_torsion = k_tor[k];
+    sec.k_bend_self = k_self[k];
+    sec.k_bend_cross = k_cross[k];
+    sec.inv_area = inv_area[k];
+    sec.bend_factor = bend_factor[k];
+    const BondTimoshenko::Reference ref{frame_a[k], frame_b[k]};
     const auto r =
-        BondTimoshenko::compute(sec[k], ref[k], pos[ia[k]], rot[ia[k]], pos[ib[k]], rot[ib[k]]);
-    const auto st = BondTimoshenko::stresses(sec[k], r);
-    const int fails = (st.tensile > strength[k].tensile) |
-                      (st.compressive > strength[k].compressive) |
-                      (st.shear > strength[k].shear);
-    const int newly = fails & (broken[k] == 0);
-    failed[k] = static_cast<std::uint8_t>(newly);
-    any_failed |= newly;
+        BondTimoshenko::compute(sec, ref, pos[ia[k]], rot[ia[k]], pos[ib[k]], rot[ib[k]]);
+    const auto st = BondTimoshenko::stresses(sec, r);
+    const int fails =
+        (st.tensile > sigma_t[k]) | (st.compressive > sigma_c[k]) | (st.shear > tau[k]);
+    failed[k] = static_cast<std::uint8_t>(fails & (broken[k] == 0));
     const double keep = (fails | broken[k]) ? 0.0 : 1.0;
-    force[2 * k] = r.force_a * keep;
-    force[2 * k + 1] = r.force_b * keep;
-    torque[2 * k] = r.torque_a * keep;
-    torque[2 * k + 1] = r.torque_b * keep;
+    fx[k] = r.force_a.x * keep;
+    fy[k] = r.force_a.y * keep;
+    fz[k] = r.force_a.z * keep;
+    tx[k] = r.torque_a.x * keep;
+    ty[k] = r.torque_a.y * keep;
+    tz[k] = r.torque_a.z * keep;
+    fx[nb + k] = r.force_b.x * keep;
+    fy[nb + k] = r.force_b.y * keep;
+    fz[nb + k] = r.force_b.z * keep;
+    tx[nb + k] = r.torque_b.x * keep;
+    ty[nb + k] = r.torque_b.y * keep;
+    tz[nb + k] = r.torque_b.z * keep;
   }
-  if (!any_failed) return;
+  if (std::find(bond_failed_.begin(), bond_failed_.end(), 1) == bond_failed_.end()) return;
   for (std::size_t k = 0; k < nb; ++k) {
     if (!failed[k]) continue;
-    const auto r = BondTimoshenko::compute(sec[k], ref[k], pos[ia[k]], rot[ia[k]], pos[ib[k]],
-                                           rot[ib[k]]);
+    const auto r = BondTimoshenko::compute(bonds.section(k), bonds.reference(k), pos[ia[k]],
+                                           rot[ia[k]], pos[ib[k]], rot[ib[k]]);
     bonds.broken[k] = 1;
-    bonds.failure[k] =
-        BondTimoshenko::check_failure(BondTimoshenko::stresses(sec[k], r), strength[k]);
+    bonds.failure[k] = BondTimoshenko::check_failure(BondTimoshenko::stresses(bonds.section(k), r),
+                                                     bonds.strength(k));
     bonds.break_time[k] = time;
     bonds_broke_ = true;
   }
@@ -210,12 +236,12 @@ double Interactions::update_bond_diagnostics(const ParticleStore& p, BondStore& 
     }
     const std::uint32_t a = bonds.index_a[k];
     const std::uint32_t b = bonds.index_b[k];
-    const auto r = BondTimoshenko::compute(bonds.section[k], bonds.reference[k], p.position[a],
-                                           p.rotation[a], p.position[b], p.rotation[b]);
+    const auto r = BondTimoshenko::compute(bonds.section(k), bonds.reference(k), p.position[a],
+                                           p.orientation[a], p.position[b], p.orientation[b]);
     bonds.axial_force[k] = r.axial_force;
     bonds.bending_moment[k] = std::max(r.bending_a, r.bending_b);
     bonds.utilisation[k] = BondTimoshenko::utilisation(
-        BondTimoshenko::stresses(bonds.section[k], r), bonds.strength[k]);
+        BondTimoshenko::stresses(bonds.section(k), r), bonds.strength(k));
     bonds.energy[k] = r.energy;
     total += r.energy;
   }
@@ -227,20 +253,20 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
   contact_energy_ = 0.0;
   n_active_ = 0;
   // Particle contacts (physics.md §3).
-  const std::size_t base = slot_force_.size() - 2 * pairs_.size() - wall_particle_.size();
-  for (std::size_t m = 0; m < pairs_.size(); ++m) {
+  const std::size_t np = pairs_.size();
+  const std::size_t base = slots_.size() - 2 * np - wall_particle_.size();
+  for (std::size_t m = 0; m < np; ++m) {
     const std::uint32_t a = pairs_.i[m];
     const std::uint32_t b = pairs_.j[m];
-    Vec3& fa = slot_force_[base + 2 * m];
-    Vec3& fb = slot_force_[base + 2 * m + 1];
-    Vec3& ta = slot_torque_[base + 2 * m];
-    Vec3& tb = slot_torque_[base + 2 * m + 1];
+    const std::size_t slot_a = base + m;
+    const std::size_t slot_b = base + np + m;
     const Vec3 d = p.position[b] - p.position[a];
     const double reach = p.radius[a] + p.radius[b];
     const double dist2 = norm2(d);
     if (dist2 >= reach * reach) {
       pair_spring_[m] = {};
-      fa = fb = ta = tb = Vec3{};
+      slots_.set(slot_a, {}, {});
+      slots_.set(slot_b, {}, {});
       continue;
     }
     ++n_active_;
@@ -263,10 +289,8 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
     in.omega_j = p.omega[b];
     const auto r =
         HertzMindlin::compute(materials.pair(p.material[a], p.material[b]), in, pair_spring_[m]);
-    fa = r.force_i;
-    fb = -r.force_i;
-    ta = cross(n * arm_a, r.force_i) + r.rolling_torque_i;
-    tb = cross(n * (-arm_b), fb) + r.rolling_torque_j;
+    slots_.set(slot_a, r.force_i, cross(n * arm_a, r.force_i) + r.rolling_torque_i);
+    slots_.set(slot_b, -r.force_i, cross(n * arm_b, r.force_i) + r.rolling_torque_j);
     contact_energy_ += r.elastic_energy;
   }
 
@@ -275,17 +299,15 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
     body.force = {};
     body.torque = {};
   }
-  const std::size_t wbase = base + 2 * pairs_.size();
+  const std::size_t wbase = base + 2 * np;
   for (std::size_t w = 0; w < wall_particle_.size(); ++w) {
     const std::uint32_t k = wall_particle_[w];
     RigidBody& body = bodies[wall_body_[w]];
-    Vec3& fk = slot_force_[wbase + w];
-    Vec3& tk = slot_torque_[wbase + w];
     const auto sp = body.closest(p.position[k]);
     const double overlap = p.radius[k] - sp.distance;
     if (overlap <= 0.0) {
       wall_spring_[w] = {};
-      fk = tk = Vec3{};
+      slots_.set(wbase + w, {}, {});
       continue;
     }
     ++n_active_;
@@ -307,8 +329,7 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
     in.omega_j = body.omega;
     const auto r =
         HertzMindlin::compute(materials.pair(p.material[k], body.material), in, wall_spring_[w]);
-    fk = r.force_i;
-    tk = cross(n * arm, r.force_i) + r.rolling_torque_i;
+    slots_.set(wbase + w, r.force_i, cross(n * arm, r.force_i) + r.rolling_torque_i);
     body.force -= r.force_i;
     body.torque += cross(contact - body.position, -r.force_i);
     contact_energy_ += r.elastic_energy;
@@ -321,8 +342,9 @@ void Interactions::gather(ParticleStore& p, const Vec3& gravity) const {
     Vec3 f = gravity * p.mass[k] + p.external_force[k];
     Vec3 t;
     for (std::uint32_t e = gather_offset_[k]; e < gather_offset_[k + 1]; ++e) {
-      f += slot_force_[gather_slot_[e]];
-      t += slot_torque_[gather_slot_[e]];
+      const std::uint32_t s = gather_slot_[e];
+      f += Vec3{slots_.fx[s], slots_.fy[s], slots_.fz[s]};
+      t += Vec3{slots_.tx[s], slots_.ty[s], slots_.tz[s]};
     }
     p.force[k] = f;
     p.torque[k] = t;

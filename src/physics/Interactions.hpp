@@ -55,7 +55,26 @@ class Interactions {
   std::vector<std::int64_t> wall_gid_;
   std::vector<Vec3> wall_spring_;
 
-  std::vector<Vec3> slot_force_, slot_torque_;
+  /// Per-interaction contributions, structure of arrays so the kernels store contiguously.
+  /// Layout: bond a-ends [0, nb), bond b-ends [nb, 2nb), contact i-sides, contact j-sides,
+  /// then particle–rigid-body contacts.
+  struct Slots {
+    std::vector<double> fx, fy, fz, tx, ty, tz;
+    void assign(std::size_t n) {
+      for (auto* v : {&fx, &fy, &fz, &tx, &ty, &tz})
+        v->assign(n, 0.0);
+    }
+    std::size_t size() const { return fx.size(); }
+    void set(std::size_t i, const Vec3& f, const Vec3& t) {
+      fx[i] = f.x;
+      fy[i] = f.y;
+      fz[i] = f.z;
+      tx[i] = t.x;
+      ty[i] = t.y;
+      tz[i] = t.z;
+    }
+  };
+  Slots slots_;
   std::vector<std::uint8_t> bond_failed_;  ///< scratch: bonds that failed in this step
   std::vector<std::uint32_t> gather_offset_, gather_slot_;
 

@@ -33,7 +33,7 @@ StabilityLimits stability_limits(const ParticleStore& p, const BondStore& bonds,
     if (a < 0 || b < 0) continue;
     const double mass = std::min(p.mass[a], p.mass[b]);
     const double inertia = std::min(p.inertia[a], p.inertia[b]);
-    const auto& sec = bonds.section[k];
+    const auto sec = bonds.section(k);
     s.bond_axial = std::min(s.bond_axial, std::sqrt(mass / sec.k_axial));
     s.bond_shear = std::min(s.bond_shear, std::sqrt(mass / sec.k_shear));
     s.bond_rotation =
