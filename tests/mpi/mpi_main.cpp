@@ -1,0 +1,22 @@
+// Runs the MPI test binary on every rank. A failure on any rank fails the run on all ranks
+// (the result is reduced), and gtest output is printed by rank 0 only, so a test that fails
+// on one rank cannot hang the others at the final collective.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  ::testing::InitGoogleTest(&argc, argv);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank != 0) {
+    auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
+    delete listeners.Release(listeners.default_result_printer());
+  }
+  const int local = RUN_ALL_TESTS();
+  int global = 0;
+  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  if (local != 0) std::fprintf(stderr, "rank %d: tests FAILED\n", rank);
+  MPI_Finalize();
+  return global;
+}
