@@ -54,7 +54,8 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("cannot choose a time step: give simulation.dt explicitly");
   rebuild();
-  compute_forces();  // forces of the initial state, for the first half kick
+  compute_forces();  // loads of the initial state, for the first half kick
+  apply_global_damping(model_.particles);
 }
 
 void Simulation::rebuild() {
@@ -74,10 +75,6 @@ void Simulation::rebuild() {
 }
 
 bool Simulation::needs_rebuild() const {
-  const ParticleStore& p = model_.particles;
-  double max2 = 0.0;
-  for (std::size_t k = 0; k < p.n_local(); ++k)
-    max2 = std::max(max2, norm2(p.position[k] - position_at_rebuild_[k]));
   // How far any rigid surface point moved: translation plus rotation angle times extent.
   double body_move = 0.0;
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
@@ -88,7 +85,7 @@ bool Simulation::needs_rebuild() const {
     const double turn = angle > 0.0 ? angle * body.extent() : 0.0;
     body_move = std::max(body_move, norm(body.position - body_position_at_rebuild_[b]) + turn);
   }
-  const double particle_move = comm_.max(std::sqrt(max2));
+  const double particle_move = comm_.max(std::sqrt(max_move2_));
   // Two particles close by at most twice the largest move; a particle and a surface by the
   // sum of the two.
   return force_rebuild_ || 2.0 * particle_move > settings_.skin ||
@@ -108,7 +105,6 @@ void Simulation::compute_forces() {
   {
     PhaseTimer t(phase_seconds_[kGather]);
     interactions_.gather(p, settings_.gravity);
-    apply_global_damping(p);
   }
   if (comm_.any(interactions_.bonds_broke())) force_rebuild_ = true;
 }
@@ -117,7 +113,7 @@ void Simulation::step() {
   ParticleStore& p = model_.particles;
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
-    Integrator::first_half(p, dt_);
+    max_move2_ = Integrator::first_half(p, dt_, position_at_rebuild_);
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);
   }
   time_ += dt_;

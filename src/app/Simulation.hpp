@@ -78,6 +78,7 @@ class Simulation {
   std::int64_t rebuilds_ = 0;
   bool force_rebuild_ = false;
   std::vector<Vec3> position_at_rebuild_;
+  double max_move2_ = 0.0;  ///< largest squared particle move since the rebuild (this rank)
   std::vector<Vec3> body_position_at_rebuild_;
   std::vector<Quat> body_orientation_at_rebuild_;
   std::array<double, kPhaseCount> phase_seconds_{};

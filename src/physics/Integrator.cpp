@@ -1,5 +1,6 @@
 #include "physics/Integrator.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ringdem {
@@ -10,6 +11,12 @@ inline double damp_component(double f, double v, double alpha) {
   // sign(0) = 0: a particle at rest is not pushed.
   const double s = (v > 0.0) - (v < 0.0);
   return f - alpha * std::abs(f) * s;
+}
+
+/// Cundall damping of one vector load against its velocity; alpha = 0 leaves it bit for bit.
+inline Vec3 damped(const Vec3& f, const Vec3& v, double alpha) {
+  return {damp_component(f.x, v.x, alpha), damp_component(f.y, v.y, alpha),
+          damp_component(f.z, v.z, alpha)};
 }
 
 /// Returns dq(omega dt) q with the Cayley form dq(phi) = (1, phi/2) / sqrt(1 + |phi|^2/4): a unit
@@ -39,7 +46,7 @@ inline void kick_rotation(RigidBody& b, double half_dt) {
 // A fixed particle has zero velocity and angular velocity (the model builder sets them), so
 // scaling its drift by 0 only guards against stray values.
 
-void Integrator::first_half(ParticleStore& p, double dt) {
+double Integrator::first_half(ParticleStore& p, double dt, const std::vector<Vec3>& reference) {
   const double half = 0.5 * dt;
   const std::size_t n = p.n_local();
   const Motion* const motion = p.motion.data();
@@ -47,11 +54,13 @@ void Integrator::first_half(ParticleStore& p, double dt) {
   const double* const inertia = p.inertia.data();
   const Vec3* const force = p.force.data();
   const Vec3* const torque = p.torque.data();
+  const Vec3* const x_ref = reference.data();
   Vec3* const v = p.velocity.data();
   Vec3* const w = p.omega.data();
   Vec3* const x = p.position.data();
   Quat* const q = p.orientation.data();
-#pragma GCC ivdep
+  double max_move2 = 0.0;
+#pragma omp simd reduction(max : max_move2)
   for (std::size_t k = 0; k < n; ++k) {
     const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
     const double moving = motion[k] == Motion::kFixed ? 0.0 : 1.0;
@@ -59,7 +68,10 @@ void Integrator::first_half(ParticleStore& p, double dt) {
     w[k] += torque[k] * (free * half / inertia[k]);
     x[k] += v[k] * (moving * dt);
     q[k] = rotated(q[k], w[k] * moving, dt);
+    const double move2 = norm2(x[k] - x_ref[k]);
+    max_move2 = move2 > max_move2 ? move2 : max_move2;
   }
+  return max_move2;
 }
 
 void Integrator::second_half(ParticleStore& p, double dt) {
@@ -68,12 +80,15 @@ void Integrator::second_half(ParticleStore& p, double dt) {
   const Motion* const motion = p.motion.data();
   const double* const mass = p.mass.data();
   const double* const inertia = p.inertia.data();
-  const Vec3* const force = p.force.data();
-  const Vec3* const torque = p.torque.data();
+  const double* const alpha = p.damping.data();
+  Vec3* const force = p.force.data();
+  Vec3* const torque = p.torque.data();
   Vec3* const v = p.velocity.data();
   Vec3* const w = p.omega.data();
 #pragma GCC ivdep
   for (std::size_t k = 0; k < n; ++k) {
+    force[k] = damped(force[k], v[k], alpha[k]);
+    torque[k] = damped(torque[k], w[k], alpha[k]);
     const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
     v[k] += force[k] * (free * half / mass[k]);
     w[k] += torque[k] * (free * half / inertia[k]);
@@ -105,20 +120,9 @@ void Integrator::second_half(std::vector<RigidBody>& bodies, double dt, const Ve
 }
 
 void apply_global_damping(ParticleStore& p) {
-  const std::size_t n = p.n_local();
-  const double* const alpha = p.damping.data();
-  const Vec3* const v = p.velocity.data();
-  const Vec3* const w = p.omega.data();
-  Vec3* const f = p.force.data();
-  Vec3* const t = p.torque.data();
-  // alpha = 0 leaves the force bit for bit unchanged, so no branch is needed.
-#pragma GCC ivdep
-  for (std::size_t k = 0; k < n; ++k) {
-    const double a = alpha[k];
-    f[k] = {damp_component(f[k].x, v[k].x, a), damp_component(f[k].y, v[k].y, a),
-            damp_component(f[k].z, v[k].z, a)};
-    t[k] = {damp_component(t[k].x, w[k].x, a), damp_component(t[k].y, w[k].y, a),
-            damp_component(t[k].z, w[k].z, a)};
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    p.force[k] = damped(p.force[k], p.velocity[k], p.damping[k]);
+    p.torque[k] = damped(p.torque[k], p.omega[k], p.damping[k]);
   }
 }
 

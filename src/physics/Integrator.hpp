@@ -11,9 +11,12 @@ namespace ringdem {
 /// inertia, so the world-frame angular velocity is integrated directly and the orientation
 /// follows by the exact exponential map q <- exp(omega dt) q.
 struct Integrator {
-  /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles.
-  static void first_half(ParticleStore& p, double dt);
-  /// v += F/m dt/2, omega += T/I dt/2, owned free particles.
+  /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles. Returns the
+  /// largest squared distance of a particle from its position in `reference` (the
+  /// neighbour-list displacement test, folded into this pass over the particles).
+  static double first_half(ParticleStore& p, double dt, const std::vector<Vec3>& reference);
+  /// Applies the global damping to the new loads (physics.md §4), then v += F/m dt/2,
+  /// omega += T/I dt/2 for owned free particles; the damped loads stay for the next step.
   static void second_half(ParticleStore& p, double dt);
 
   /// Rigid bodies: prescribed ones move with their velocity; free ones are integrated from
@@ -23,7 +26,8 @@ struct Integrator {
 };
 
 /// Cundall's non-viscous global damping, per particle and component (physics.md §4):
-/// F_i <- F_i - alpha |F_i| sign(v_i), T_i <- T_i - alpha |T_i| sign(omega_i).
+/// F_i <- F_i - alpha |F_i| sign(v_i), T_i <- T_i - alpha |T_i| sign(omega_i). The step
+/// applies it inside second_half(); this is for the loads of the initial state.
 void apply_global_damping(ParticleStore& p);
 
 }  // namespace ringdem
