@@ -126,6 +126,10 @@ Model build_model(const CaseConfig& c) {
       throw std::invalid_argument("unknown bond '" + ring.bond + "'");
     const int bond_type = static_cast<int>(bt_it - model.bond_type_names.begin());
     const std::size_t first = p.n_local();
+    // A given ring mass sets the particle density (the particles stand for the whole wire).
+    const double particle_volume = 4.0 / 3.0 * M_PI * std::pow(ring.particle_radius, 3);
+    const double density = ring.mass ? *ring.mass / (ring.n_particles * particle_volume)
+                                     : model.materials[static_cast<std::size_t>(mat)].density;
     for (const Vec3& x : g.positions()) {
       ParticleStore::NewParticle np;
       np.gid = next_gid++;
@@ -133,7 +137,7 @@ Model build_model(const CaseConfig& c) {
       np.velocity = ring.velocity;
       np.radius = ring.particle_radius;
       np.contact_radius = std::max(ring.contact_radius, ring.particle_radius);
-      np.density = model.materials[static_cast<std::size_t>(mat)].density;
+      np.density = density;
       np.damping = damping_of(c, ring.group);
       np.material = mat;
       np.body = next_body;
@@ -236,6 +240,18 @@ Model build_model(const CaseConfig& c) {
         break;
     }
     model.bodies.push_back(b);
+  }
+
+  // Tensile test: the pins of the moving plate travel at the loading rate.
+  if (c.scenario.type == "tensile_test") {
+    const TensileTestConfig& t = c.scenario.tensile_test;
+    for (const std::string& name : t.moving_bodies) {
+      const auto it = std::find_if(model.bodies.begin(), model.bodies.end(),
+                                   [&](const RigidBody& b) { return b.name == name; });
+      if (it == model.bodies.end() || it->motion != RigidMotion::kPrescribed)
+        throw std::invalid_argument("tensile test: '" + name + "' is not a prescribed rigid body");
+      it->velocity = t.loading_rate * normalized(t.pull_direction);
+    }
   }
 
   p.rebuild_index();

@@ -8,15 +8,17 @@
 
 #include "app/ModelBuilder.hpp"
 #include "app/Simulation.hpp"
+#include "app/TensileTest.hpp"
 #include "core/Version.hpp"
+#include "domain/RingGenerator.hpp"
 #include "io/CaseLoader.hpp"
 #include "io/ResultsWriter.hpp"
 
 namespace ringdem {
 
 namespace {
-
 using Clock = std::chrono::steady_clock;
+}  // namespace
 
 std::string format_duration(double s) {
   if (!std::isfinite(s) || s < 0) return "--";
@@ -26,7 +28,57 @@ std::string format_duration(double s) {
   return fmt::format("{}s", total);
 }
 
-}  // namespace
+void print_banner(const CaseConfig& config, const std::string& out_dir, const Communicator& comm) {
+  fmt::print("ringdem {} — discrete elements for flexible ring nets\n", kVersion);
+  fmt::print("case {} ({}), {} MPI rank{}, output in {}\n", config.name, config.source_path,
+             comm.size(), comm.size() == 1 ? "" : "s", out_dir.empty() ? "(none)" : out_dir);
+  fmt::print("--- resolved configuration ---\n{}--- end of configuration ---\n", dump_case(config));
+}
+
+void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64_t planned_steps,
+                     bool print) {
+  const std::int64_t particles = sim.global_particles();
+  const std::int64_t bonds = sim.global_bonds();
+  if (!print) return;
+  fmt::print("pre-flight: {} particles, {} bonds, {} rigid bodies, {} contact candidates\n",
+             particles, bonds, sim.model().bodies.size(),
+             sim.interactions().n_contact_candidates());
+  for (const BondConfig& b : config.bonds) {
+    if (!b.derive_from || b.derived_particle_radius <= 0.0) continue;
+    const RingReductionFactors f = ring_reduction_factors(
+        b.derive_from->windings, 0.5 * b.derive_from->wire_diameter, b.derived_particle_radius,
+        b.radius_multiplier, b.derive_from->steel_youngs_modulus);
+    fmt::print(
+        "bond {}: {} windings of {:.4g} mm wire, R_eq = {:.4g} mm, r_eq = {:.4g} mm, lambda = "
+        "{:.4g}: gamma = {:.4f}, eta = {:.4f}, eta*gamma^4 = {:.4g}, E_b = {:.4g} GPa\n",
+        b.name, b.derive_from->windings, 1e3 * b.derive_from->wire_diameter,
+        1e3 * f.equivalent_radius, 1e3 * b.derived_particle_radius, b.radius_multiplier, f.gamma,
+        f.eta, f.bending_reduction(), 1e-9 * f.bond_youngs_modulus);
+  }
+  fmt::print(
+      "time step {:.4g} s ({}), {} steps planned\n", sim.dt(),
+      config.simulation.dt ? "fixed" : fmt::format("auto, safety {}", config.simulation.dt_safety),
+      planned_steps);
+  for (const auto& [name, limit] : sim.limits().named())
+    if (std::isfinite(limit))
+      fmt::print("  {:<14} limit {:.4g} s: dt is {:.3f} of it\n", name, limit, sim.dt() / limit);
+  if (sim.dt() > sim.limits().min())
+    fmt::print("WARNING: dt exceeds the smallest stability limit; the run may blow up\n");
+}
+
+void print_timing(const Simulation& sim, double loop_seconds, double particle_steps_per_s,
+                  int ranks) {
+  fmt::print("done: {} steps in {} ({:.3g} particle-steps/s, {:.1f} ns per particle-step)\n",
+             sim.steps(), format_duration(loop_seconds), particle_steps_per_s,
+             particle_steps_per_s > 0 ? 1e9 / particle_steps_per_s * ranks : 0.0);
+  fmt::print("time per phase (rank 0):\n");
+  double sum = 0;
+  for (double s : sim.phase_seconds())
+    sum += s;
+  for (int ph = 0; ph < Simulation::kPhaseCount; ++ph)
+    fmt::print("  {:<10} {:8.2f} s  {:5.1f} %\n", Simulation::phase_name(ph),
+               sim.phase_seconds()[ph], sum > 0 ? 100.0 * sim.phase_seconds()[ph] / sum : 0.0);
+}
 
 int run_case(const CaseConfig& config, const RunOptions& options, const Communicator& comm) {
   const bool root = comm.is_root() && !options.quiet;
@@ -35,37 +87,21 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
       options.output_dir.empty() ? "results/" + config.name : options.output_dir;
   if (comm.is_root()) std::filesystem::create_directories(out_dir);
 
-  if (root) {
-    fmt::print("ringdem {} — discrete elements for flexible ring nets\n", kVersion);
-    fmt::print("case {} ({}), {} MPI rank{}, output in {}\n", config.name, config.source_path,
-               comm.size(), comm.size() == 1 ? "" : "s", out_dir);
-    fmt::print("--- resolved configuration ---\n{}--- end of configuration ---\n",
-               dump_case(config));
+  if (config.scenario.type == "tensile_test") {
+    TensileRunOptions tensile;
+    tensile.output_dir = out_dir;
+    tensile.verbose = !options.quiet;
+    run_tensile_test(config, tensile, comm);
+    return 0;
   }
+  if (root) print_banner(config, out_dir, comm);
 
   Simulation sim(build_model(config), comm, settings_from_case(config));
   const Model& model = sim.model();
   const double end_time = config.simulation.end_time;
   const auto total_steps = static_cast<std::int64_t>(std::ceil(end_time / sim.dt() - 1e-9));
 
-  if (root) {
-    fmt::print("pre-flight: {} particles, {} bonds, {} rigid bodies, {} contact candidates\n",
-               sim.global_particles(), sim.global_bonds(), model.bodies.size(),
-               sim.interactions().n_contact_candidates());
-    fmt::print("time step {:.4g} s ({}), {} steps to {:.4g} s\n", sim.dt(),
-               config.simulation.dt ? "fixed"
-                                    : fmt::format("auto, safety {}", config.simulation.dt_safety),
-               total_steps, end_time);
-    for (const auto& [name, limit] : sim.limits().named())
-      if (std::isfinite(limit))
-        fmt::print("  {:<14} limit {:.4g} s: dt is {:.3f} of it\n", name, limit, sim.dt() / limit);
-    if (sim.dt() > sim.limits().min())
-      fmt::print("WARNING: dt exceeds the smallest stability limit; the run may blow up\n");
-  } else {
-    // Collective calls above must be matched on every rank.
-    sim.global_particles();
-    sim.global_bonds();
-  }
+  print_preflight(sim, config, total_steps, root);
 
   // series.csv columns: energies, broken bonds, and the contact force on each rigid body.
   std::vector<std::string> columns{"time_s",        "kinetic_energy_J", "potential_energy_J",
@@ -83,7 +119,8 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
     const std::int64_t broken = sim.global_broken_bonds();
     max_kinetic = std::max(max_kinetic, e.kinetic);
     double util = 0.0;
-    for (double u : sim.model().bonds.utilisation) util = std::max(util, u);
+    for (double u : sim.model().bonds.utilisation)
+      util = std::max(util, u);
     max_util = std::max(max_util, comm.max(util));
     if (!comm.is_root()) return;
     std::vector<double> row{sim.time(),     e.kinetic,         e.potential,
@@ -159,16 +196,7 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
   }
 
   if (root) {
-    fmt::print("done: {} steps in {} ({:.3g} particle-steps/s, {:.1f} ns per particle-step)\n",
-               sim.steps(), format_duration(loop_seconds), particle_steps_per_s,
-               particle_steps_per_s > 0 ? 1e9 / particle_steps_per_s * comm.size() : 0.0);
-    fmt::print("time per phase (rank 0):\n");
-    double sum = 0;
-    for (double s : sim.phase_seconds())
-      sum += s;
-    for (int ph = 0; ph < Simulation::kPhaseCount; ++ph)
-      fmt::print("  {:<10} {:8.2f} s  {:5.1f} %\n", Simulation::phase_name(ph),
-                 sim.phase_seconds()[ph], sum > 0 ? 100.0 * sim.phase_seconds()[ph] / sum : 0.0);
+    print_timing(sim, loop_seconds, particle_steps_per_s, comm.size());
     fmt::print("results: {}/summary.json, {}/series.csv\n", out_dir, out_dir);
   }
   return 0;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -7,6 +8,8 @@
 #include "io/CaseConfig.hpp"
 
 namespace ringdem {
+
+class Simulation;
 
 struct RunOptions {
   std::string case_path;
@@ -17,7 +20,22 @@ struct RunOptions {
 
 /// `ringdem run`: builds the case, prints the banner, configuration and pre-flight numbers,
 /// steps to the end time with progress lines, and writes series.csv and summary.json.
+/// Scenario `tensile_test` goes to run_tensile_test (app/TensileTest.hpp).
 /// Returns the process exit code.
 int run_case(const CaseConfig& config, const RunOptions& options, const Communicator& comm);
+
+// ---- pieces shared by the scenario drivers (rank 0 prints) ----
+
+/// "1h02m", "3m05s", "42s"; "--" for a negative or non-finite number.
+std::string format_duration(double seconds);
+/// Banner, case, ranks, output folder and the resolved configuration.
+void print_banner(const CaseConfig& config, const std::string& out_dir, const Communicator& comm);
+/// Particles, bonds, bodies, time step against its stability limits, derived bond moduli.
+/// Collective (every rank calls it); prints only if `print`.
+void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64_t planned_steps,
+                     bool print);
+/// Steps, particle-steps/s and the time per phase (rank 0 of the simulation).
+void print_timing(const Simulation& sim, double loop_seconds, double particle_steps_per_s,
+                  int ranks);
 
 }  // namespace ringdem

@@ -6,7 +6,9 @@
 #include <exception>
 #include <iostream>
 
+#include "app/BuildInfo.hpp"
 #include "app/RunCommand.hpp"
+#include "app/SweepCommand.hpp"
 #include "comm/Communicator.hpp"
 #include "core/Version.hpp"
 #include "io/CaseLoader.hpp"
@@ -21,7 +23,9 @@ constexpr int kExitInputError = 2;
 
 int main(int argc, char** argv) {
   CLI::App app{"ringdem: MPI-parallel discrete elements for flexible steel ring nets", "ringdem"};
-  app.set_version_flag("--version", std::string("ringdem ") + ringdem::kVersion);
+  app.set_version_flag(
+      "--version", [] { return ringdem::build_info(); },
+      "print the version and the MPI, HDF5 and METIS versions, then exit");
   app.require_subcommand(1);
 
   ringdem::RunOptions run_opts;
@@ -39,6 +43,15 @@ int main(int argc, char** argv) {
   check->add_option("case", check_path, "case file (YAML)")->required();
   check->add_option("--set", check_overrides, "override a case key: key.path=value")
       ->allow_extra_args(false);
+
+  ringdem::SweepOptions sweep_opts;
+  auto* sweep = app.add_subcommand("sweep", "run a parameter study (cases spread over the ranks)");
+  sweep->add_option("sweep", sweep_opts.sweep_path, "sweep file (YAML)")->required();
+  sweep->add_option("-o,--output", sweep_opts.output_dir, "output folder (default results/<name>)");
+  sweep->add_option("--set", sweep_opts.overrides, "override a key of every case: key.path=value")
+      ->take_all()
+      ->allow_extra_args(false);
+  sweep->add_flag("-q,--quiet", sweep_opts.quiet, "no progress lines");
 
   try {
     app.parse(argc, argv);
@@ -67,8 +80,12 @@ int main(int argc, char** argv) {
     MPI_Comm_dup(MPI_COMM_WORLD, &world);
     ringdem::Communicator comm(world);
     try {
-      const auto config = ringdem::load_case(run_opts.case_path, run_opts.overrides);
-      code = ringdem::run_case(config, run_opts, comm);
+      if (*sweep) {
+        code = ringdem::run_sweep(sweep_opts, comm);
+      } else {
+        const auto config = ringdem::load_case(run_opts.case_path, run_opts.overrides);
+        code = ringdem::run_case(config, run_opts, comm);
+      }
     } catch (const ringdem::InputError& e) {
       if (comm.is_root()) std::cerr << e.format();
       code = kExitInputError;

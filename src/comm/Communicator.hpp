@@ -13,6 +13,10 @@ class Communicator {
  public:
   explicit Communicator(MPI_Comm comm);
 
+  /// A communicator of this rank alone (MPI_COMM_SELF), for work that one rank does by
+  /// itself, such as one case of a parameter sweep.
+  static Communicator self() { return Communicator(MPI_COMM_SELF); }
+
   int rank() const { return rank_; }
   int size() const { return size_; }
   bool is_root() const { return rank_ == 0; }

@@ -32,4 +32,18 @@ std::vector<std::pair<int, int>> RingGeometry::bonded_pairs() const {
   return out;
 }
 
+RingReductionFactors ring_reduction_factors(int windings, double wire_radius,
+                                            double particle_radius, double radius_multiplier,
+                                            double steel_youngs_modulus) {
+  if (windings < 1 || !(wire_radius > 0.0) || !(particle_radius > 0.0) ||
+      !(radius_multiplier > 0.0) || !(steel_youngs_modulus > 0.0))
+    throw std::invalid_argument("ring reduction factors need positive windings, radii and modulus");
+  RingReductionFactors f;
+  f.equivalent_radius = std::sqrt(static_cast<double>(windings)) * wire_radius;  // Eq. 12
+  f.gamma = radius_multiplier * particle_radius / f.equivalent_radius;  // gamma R_eq = lambda r_eq
+  f.eta = 1.0 / (5.0 * f.gamma * f.gamma);                              // Eq. 17
+  f.bond_youngs_modulus = f.eta * steel_youngs_modulus;                 // E_b = eta E
+  return f;
+}
+
 }  // namespace ringdem

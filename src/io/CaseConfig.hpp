@@ -30,10 +30,21 @@ struct InteractionConfig {
   std::optional<double> restitution, friction, rolling_friction;
 };
 
+/// The ring the bond models, for deriving E_b from the reduction factors (physics.md §2).
+struct BondDerivationConfig {
+  int windings = 12;
+  double wire_diameter = 0.003;
+  double steel_youngs_modulus = 200e9;
+};
+
 struct BondConfig {
   std::string name;
   std::string model = "timoshenko";
+  /// E_b; when `derive_from` is set the loader replaces it by eta E (Eq. 17) with r_eq the
+  /// particle radius of the rings that use this bond.
   double youngs_modulus = 120e9;
+  std::optional<BondDerivationConfig> derive_from;
+  double derived_particle_radius = 0.0;  ///< r_eq used for the derivation (0: not derived)
   double poisson_ratio = 0.3;
   double radius_multiplier = 0.8;
   double tensile_strength = 16e9;
@@ -58,6 +69,9 @@ struct RingConfig {
   double contact_radius = 0.008;
   std::string material = "steel";
   std::string bond = "ring";
+  /// Real mass of the ring; when set, the particle density is chosen so that the particles
+  /// weigh this much together (the material density is then used for contacts only).
+  std::optional<double> mass;
   MotionKind motion = MotionKind::kFree;
   Vec3 velocity;
 };
@@ -125,6 +139,24 @@ struct SimulationConfig {
   std::string contact_model = "hertz_mindlin";
 };
 
+/// Quasi-static tensile test of ring elements (the paper's "DEM Modeling of a Tensile Test"):
+/// the rigid bodies named in `moving_bodies` (pins on the moving plate) are driven at
+/// `loading_rate` along `pull_direction`; load = contact force on them against that direction,
+/// displacement = their travel.
+struct TensileTestConfig {
+  std::vector<std::string> moving_bodies;
+  Vec3 pull_direction{0, 0, 1};
+  double loading_rate = 0.005;         ///< plate speed (Table 1)
+  double max_displacement = 0.5;       ///< stop when the plate has travelled this far
+  double failure_load_fraction = 0.5;  ///< after a bond broke, stop once load < this x peak
+  double record_interval = 2e-4;       ///< plate travel between rows of series.csv
+};
+
+struct ScenarioConfig {
+  std::string type = "free_run";  ///< free_run | tensile_test
+  TensileTestConfig tensile_test;
+};
+
 struct CaseConfig {
   int schema_version = 1;
   std::string name;
@@ -138,6 +170,7 @@ struct CaseConfig {
   std::vector<LatticeConfig> lattices;
   std::vector<SphereConfig> spheres;
   std::vector<RigidBodyConfig> rigid_bodies;
+  ScenarioConfig scenario;
   std::string source_path;  ///< the file it came from, for messages
 };
 

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "domain/RingGenerator.hpp"
 #include "io/Schema.hpp"
 
 namespace ringdem {
@@ -103,6 +104,27 @@ const Table<InteractionConfig>& interaction_table() {
   return table;
 }
 
+const Table<BondDerivationConfig>& bond_derivation_table() {
+  using D = BondDerivationConfig;
+  static const Table<D> table{
+      "bonds[].derive_from",
+      "The real ring the bond stands for. The bond modulus is then derived from the reduction "
+      "factors (physics.md §2, Eq. 10-17): R_eq = sqrt(windings) * wire_diameter / 2, gamma = "
+      "radius_multiplier * r_eq / R_eq with r_eq the particle radius of the rings using the "
+      "bond, eta = 1 / (5 gamma^2), youngs_modulus = eta * steel_youngs_modulus. All rings "
+      "using such a bond must have the same particle_radius.",
+      {
+          schema::integer("windings", &D::windings, at_least(1), "Number of wire windings n_w")
+              .required(),
+          schema::number("wire_diameter", &D::wire_diameter, above(0), "m",
+                         "Diameter of the wire (2 r_w)")
+              .required(),
+          schema::number("steel_youngs_modulus", &D::steel_youngs_modulus, above(0), "Pa",
+                         "Young's modulus E of the wire steel"),
+      }};
+  return table;
+}
+
 const Table<BondConfig>& bond_table() {
   using B = BondConfig;
   static const Table<B> table{
@@ -112,7 +134,11 @@ const Table<BondConfig>& bond_table() {
           schema::text("name", &B::name, Type::kName, "Name the rings refer to").required(),
           schema::choice("model", &B::model, {"timoshenko"}, "Bond beam model"),
           schema::number("youngs_modulus", &B::youngs_modulus, above(0), "Pa",
-                         "Young's modulus of the bond beam"),
+                         "Young's modulus of the bond beam; not with `derive_from`")
+              .dump_if([](const B& b) { return !b.derive_from; }),
+          schema::optional_section("derive_from", &B::derive_from, bond_derivation_table(),
+                                   "Derive youngs_modulus from the ring's windings and wire "
+                                   "(physics.md §2) instead of giving it"),
           schema::number("poisson_ratio", &B::poisson_ratio, interval(-1, false, 0.5, false), "",
                          "Poisson's ratio of the bond beam (shear modulus)"),
           schema::number("radius_multiplier", &B::radius_multiplier, interval(0, false, 2, true),
@@ -171,6 +197,10 @@ const Table<RingConfig>& ring_table() {
               .default_text("max(0.008, particle_radius)"),
           schema::text("material", &R::material, Type::kName, "Material (from `materials`)"),
           schema::text("bond", &R::bond, Type::kName, "Bond properties (from `bonds`)"),
+          schema::optional_number("mass", &R::mass, above(0), "kg",
+                                  "Real mass of the ring: the particle density is set so that "
+                                  "the particles together weigh this much")
+              .default_text("material density x particle volume"),
           schema::enum_choice("motion", &R::motion, motions(),
                               "free: integrated; fixed: never moves; prescribed: moves at "
                               "`velocity`"),
@@ -275,6 +305,51 @@ const Table<RigidBodyConfig>& rigid_body_table() {
   return table;
 }
 
+const Table<TensileTestConfig>& tensile_test_table() {
+  using T = TensileTestConfig;
+  static const Table<T> table{
+      "scenario.tensile_test",
+      "Quasi-static tensile test (docs/tensile.md): the pins of the moving plate are driven at "
+      "`loading_rate` along `pull_direction`; load = contact force on them against the pull "
+      "direction, displacement = plate travel.",
+      {
+          schema::name_list("moving_bodies", &T::moving_bodies,
+                            "Rigid bodies on the moving plate (`motion: prescribed`, no "
+                            "`velocity`: the scenario sets it)")
+              .required(),
+          schema::vec3("pull_direction", &T::pull_direction, "",
+                       "Direction the moving plate travels (normalised)")
+              .nonzero(),
+          schema::number("loading_rate", &T::loading_rate, above(0), "m/s",
+                         "Plate speed (Table 1: 0.005)"),
+          schema::number("max_displacement", &T::max_displacement, above(0), "m",
+                         "Stop when the plate has travelled this far"),
+          schema::number("failure_load_fraction", &T::failure_load_fraction,
+                         interval(0, false, 1, false), "",
+                         "Failure: once a bond has broken, stop when the load falls below "
+                         "this fraction of its peak"),
+          schema::number("record_interval", &T::record_interval, above(0), "m",
+                         "Plate travel between rows of series.csv"),
+      }};
+  return table;
+}
+
+const Table<ScenarioConfig>& scenario_table() {
+  using S = ScenarioConfig;
+  static const Table<S> table{
+      "scenario",
+      "What the run does and measures.",
+      {
+          schema::choice("type", &S::type, {"free_run", "tensile_test"},
+                         "free_run: step to simulation.end_time, series of energies and "
+                         "rigid-body forces; tensile_test: see scenario.tensile_test"),
+          schema::section("tensile_test", &S::tensile_test, tensile_test_table(),
+                          "Settings of a tensile test (required when type is tensile_test)")
+              .dump_if([](const S& sc) { return sc.type == "tensile_test"; }),
+      }};
+  return table;
+}
+
 const Table<CaseConfig>& case_table() {
   using C = CaseConfig;
   static const Table<C> table{
@@ -299,6 +374,8 @@ const Table<CaseConfig>& case_table() {
           schema::inline_section("particles", particles_table(), "Particle generators").required(),
           schema::list("rigid_bodies", &C::rigid_bodies, rigid_body_table(),
                        "Rigid walls, pins, boulders"),
+          schema::section("scenario", &C::scenario, scenario_table(),
+                          "Scenario driver and its measurements"),
       }};
   return table;
 }
@@ -517,6 +594,89 @@ void check_reference(const std::string& value, const std::vector<std::string>& n
   ctx.error(ctx.where(key_path, fallback), key_path, message);
 }
 
+/// Bonds with `derive_from`: E_b = eta E with eta = 1 / (5 gamma^2), gamma = lambda r_eq / R_eq
+/// (physics.md §2, Eq. 17), r_eq the particle radius of the rings that use the bond.
+void derive_bond_moduli(CaseConfig& c, Context& ctx) {
+  for (std::size_t i = 0; i < c.bonds.size(); ++i) {
+    BondConfig& b = c.bonds[i];
+    const std::string p = schema::index_path("bonds", i);
+    if (!b.derive_from || ctx.failed(p + ".derive_from")) continue;
+    if (ctx.given(p + ".youngs_modulus")) {
+      ctx.error(ctx.where(p + ".youngs_modulus"), p + ".youngs_modulus",
+                "give either youngs_modulus or derive_from, not both (derive_from sets it)");
+      continue;
+    }
+    std::optional<double> particle_radius;
+    std::string first_ring;
+    for (std::size_t k = 0; k < c.rings.size(); ++k) {
+      const RingConfig& r = c.rings[k];
+      const std::string rp = schema::index_path("particles.rings", k);
+      if (r.bond != b.name || ctx.failed(rp + ".particle_radius")) continue;
+      if (!particle_radius) {
+        particle_radius = r.particle_radius;
+        first_ring = rp;
+      } else if (r.particle_radius != *particle_radius) {
+        ctx.error(ctx.where(rp + ".particle_radius", rp), rp + ".particle_radius",
+                  fmt::format("bond '{}' derives its modulus from the particle radius, so every "
+                              "ring using it needs the same particle_radius: {} has {} m, got {}",
+                              b.name, first_ring, schema::format_number(*particle_radius),
+                              schema::format_number(r.particle_radius)));
+      }
+    }
+    if (!particle_radius) continue;  // unused bond: nothing to derive from
+    const BondDerivationConfig& d = *b.derive_from;
+    const RingReductionFactors f =
+        ring_reduction_factors(d.windings, 0.5 * d.wire_diameter, *particle_radius,
+                               b.radius_multiplier, d.steel_youngs_modulus);
+    b.youngs_modulus = f.bond_youngs_modulus;
+    b.derived_particle_radius = *particle_radius;
+  }
+}
+
+void validate_scenario(CaseConfig& c, Context& ctx, bool bodies_ok) {
+  if (c.scenario.type != "tensile_test" || ctx.failed("scenario.type")) return;
+  const std::string p = "scenario.tensile_test";
+  if (!ctx.given(p)) {
+    ctx.error(ctx.where("scenario.type", "scenario"), p,
+              "missing section 'tensile_test', required when scenario.type is tensile_test");
+    return;
+  }
+  TensileTestConfig& t = c.scenario.tensile_test;
+  if (!ctx.failed(p + ".pull_direction")) t.pull_direction = normalized(t.pull_direction);
+  if (ctx.failed(p + ".moving_bodies")) return;
+  std::vector<std::string> names;
+  for (const auto& b : c.rigid_bodies)
+    names.push_back(b.name);
+  for (std::size_t k = 0; k < t.moving_bodies.size(); ++k) {
+    const std::string key = schema::index_path(p + ".moving_bodies", k);
+    const std::string& name = t.moving_bodies[k];
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end()) {
+      check_reference(name, names, bodies_ok, key, p + ".moving_bodies", "rigid body",
+                      "rigid_bodies", ctx);
+      continue;
+    }
+    const std::size_t index = static_cast<std::size_t>(it - names.begin());
+    RigidBodyConfig& body = c.rigid_bodies[index];
+    const std::string bp = schema::index_path("rigid_bodies", index);
+    if (body.motion != MotionKind::kPrescribed && !ctx.failed(bp + ".motion")) {
+      ctx.error(ctx.where(bp + ".motion", bp), bp + ".motion",
+                fmt::format("rigid body '{}' is on the moving plate ({}) and must have motion: "
+                            "prescribed",
+                            name, key));
+    }
+    // The velocity comes from loading_rate and pull_direction (build_model sets it); a zero
+    // vector is accepted so that dumps of the resolved case load again.
+    if (ctx.given(bp + ".velocity") && !ctx.failed(bp + ".velocity") &&
+        norm2(body.velocity) != 0.0) {
+      ctx.error(ctx.where(bp + ".velocity"), bp + ".velocity",
+                fmt::format("rigid body '{}' is on the moving plate: its velocity is set by "
+                            "{}.loading_rate and pull_direction (remove it)",
+                            name, p));
+    }
+  }
+}
+
 void validate(CaseConfig& c, Context& ctx) {
   // Names and references.
   bool materials_ok = true, bonds_ok = true, bodies_ok = true;
@@ -579,6 +739,7 @@ void validate(CaseConfig& c, Context& ctx) {
       }
     }
   }
+  derive_bond_moduli(c, ctx);
   for (std::size_t i = 0; i < c.lattices.size(); ++i) {
     LatticeConfig& l = c.lattices[i];
     const std::string p = schema::index_path("particles.lattices", i);
@@ -659,6 +820,7 @@ void validate(CaseConfig& c, Context& ctx) {
     b.normal = normalized(b.normal);
     b.axis = normalized(b.axis);
   }
+  validate_scenario(c, ctx, bodies_ok);
 }
 
 std::string default_name(const std::string& display_name) {

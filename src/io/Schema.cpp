@@ -166,6 +166,9 @@ std::string value_text(const Value& v) {
     std::string operator()(const std::array<std::string, 2>& a) const {
       return fmt::format("[{}, {}]", a[0], a[1]);
     }
+    std::string operator()(const std::vector<std::string>& a) const {
+      return "[" + join_names(a) + "]";
+    }
   };
   return std::visit(Visitor{}, v);
 }
@@ -188,6 +191,12 @@ void emit_value(YAML::Emitter& out, const Value& v) {
     }
     void operator()(const std::array<std::string, 2>& a) const {
       out << YAML::Flow << YAML::BeginSeq << a[0] << a[1] << YAML::EndSeq;
+    }
+    void operator()(const std::vector<std::string>& a) const {
+      out << YAML::Flow << YAML::BeginSeq;
+      for (const std::string& s : a)
+        out << s;
+      out << YAML::EndSeq;
     }
   };
   std::visit(Visitor{out}, v);
@@ -259,6 +268,8 @@ std::string describe_type(const KeyInfo& key) {
       return "3 integers";
     case Type::kNamePair:
       return "2 names";
+    case Type::kNameList:
+      return "list of names";
     case Type::kSection:
       return "section";
     case Type::kList:
@@ -487,6 +498,32 @@ std::optional<Value> read_value(const KeyInfo& key, const YAML::Node& node, cons
       }
       if (!ok) return std::nullopt;
       return Value{a};
+    }
+    case Type::kNameList: {
+      if (!node.IsDefined() || !node.IsSequence() || node.size() == 0) {
+        ctx.error(at, path,
+                  "expected a list of one or more names [a, b, ...], got " + describe_node(node));
+        return std::nullopt;
+      }
+      std::vector<std::string> names;
+      bool ok = true;
+      for (std::size_t i = 0; i < node.size(); ++i) {
+        const YAML::Node c = node[i];
+        ctx.remember(index_path(path, i), c);
+        const auto x = read_name(c, c, index_path(path, i), ctx);
+        if (!x) {
+          ok = false;
+          continue;
+        }
+        if (std::find(names.begin(), names.end(), *x) != names.end()) {
+          ctx.error(c, index_path(path, i), "duplicate name '" + *x + "'");
+          ok = false;
+          continue;
+        }
+        names.push_back(*x);
+      }
+      if (!ok) return std::nullopt;
+      return Value{names};
     }
     case Type::kSection:
     case Type::kList:

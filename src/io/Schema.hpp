@@ -37,6 +37,7 @@ enum class Type {
   kVec3,          ///< [x, y, z]
   kIntTriple,     ///< [i, j, k], each in `range`
   kNamePair,      ///< [name, name]
+  kNameList,      ///< [name, ...] (at least one, no duplicates)
   kSection,       ///< map described by `child`
   kList,          ///< list of maps described by `child`
   kNumberMap,     ///< map name -> number in `range`
@@ -94,8 +95,9 @@ struct SectionInfo {
   std::vector<std::string> key_names() const;
 };
 
-using Value = std::variant<std::monostate, double, std::int64_t, std::uint64_t, bool, std::string,
-                           Vec3, std::array<int, 3>, std::array<std::string, 2>>;
+using Value =
+    std::variant<std::monostate, double, std::int64_t, std::uint64_t, bool, std::string, Vec3,
+                 std::array<int, 3>, std::array<std::string, 2>, std::vector<std::string>>;
 
 struct Location {
   std::string file;
@@ -289,12 +291,12 @@ class Table {
   void dump(const T& in, YAML::Emitter& out) const {
     out << YAML::BeginMap;
     for (const Field<T>& f : fields_) {
+      if (f.include && !f.include(in)) continue;
       if (f.dump) {
         out << YAML::Key << f.info.name << YAML::Value;
         f.dump(in, out);
         continue;
       }
-      if (f.include && !f.include(in)) continue;
       const Value v = f.get(in);
       if (std::holds_alternative<std::monostate>(v)) continue;
       out << YAML::Key << f.info.name << YAML::Value;
@@ -456,6 +458,34 @@ Field<T> name_pair(std::string name, std::string T::*a, std::string T::*b, std::
     t.*b = pair[1];
   };
   f.get = [a, b](const T& t) -> Value { return std::array<std::string, 2>{t.*a, t.*b}; };
+  return f;
+}
+
+template <class T>
+Field<T> name_list(std::string name, std::vector<std::string> T::*m, std::string doc) {
+  Field<T> f;
+  f.info = make_key(std::move(name), Type::kNameList, "", std::move(doc));
+  f.set = [m](T& t, const Value& v) { t.*m = std::get<std::vector<std::string>>(v); };
+  f.get = [m](const T& t) -> Value { return t.*m; };
+  return f;
+}
+
+/// An optional nested map: absent means std::nullopt (left out of dumps); present, it fills a
+/// default-constructed U with the table `child`.
+template <class T, class U>
+Field<T> optional_section(std::string name, std::optional<U> T::*m, const Table<U>& child,
+                          std::string doc) {
+  Field<T> f;
+  f.info = make_key(std::move(name), Type::kSection, "", std::move(doc));
+  f.info.child = &child.info();
+  f.info.default_text = "none";
+  f.parse = [m, &child](T& t, const YAML::Node& node, const YAML::Node& at, const std::string& path,
+                        Context& ctx) {
+    t.*m = U{};
+    child.parse(*(t.*m), node, at, path, ctx);
+  };
+  f.dump = [m, &child](const T& t, YAML::Emitter& out) { child.dump(*(t.*m), out); };
+  f.include = [m](const T& t) { return (t.*m).has_value(); };
   return f;
 }
 

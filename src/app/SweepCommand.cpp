@@ -1,0 +1,295 @@
+#include "app/SweepCommand.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "app/RunCommand.hpp"
+#include "app/TensileTest.hpp"
+#include "io/CaseLoader.hpp"
+#include "io/ResultsWriter.hpp"
+#include "io/Schema.hpp"
+
+namespace ringdem {
+
+namespace {
+
+using schema::above;
+using schema::at_least;
+using schema::Table;
+using schema::Type;
+
+const Table<SweepParameterConfig::Range>& range_table() {
+  using R = SweepParameterConfig::Range;
+  static const Table<R> table{
+      "parameters[].range",
+      "Evenly spaced values from `from` to `to` (both included).",
+      {
+          schema::number("from", &R::from, schema::unbounded(), "", "First value").required(),
+          schema::number("to", &R::to, schema::unbounded(), "", "Last value").required(),
+          schema::integer("count", &R::count, at_least(2), "Number of values").required(),
+          schema::choice("spacing", &R::spacing, {"linear", "log"},
+                         "linear: equal differences; log: equal ratios (from, to > 0)"),
+      }};
+  return table;
+}
+
+const Table<SweepParameterConfig>& parameter_table() {
+  using P = SweepParameterConfig;
+  static const Table<P> table{
+      "parameters[]",
+      "One swept key of the case: give `values` or `range`.",
+      {
+          schema::text("key", &P::key, Type::kName,
+                       "Key path in the case file, as for --set (e.g. bonds.0.youngs_modulus)")
+              .required(),
+          schema::name_list("values", &P::values, "The values (any YAML scalars)"),
+          schema::optional_section("range", &P::range, range_table(), "A range of numbers"),
+      }};
+  return table;
+}
+
+const Table<SweepConfig>& sweep_table() {
+  using S = SweepConfig;
+  static const Table<S> table{
+      "",
+      "Top level of a sweep file.",
+      {
+          schema::integer("schema_version", &S::schema_version, schema::exactly(1),
+                          "Version of this file format")
+              .required(),
+          schema::text("name", &S::name, Type::kString, "Study name (output folder)")
+              .default_text("file name without extension"),
+          schema::text("case", &S::case_path, Type::kName,
+                       "Case file the study varies (relative to the sweep file)")
+              .required(),
+          schema::name_list("set", &S::set, "Overrides key=value applied to every case"),
+          schema::list("parameters", &S::parameters, parameter_table(), "Swept keys").required(),
+          schema::choice("combine", &S::combine, {"product", "zip"},
+                         "product: every combination; zip: the i-th values of all parameters "
+                         "together (equal counts)"),
+      }};
+  return table;
+}
+
+std::string format_value(double v) {
+  return schema::format_number(v);
+}
+
+}  // namespace
+
+std::vector<std::string> parameter_values(const SweepParameterConfig& p) {
+  if (!p.range) return p.values;
+  const auto& r = *p.range;
+  std::vector<std::string> out;
+  for (int i = 0; i < r.count; ++i) {
+    const double t = static_cast<double>(i) / (r.count - 1);
+    const double v =
+        r.spacing == "log" ? r.from * std::pow(r.to / r.from, t) : r.from + t * (r.to - r.from);
+    out.push_back(format_value(v));
+  }
+  return out;
+}
+
+SweepConfig load_sweep_from_string(const std::string& yaml_text, const std::string& display_name,
+                                   const std::vector<std::string>& overrides) {
+  schema::Context ctx(display_name);
+  SweepConfig config;
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::ParserException& e) {
+    throw InputError({Diagnostic{display_name, e.mark.line + 1, e.mark.column + 1, "",
+                                 "invalid YAML: " + e.msg}});
+  }
+  if (!root.IsDefined() || root.IsNull()) root.reset(YAML::Node(YAML::NodeType::Map));
+  sweep_table().parse(config, root, root, "", ctx);
+  std::size_t zip_count = 0;
+  for (std::size_t i = 0; i < config.parameters.size(); ++i) {
+    const auto& p = config.parameters[i];
+    const std::string path = schema::index_path("parameters", i);
+    if (ctx.failed(path)) continue;
+    const bool has_values = ctx.given(path + ".values"), has_range = ctx.given(path + ".range");
+    if (has_values == has_range) {
+      ctx.error(ctx.where(path), path, "give either `values` or `range`");
+      continue;
+    }
+    if (has_range && p.range->spacing == "log" && !(p.range->from > 0 && p.range->to > 0))
+      ctx.error(ctx.where(path + ".range"), path + ".range",
+                "log spacing needs from > 0 and to > 0");
+    const std::size_t n = parameter_values(p).size();
+    if (config.combine == "zip" && zip_count != 0 && n != zip_count)
+      ctx.error(ctx.where(path), path,
+                fmt::format("combine: zip needs the same number of values for every parameter "
+                            "({} before, {} here)",
+                            zip_count, n));
+    zip_count = n;
+  }
+  if (config.parameters.empty() && ctx.given("parameters") && !ctx.failed("parameters"))
+    ctx.error(ctx.where("parameters"), "parameters", "must list at least one parameter");
+  if (!ctx.diagnostics().empty()) throw InputError(ctx.sorted_diagnostics());
+  if (config.name.empty()) {
+    const std::string stem = std::filesystem::path(display_name).stem().string();
+    config.name = stem.empty() ? "sweep" : stem;
+  }
+  // The case path is relative to the sweep file.
+  const std::filesystem::path case_path(config.case_path);
+  if (case_path.is_relative())
+    config.case_path =
+        (std::filesystem::path(display_name).parent_path() / case_path).lexically_normal().string();
+  config.set.insert(config.set.end(), overrides.begin(), overrides.end());
+  config.source_path = display_name;
+  return config;
+}
+
+SweepConfig load_sweep(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError({Diagnostic{path, 0, 0, "", "sweep file not found or unreadable"}});
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return load_sweep_from_string(buffer.str(), path, overrides);
+}
+
+std::vector<SweepCase> expand_sweep(const SweepConfig& sweep) {
+  std::vector<std::vector<std::string>> values;
+  for (const auto& p : sweep.parameters)
+    values.push_back(parameter_values(p));
+  std::vector<std::vector<std::size_t>> choices;  // index into each parameter's values
+  if (sweep.combine == "zip") {
+    for (std::size_t i = 0; i < values.front().size(); ++i)
+      choices.push_back(std::vector<std::size_t>(values.size(), i));
+  } else {
+    choices.push_back({});
+    for (const auto& v : values) {
+      std::vector<std::vector<std::size_t>> next;
+      for (const auto& c : choices)
+        for (std::size_t i = 0; i < v.size(); ++i) {
+          auto extended = c;
+          extended.push_back(i);
+          next.push_back(std::move(extended));
+        }
+      choices = std::move(next);
+    }
+  }
+  std::vector<SweepCase> cases;
+  for (std::size_t k = 0; k < choices.size(); ++k) {
+    SweepCase c;
+    c.folder = fmt::format("case_{:03}", k);
+    c.overrides = sweep.set;
+    for (std::size_t p = 0; p < values.size(); ++p) {
+      const std::string& v = values[p][choices[k][p]];
+      c.parameter_values.push_back(v);
+      c.overrides.push_back(sweep.parameters[p].key + "=" + v);
+    }
+    cases.push_back(std::move(c));
+  }
+  return cases;
+}
+
+namespace {
+
+std::string csv_number(double v) {
+  return std::isfinite(v) ? fmt::format("{:.10g}", v) : "";
+}
+
+std::string csv_text(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s)
+    out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+const char* kSummaryColumns =
+    "stop_reason,peak_load_N,displacement_at_peak_m,elongation_at_failure_m,"
+    "first_bond_break_time_s,broken_bonds,stage_transition_displacement_m,"
+    "bending_stage_stiffness_N_per_m,tensile_stage_stiffness_N_per_m,steps,wall_time_s,"
+    "particle_steps_per_s";
+
+std::string summary_row(const TensileResult& r) {
+  const auto opt = [](const std::optional<double>& v) {
+    return v ? csv_number(*v) : std::string();
+  };
+  return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}", stop_reason_name(r.stop_reason),
+                     csv_number(r.analysis.peak_load), csv_number(r.analysis.displacement_at_peak),
+                     opt(r.elongation_at_failure), opt(r.first_bond_break_time), r.broken_bonds,
+                     opt(r.analysis.stage_transition_displacement),
+                     csv_number(r.analysis.bending_stage_stiffness),
+                     csv_number(r.analysis.tensile_stage_stiffness), r.steps,
+                     csv_number(r.wall_time), csv_number(r.particle_steps_per_s));
+}
+
+}  // namespace
+
+int run_sweep(const SweepOptions& options, const Communicator& world) {
+  const SweepConfig sweep = load_sweep(options.sweep_path, options.overrides);
+  const std::vector<SweepCase> cases = expand_sweep(sweep);
+  // Every case is checked before any runs, on every rank (cheap), so that a bad value stops
+  // the study at once with its location.
+  std::vector<CaseConfig> configs;
+  for (const SweepCase& c : cases) {
+    configs.push_back(load_case(sweep.case_path, c.overrides));
+    if (configs.back().scenario.type != "tensile_test")
+      throw InputError({Diagnostic{sweep.case_path, 0, 0, "scenario.type",
+                                   "ringdem sweep runs tensile tests; the case's scenario.type "
+                                   "is " +
+                                       configs.back().scenario.type}});
+  }
+  const std::string out_dir =
+      options.output_dir.empty() ? "results/" + sweep.name : options.output_dir;
+  const bool root = world.is_root() && !options.quiet;
+  if (world.is_root()) std::filesystem::create_directories(out_dir);
+  if (root)
+    fmt::print("sweep {} ({}): {} cases of {} over {} rank{}, output in {}\n", sweep.name,
+               sweep.source_path, cases.size(), sweep.case_path, world.size(),
+               world.size() == 1 ? "" : "s", out_dir);
+  world.barrier();
+
+  // Each rank runs its cases alone.
+  const Communicator self = Communicator::self();
+  for (std::size_t k = static_cast<std::size_t>(world.rank()); k < cases.size();
+       k += static_cast<std::size_t>(world.size())) {
+    const std::string dir = out_dir + "/" + cases[k].folder;
+    configs[k].name = sweep.name + "_" + cases[k].folder;
+    TensileRunOptions run;
+    run.output_dir = dir;
+    run.verbose = false;
+    const TensileResult r = run_tensile_test(configs[k], run, self);
+    std::ofstream(dir + "/sweep_row.csv") << summary_row(r) << "\n";
+    if (!options.quiet) {
+      std::string parameters;
+      for (std::size_t p = 0; p < sweep.parameters.size(); ++p)
+        parameters += fmt::format(" {}={}", sweep.parameters[p].key, cases[k].parameter_values[p]);
+      fmt::print("[rank {}] {}:{}: {}, peak {:.2f} kN at {:.1f} mm, {:.0f} s\n", world.rank(),
+                 cases[k].folder, parameters, stop_reason_name(r.stop_reason),
+                 1e-3 * r.analysis.peak_load, 1e3 * r.analysis.displacement_at_peak, r.wall_time);
+      std::fflush(stdout);
+    }
+  }
+  world.barrier();
+
+  if (world.is_root()) {
+    std::ofstream table(out_dir + "/sweep.csv");
+    table << "case,folder";
+    for (const auto& p : sweep.parameters)
+      table << "," << csv_text(p.key);
+    table << "," << kSummaryColumns << "\n";
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+      std::ifstream row(out_dir + "/" + cases[k].folder + "/sweep_row.csv");
+      std::string line;
+      std::getline(row, line);
+      table << k << "," << cases[k].folder;
+      for (const std::string& v : cases[k].parameter_values)
+        table << "," << csv_text(v);
+      table << "," << line << "\n";
+    }
+    if (root) fmt::print("combined table: {}/sweep.csv\n", out_dir);
+  }
+  return 0;
+}
+
+}  // namespace ringdem

@@ -1,0 +1,66 @@
+#pragma once
+
+/// `ringdem sweep SWEEP.yaml`: a parameter study over the keys of one case file. The cases are
+/// spread over the MPI ranks (case i on rank i mod size, each run on one rank), each writes
+/// its own folder, and rank 0 writes a combined table. docs/tensile.md describes the file.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "comm/Communicator.hpp"
+
+namespace ringdem {
+
+/// Values of one swept key: a list, or a range from..to in `count` steps.
+struct SweepParameterConfig {
+  std::string key;  ///< a --set key path of the case, e.g. bonds.0.youngs_modulus
+  std::vector<std::string> values;
+  struct Range {
+    double from = 0.0;
+    double to = 0.0;
+    int count = 2;
+    std::string spacing = "linear";  ///< linear | log
+  };
+  std::optional<Range> range;
+};
+
+struct SweepConfig {
+  int schema_version = 1;
+  std::string name;
+  std::string case_path;         ///< relative to the sweep file
+  std::vector<std::string> set;  ///< overrides applied to every case
+  std::vector<SweepParameterConfig> parameters;
+  std::string combine = "product";  ///< product (every combination) | zip (i-th with i-th)
+  std::string source_path;
+};
+
+/// One case of the study: the overrides that make it and its folder name.
+struct SweepCase {
+  std::string folder;                         ///< case_000, case_001, ...
+  std::vector<std::string> parameter_values;  ///< one per parameter, as given
+  std::vector<std::string> overrides;         ///< common set + key=value per parameter
+};
+
+/// Reads and validates a sweep file (InputError with file:line:col on errors).
+SweepConfig load_sweep(const std::string& path, const std::vector<std::string>& overrides = {});
+SweepConfig load_sweep_from_string(const std::string& yaml_text, const std::string& display_name,
+                                   const std::vector<std::string>& overrides = {});
+
+/// The values of a parameter: the list, or the range expanded.
+std::vector<std::string> parameter_values(const SweepParameterConfig& parameter);
+/// Every case of the study, in order (product: the last parameter varies fastest).
+std::vector<SweepCase> expand_sweep(const SweepConfig& sweep);
+
+struct SweepOptions {
+  std::string sweep_path;
+  std::string output_dir;              ///< empty: results/<sweep name>
+  std::vector<std::string> overrides;  ///< applied to every case after the sweep's own `set`
+  bool quiet = false;
+};
+
+/// Runs the study; returns the exit code. Writes OUT/case_NNN/{summary.json, series.csv} per
+/// case and OUT/sweep.csv (one row per case: its parameters and its summary numbers).
+int run_sweep(const SweepOptions& options, const Communicator& world);
+
+}  // namespace ringdem
