@@ -65,7 +65,7 @@ void BM_BondLoop(benchmark::State& state) {
     x += Vec3{u(rng), u(rng), u(rng)};
   Interactions interactions;
   model.particles.rebuild_index();
-  interactions.rebuild(model.particles, model.bonds, model.bodies, 0.001);
+  interactions.rebuild(model.particles, model.bonds, model.bodies, 0.001, {});
   for (auto _ : state)
     interactions.compute_bonds(model.particles, model.bonds, 0.0);
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * model.bonds.size()));

@@ -41,8 +41,29 @@ const char* Simulation::phase_name(int phase) {
   return names[phase];
 }
 
+namespace {
+
+/// Block width of the decomposition: a bond partner or a contact partner of a particle, up
+/// to the next rebuild, must lie in a neighbouring block. Bonds may stretch 25 % before the
+/// block is too small (steel bonds break at a few per cent).
+double block_size_for(const Model& m, double skin) {
+  double r_max = 0.0;
+  for (double r : m.particles.radius)
+    r_max = std::max(r_max, r);
+  double bond_max = 0.0;
+  for (double l : m.bonds.length0)
+    bond_max = std::max(bond_max, l);
+  const double reach = std::max(2.0 * r_max, 1.25 * bond_max) + skin;
+  return reach > 0.0 ? reach : 1.0;
+}
+
+}  // namespace
+
 Simulation::Simulation(Model model, const Communicator& comm, const SimulationSettings& settings)
-    : model_(std::move(model)), comm_(comm), settings_(settings) {
+    : model_(std::move(model)),
+      comm_(comm),
+      settings_(settings),
+      decomposition_(comm, block_size_for(model_, settings.skin), settings.imbalance_threshold) {
   ParticleStore& p = model_.particles;
   p.rebuild_index();
   limits_ = stability_limits(p, model_.bonds, model_.materials);
@@ -53,6 +74,8 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   dt_ = settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("cannot choose a time step: give simulation.dt explicitly");
+  // Every rank built the whole model; keep this rank's share.
+  decomposition_.distribute_initial(p, model_.bonds);
   rebuild();
   compute_forces();  // loads of the initial state, for the first half kick
   apply_global_damping(model_.particles);
@@ -60,8 +83,9 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
 
 void Simulation::rebuild() {
   ParticleStore& p = model_.particles;
-  p.rebuild_index();
-  interactions_.rebuild(p, model_.bonds, model_.bodies, settings_.skin);
+  ContactHistory history = interactions_.export_history();
+  decomposition_.redistribute(p, model_.bonds, history);
+  interactions_.rebuild(p, model_.bonds, model_.bodies, settings_.skin, history);
   position_at_rebuild_.assign(p.position.begin(),
                               p.position.begin() + static_cast<std::ptrdiff_t>(p.n_local()));
   body_position_at_rebuild_.clear();
@@ -101,12 +125,31 @@ void Simulation::compute_forces() {
   {
     PhaseTimer t(phase_seconds_[kContacts]);
     interactions_.compute_contacts(p, model_.bodies, model_.materials, dt_);
+    reduce_body_loads();
   }
   {
     PhaseTimer t(phase_seconds_[kGather]);
     interactions_.gather(p, settings_.gravity);
   }
   if (comm_.any(interactions_.bonds_broke())) force_rebuild_ = true;
+}
+
+void Simulation::reduce_body_loads() {
+  if (model_.bodies.empty()) return;
+  // Every rank sums all contributions in (body, gid) order: the same bits for any rank count.
+  auto loads = comm_.allgather(interactions_.body_loads());
+  std::sort(loads.begin(), loads.end(), [](const auto& x, const auto& y) {
+    return x.body < y.body || (x.body == y.body && x.gid < y.gid);
+  });
+  for (auto& b : model_.bodies) {
+    b.force = {};
+    b.torque = {};
+  }
+  for (const auto& l : loads) {
+    RigidBody& b = model_.bodies[static_cast<std::size_t>(l.body)];
+    b.force += l.force;
+    b.torque += l.torque;
+  }
 }
 
 void Simulation::step() {
@@ -119,6 +162,7 @@ void Simulation::step() {
   time_ += dt_;
   {
     PhaseTimer t(phase_seconds_[kNeighbour]);
+    decomposition_.update_ghosts(p);
     if (needs_rebuild()) rebuild();
   }
   compute_forces();
@@ -171,7 +215,8 @@ Energies Simulation::energies() {
   std::vector<double> bond_energy;
   const BondStore& bonds = model_.bonds;
   for (std::size_t k = 0; k < bonds.size(); ++k) {
-    if (bonds.index_a[k] >= p.n_local()) continue;  // counted once, by the owner of end a
+    const std::int64_t a = p.index_of(bonds.gid_a[k]);
+    if (a < 0 || static_cast<std::size_t>(a) >= p.n_local()) continue;  // once: owner of end a
     bond_keys.push_back(bonds.gid_a[k]);
     bond_energy.push_back(bonds.energy[k]);
   }

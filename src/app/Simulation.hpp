@@ -5,6 +5,7 @@
 
 #include "app/ModelBuilder.hpp"
 #include "comm/Communicator.hpp"
+#include "comm/DomainDecomposition.hpp"
 #include "io/CaseConfig.hpp"
 #include "physics/Interactions.hpp"
 #include "physics/TimeStep.hpp"
@@ -16,6 +17,7 @@ struct SimulationSettings {
   double dt_safety = 0.3;
   double skin = 0.001;
   Vec3 gravity{0, 0, -9.81};
+  double imbalance_threshold = 0.1;  ///< repartition when max/mean particles - 1 exceeds it
 };
 
 /// The settings a case file asks for.
@@ -50,6 +52,7 @@ class Simulation {
   const Model& model() const { return model_; }
   const Interactions& interactions() const { return interactions_; }
   const Communicator& comm() const { return comm_; }
+  const DomainDecomposition& decomposition() const { return decomposition_; }
 
   std::int64_t global_particles() const;
   std::int64_t global_bonds() const;
@@ -65,11 +68,13 @@ class Simulation {
  private:
   void rebuild();
   void compute_forces();
+  void reduce_body_loads();
   bool needs_rebuild() const;
 
   Model model_;
   const Communicator& comm_;
   SimulationSettings settings_;
+  DomainDecomposition decomposition_;
   Interactions interactions_;
   StabilityLimits limits_{};
   double dt_ = 0.0;

@@ -68,6 +68,42 @@ double Communicator::sum_by_key(const std::vector<std::int64_t>& keys,
   return s;
 }
 
+std::vector<char> Communicator::allgather_bytes(const char* data, std::size_t n) const {
+  const int count = static_cast<int>(n);
+  std::vector<int> counts(static_cast<std::size_t>(size_));
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+  std::vector<int> displs(counts.size(), 0);
+  std::partial_sum(counts.begin(), counts.end() - 1, displs.begin() + 1);
+  std::vector<char> out(static_cast<std::size_t>(displs.back() + counts.back()));
+  MPI_Allgatherv(data, count, MPI_BYTE, out.data(), counts.data(), displs.data(), MPI_BYTE, comm_);
+  return out;
+}
+
+void Communicator::broadcast_bytes(void* data, std::size_t n, int root) const {
+  MPI_Bcast(data, static_cast<int>(n), MPI_BYTE, root, comm_);
+}
+
+std::vector<char> Communicator::alltoall_bytes(const std::vector<std::vector<char>>& send,
+                                               std::vector<int>& recv_counts) const {
+  if (static_cast<int>(send.size()) != size_)
+    throw std::invalid_argument("alltoall_bytes: one buffer per rank expected");
+  std::vector<int> send_counts(send.size()), send_displs(send.size(), 0);
+  std::vector<char> packed;
+  for (std::size_t r = 0; r < send.size(); ++r) {
+    send_counts[r] = static_cast<int>(send[r].size());
+    send_displs[r] = static_cast<int>(packed.size());
+    packed.insert(packed.end(), send[r].begin(), send[r].end());
+  }
+  recv_counts.assign(send.size(), 0);
+  MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm_);
+  std::vector<int> recv_displs(send.size(), 0);
+  std::partial_sum(recv_counts.begin(), recv_counts.end() - 1, recv_displs.begin() + 1);
+  std::vector<char> out(static_cast<std::size_t>(recv_displs.back() + recv_counts.back()));
+  MPI_Alltoallv(packed.data(), send_counts.data(), send_displs.data(), MPI_BYTE, out.data(),
+                recv_counts.data(), recv_displs.data(), MPI_BYTE, comm_);
+  return out;
+}
+
 bool Communicator::any(bool v) const {
   int x = v ? 1 : 0;
   int r = 0;

@@ -3,6 +3,8 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <cstring>
+#include <type_traits>
 #include <vector>
 
 namespace ringdem {
@@ -31,11 +33,38 @@ class Communicator {
   /// rank's values are gathered and added in one fixed order on every rank. Each rank passes
   /// its terms keyed by a global id; terms are summed in key order.
   double sum_by_key(const std::vector<std::int64_t>& keys, const std::vector<double>& values) const;
+  /// Every rank's items, concatenated in rank order, on every rank (trivially copyable T).
+  template <class T>
+  std::vector<T> allgather(const std::vector<T>& local) const {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const std::vector<char> bytes =
+        allgather_bytes(reinterpret_cast<const char*>(local.data()), local.size() * sizeof(T));
+    std::vector<T> out(bytes.size() / sizeof(T));
+    std::memcpy(out.data(), bytes.data(), bytes.size());
+    return out;
+  }
+  /// Rank r's items of `from_root` on every rank (trivially copyable T).
+  template <class T>
+  void broadcast(std::vector<T>& items, int root) const {
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::int64_t n = static_cast<std::int64_t>(items.size());
+    broadcast_bytes(&n, sizeof(n), root);
+    items.resize(static_cast<std::size_t>(n));
+    broadcast_bytes(items.data(), items.size() * sizeof(T), root);
+  }
+  /// Personalised all-to-all of byte buffers: send[r] goes to rank r. Returns what arrived,
+  /// concatenated in source-rank order, and the byte count from each source in recv_counts.
+  std::vector<char> alltoall_bytes(const std::vector<std::vector<char>>& send,
+                                   std::vector<int>& recv_counts) const;
+
   /// True on every rank when any rank passes true.
   bool any(bool v) const;
   void barrier() const;
 
  private:
+  std::vector<char> allgather_bytes(const char* data, std::size_t n) const;
+  void broadcast_bytes(void* data, std::size_t n, int root) const;
+
   MPI_Comm comm_;
   int rank_ = 0;
   int size_ = 1;

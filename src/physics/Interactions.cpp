@@ -38,8 +38,22 @@ inline double effective_mass(double m_a, Motion motion_a, double m_b, Motion mot
 
 }  // namespace
 
+ContactHistory Interactions::export_history() const {
+  ContactHistory out;
+  for (std::size_t m = 0; m < pairs_.size(); ++m)
+    if (norm2(pair_spring_[m]) > 0.0)
+      out.push_back({ContactHistoryEntry::Partner::kParticle, pair_gid_a_[m], pair_gid_b_[m],
+                     pair_spring_[m]});
+  for (std::size_t w = 0; w < wall_particle_.size(); ++w)
+    if (norm2(wall_spring_[w]) > 0.0)
+      out.push_back(
+          {ContactHistoryEntry::Partner::kRigidBody, wall_gid_[w], wall_body_[w], wall_spring_[w]});
+  return out;
+}
+
 void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
-                           const std::vector<RigidBody>& bodies, double skin) {
+                           const std::vector<RigidBody>& bodies, double skin,
+                           const ContactHistory& history) {
   const std::size_t n_total = p.n_total();
   const std::size_t n_local = p.n_local();
 
@@ -48,11 +62,14 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
   for (std::size_t k = 0; k < bonds.size(); ++k) {
     const std::int64_t ia = p.index_of(bonds.gid_a[k]);
     const std::int64_t ib = p.index_of(bonds.gid_b[k]);
-    if (ia < 0 || ib < 0)
+    // An intact bond has both ends here (block width >= bond length). The ends of a broken
+    // bond drift apart: a missing end borrows the other's index, which the bond loop only
+    // reads and then masks.
+    if ((ia < 0 || ib < 0) && (!bonds.broken[k] || (ia < 0 && ib < 0)))
       throw std::runtime_error("bond " + std::to_string(bonds.gid_a[k]) + "-" +
                                std::to_string(bonds.gid_b[k]) + " has an end this rank lacks");
-    bonds.index_a[k] = static_cast<std::uint32_t>(ia);
-    bonds.index_b[k] = static_cast<std::uint32_t>(ib);
+    bonds.index_a[k] = static_cast<std::uint32_t>(ia >= 0 ? ia : ib);
+    bonds.index_b[k] = static_cast<std::uint32_t>(ib >= 0 ? ib : ia);
     if (!bonds.broken[k]) {
       ++count[ia + 1];
       ++count[ib + 1];
@@ -71,11 +88,12 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
     }
   }
 
-  // Particle pairs, carrying the tangential springs over by gid pair.
-  std::unordered_map<PairKey, Vec3, PairKeyHash> old_springs;
-  for (std::size_t m = 0; m < pairs_.size(); ++m)
-    if (norm2(pair_spring_[m]) > 0.0)
-      old_springs.emplace(PairKey{pair_gid_a_[m], pair_gid_b_[m]}, pair_spring_[m]);
+  // Carried tangential springs, by gid pair (particle pairs) or (gid, body) (rigid bodies).
+  std::unordered_map<PairKey, Vec3, PairKeyHash> old_springs, old_wall_springs;
+  for (const auto& h : history)
+    (h.partner_kind == ContactHistoryEntry::Partner::kParticle ? old_springs : old_wall_springs)
+        .emplace(PairKey{h.gid, h.partner}, h.spring);
+
   search_.build(p, skin, exclusions_, pairs_);
   pair_spring_.assign(pairs_.size(), Vec3{});
   pair_gid_a_.resize(pairs_.size());
@@ -87,11 +105,7 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
     if (it != old_springs.end()) pair_spring_[m] = it->second;
   }
 
-  // Particle–rigid-body candidates (owned particles only), same for their springs.
-  std::unordered_map<PairKey, Vec3, PairKeyHash> old_wall_springs;
-  for (std::size_t w = 0; w < wall_particle_.size(); ++w)
-    if (norm2(wall_spring_[w]) > 0.0)
-      old_wall_springs.emplace(PairKey{wall_gid_[w], wall_body_[w]}, wall_spring_[w]);
+  // Particle–rigid-body candidates (owned particles only).
   wall_particle_.clear();
   wall_body_.clear();
   wall_gid_.clear();
@@ -127,6 +141,7 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
       entries.push_back({particle, key, kind, static_cast<std::uint32_t>(slot)});
   };
   for (std::size_t k = 0; k < nb; ++k) {
+    if (bonds.broken[k]) continue;  // exerts nothing; a bond breaking later forces a rebuild
     add(bonds.index_a[k], bonds.gid_b[k], 0, k);
     add(bonds.index_b[k], bonds.gid_a[k], 0, nb + k);
   }
@@ -199,19 +214,20 @@ void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, doubl
     const int fails =
         (st.tensile > sigma_t[k]) | (st.compressive > sigma_c[k]) | (st.shear > tau[k]);
     failed[k] = static_cast<std::uint8_t>(fails & (broken[k] == 0));
-    const double keep = (fails | broken[k]) ? 0.0 : 1.0;
-    fx[k] = r.force_a.x * keep;
-    fy[k] = r.force_a.y * keep;
-    fz[k] = r.force_a.z * keep;
-    tx[k] = r.torque_a.x * keep;
-    ty[k] = r.torque_a.y * keep;
-    tz[k] = r.torque_a.z * keep;
-    fx[nb + k] = r.force_b.x * keep;
-    fy[nb + k] = r.force_b.y * keep;
-    fz[nb + k] = r.force_b.z * keep;
-    tx[nb + k] = r.torque_b.x * keep;
-    ty[nb + k] = r.torque_b.y * keep;
-    tz[nb + k] = r.torque_b.z * keep;
+    // A select, not a product: a broken bond's state may be NaN (ends far apart or borrowed).
+    const bool keep = !(fails | broken[k]);
+    fx[k] = keep ? r.force_a.x : 0.0;
+    fy[k] = keep ? r.force_a.y : 0.0;
+    fz[k] = keep ? r.force_a.z : 0.0;
+    tx[k] = keep ? r.torque_a.x : 0.0;
+    ty[k] = keep ? r.torque_a.y : 0.0;
+    tz[k] = keep ? r.torque_a.z : 0.0;
+    fx[nb + k] = keep ? r.force_b.x : 0.0;
+    fy[nb + k] = keep ? r.force_b.y : 0.0;
+    fz[nb + k] = keep ? r.force_b.z : 0.0;
+    tx[nb + k] = keep ? r.torque_b.x : 0.0;
+    ty[nb + k] = keep ? r.torque_b.y : 0.0;
+    tz[nb + k] = keep ? r.torque_b.z : 0.0;
   }
   if (std::find(bond_failed_.begin(), bond_failed_.end(), 1) == bond_failed_.end()) return;
   for (std::size_t k = 0; k < nb; ++k) {
@@ -291,7 +307,7 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
         HertzMindlin::compute(materials.pair(p.material[a], p.material[b]), in, pair_spring_[m]);
     slots_.set(slot_a, r.force_i, cross(n * arm_a, r.force_i) + r.rolling_torque_i);
     slots_.set(slot_b, -r.force_i, cross(n * arm_b, r.force_i) + r.rolling_torque_j);
-    contact_energy_ += r.elastic_energy;
+    if (a < p.n_local()) contact_energy_ += r.elastic_energy;  // once, by the owner of a
   }
 
   // Particle–rigid-body contacts; the body load is summed in (body, particle gid) order.
@@ -299,6 +315,7 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
     body.force = {};
     body.torque = {};
   }
+  body_loads_.clear();
   const std::size_t wbase = base + 2 * np;
   for (std::size_t w = 0; w < wall_particle_.size(); ++w) {
     const std::uint32_t k = wall_particle_[w];
@@ -330,8 +347,11 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
     const auto r =
         HertzMindlin::compute(materials.pair(p.material[k], body.material), in, wall_spring_[w]);
     slots_.set(wbase + w, r.force_i, cross(n * arm, r.force_i) + r.rolling_torque_i);
+    const Vec3 torque_on_body = cross(contact - body.position, -r.force_i);
     body.force -= r.force_i;
-    body.torque += cross(contact - body.position, -r.force_i);
+    body.torque += torque_on_body;
+    body_loads_.push_back(
+        {p.gid[k], static_cast<std::int32_t>(wall_body_[w]), -r.force_i, torque_on_body});
     contact_energy_ += r.elastic_energy;
   }
 }

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "domain/BondStore.hpp"
+#include "domain/ContactHistory.hpp"
 #include "domain/NeighbourSearch.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
@@ -17,10 +18,13 @@ namespace ringdem {
 /// so the sum is the same whatever the storage order or the rank count.
 class Interactions {
  public:
-  /// Neighbour lists, rigid-body candidates, bond ends and the gather map. Contact history is
-  /// carried over by gid pair. Needs the particle index to be current.
+  /// Neighbour lists, rigid-body candidates, bond ends and the gather map; the tangential
+  /// springs in `history` are given to the pairs they belong to. Needs the particle index
+  /// to be current.
   void rebuild(const ParticleStore& p, BondStore& bonds, const std::vector<RigidBody>& bodies,
-               double skin);
+               double skin, const ContactHistory& history);
+  /// The springs of all touching pairs, for the next rebuild (and for migration).
+  ContactHistory export_history() const;
 
   /// Evaluates every bond for the current positions and orientations (rotation matrices
   /// must be up to date). Bonds that fail are marked broken with their time.
@@ -36,6 +40,16 @@ class Interactions {
   /// force = gravity * mass + external force + sum of the slots, torque = sum of the slots (owned
   /// particles).
   void gather(ParticleStore& p, const Vec3& gravity) const;
+
+  /// One particle's contact load on a rigid body in the last compute_contacts(), for the
+  /// rank-independent reduction of the body loads (summed in (body, gid) order).
+  struct BodyLoad {
+    std::int64_t gid;
+    std::int32_t body;
+    Vec3 force;   ///< on the body
+    Vec3 torque;  ///< on the body, about its reference point
+  };
+  const std::vector<BodyLoad>& body_loads() const { return body_loads_; }
 
   /// Set when a bond broke during the last compute(): its pair may now touch.
   bool bonds_broke() const { return bonds_broke_; }
@@ -81,6 +95,7 @@ class Interactions {
   bool bonds_broke_ = false;
   std::size_t n_active_ = 0;
   double contact_energy_ = 0.0;
+  std::vector<BodyLoad> body_loads_;
 };
 
 }  // namespace ringdem

@@ -1,0 +1,421 @@
+#include "comm/DomainDecomposition.hpp"
+
+#include <metis.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <set>
+#include <stdexcept>
+#include <unordered_set>
+
+namespace ringdem {
+
+namespace {
+
+constexpr std::int64_t kBlockBias = std::int64_t{1} << 20;  // 21 bits per axis
+
+std::uint64_t pack_block(std::int64_t i, std::int64_t j, std::int64_t k) {
+  return (static_cast<std::uint64_t>(i + kBlockBias) << 42) |
+         (static_cast<std::uint64_t>(j + kBlockBias) << 21) |
+         static_cast<std::uint64_t>(k + kBlockBias);
+}
+
+void unpack_block(std::uint64_t key, std::int64_t& i, std::int64_t& j, std::int64_t& k) {
+  const std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
+  i = static_cast<std::int64_t>((key >> 42) & mask) - kBlockBias;
+  j = static_cast<std::int64_t>((key >> 21) & mask) - kBlockBias;
+  k = static_cast<std::int64_t>(key & mask) - kBlockBias;
+}
+
+template <class F>
+void for_each_neighbour_block(std::uint64_t key, F&& f) {
+  std::int64_t i, j, k;
+  unpack_block(key, i, j, k);
+  for (std::int64_t di = -1; di <= 1; ++di)
+    for (std::int64_t dj = -1; dj <= 1; ++dj)
+      for (std::int64_t dk = -1; dk <= 1; ++dk)
+        f(pack_block(i + di, j + dj, k + dk));
+}
+
+/// Appends the fields of element i that carry any of `flags` to buf, as bytes, in registry
+/// order; unpack_fields reads them back in the same order.
+template <class Store>
+void pack_fields(Store& s, std::size_t i, unsigned flags, std::vector<char>& buf) {
+  s.for_each_field([&](const FieldInfo& f, auto& v) {
+    if (!(f.flags & flags)) return;
+    const char* src = reinterpret_cast<const char*>(&v[i]);
+    buf.insert(buf.end(), src, src + sizeof(v[i]));
+  });
+}
+
+template <class Store>
+const char* unpack_fields(Store& s, std::size_t i, unsigned flags, const char* data) {
+  s.for_each_field([&](const FieldInfo& f, auto& v) {
+    if (!(f.flags & flags)) return;
+    std::memcpy(static_cast<void*>(&v[i]), data, sizeof(v[i]));
+    data += sizeof(v[i]);
+  });
+  return data;
+}
+
+template <class Store>
+std::size_t record_size(Store& s, unsigned flags) {
+  std::size_t n = 0;
+  s.for_each_field([&](const FieldInfo& f, auto& v) {
+    if (f.flags & flags) n += sizeof(typename std::decay_t<decltype(v)>::value_type);
+  });
+  return n;
+}
+
+/// Keeps the elements [0, n) of every field of s for which keep[i] is true, in order.
+template <class Store>
+std::size_t compact(Store& s, const std::vector<char>& keep, std::size_t n) {
+  std::size_t kept = 0;
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < n; ++i)
+    if (keep[i]) order.push_back(i);
+  s.for_each_field([&](const FieldInfo&, auto& v) {
+    for (std::size_t m = 0; m < order.size(); ++m)
+      v[m] = v[order[m]];
+    v.resize(order.size());
+  });
+  kept = order.size();
+  return kept;
+}
+
+constexpr unsigned kGhostFields = field_flag::kGhostOnce | field_flag::kGhostStep;
+
+}  // namespace
+
+DomainDecomposition::DomainDecomposition(const Communicator& comm, double block_size,
+                                         double imbalance_threshold)
+    : comm_(comm), block_size_(block_size), imbalance_threshold_(imbalance_threshold) {
+  if (!(block_size_ > 0.0)) throw std::invalid_argument("block size must be positive");
+}
+
+std::uint64_t DomainDecomposition::block_of(const Vec3& x) const {
+  const double inv = 1.0 / block_size_;
+  return pack_block(static_cast<std::int64_t>(std::floor(x.x * inv)),
+                    static_cast<std::int64_t>(std::floor(x.y * inv)),
+                    static_cast<std::int64_t>(std::floor(x.z * inv)));
+}
+
+int DomainDecomposition::owner_of(const Vec3& x) const {
+  const auto it = owner_.find(block_of(x));
+  if (it == owner_.end()) throw std::logic_error("particle in a block without owner");
+  return it->second;
+}
+
+std::vector<DomainDecomposition::BlockLoad> DomainDecomposition::global_blocks(
+    const ParticleStore& p, const BondStore& bonds, bool all_ranks_hold_everything) const {
+  std::unordered_map<std::uint64_t, BlockLoad> local;
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    const std::uint64_t key = block_of(p.position[k]);
+    auto [it, inserted] = local.try_emplace(key, BlockLoad{key, 0, 0, comm_.rank()});
+    ++it->second.particles;
+  }
+  // A bond counts in the block of its end a (when this rank owns that end).
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    const std::int64_t ia = p.index_of(bonds.gid_a[b]);
+    if (ia < 0 || static_cast<std::size_t>(ia) >= p.n_local()) continue;
+    ++local[block_of(p.position[static_cast<std::size_t>(ia)])].bonds;
+  }
+  std::vector<BlockLoad> mine;
+  for (const auto& [key, load] : local)
+    mine.push_back({key, load.particles, load.bonds, load.rank});
+  std::vector<BlockLoad> all = all_ranks_hold_everything ? mine : comm_.allgather(mine);
+  std::sort(all.begin(), all.end(), [](const BlockLoad& a, const BlockLoad& b) {
+    return a.key < b.key || (a.key == b.key && a.rank < b.rank);
+  });
+  std::vector<BlockLoad> merged;
+  for (const auto& b : all) {
+    if (!merged.empty() && merged.back().key == b.key) {
+      merged.back().particles += b.particles;
+      merged.back().bonds += b.bonds;
+    } else {
+      merged.push_back(b);
+    }
+  }
+  return merged;
+}
+
+void DomainDecomposition::partition(const std::vector<BlockLoad>& blocks) {
+  owner_.clear();
+  const int n_parts = comm_.size();
+  std::vector<std::int32_t> part(blocks.size(), 0);
+  if (n_parts > 1 && comm_.is_root()) {
+    const auto n = static_cast<idx_t>(blocks.size());
+    std::unordered_map<std::uint64_t, idx_t> index;
+    for (idx_t v = 0; v < n; ++v)
+      index.emplace(blocks[static_cast<std::size_t>(v)].key, v);
+    std::vector<idx_t> xadj{0}, adjncy, adjwgt, vwgt;
+    for (idx_t v = 0; v < n; ++v) {
+      const BlockLoad& b = blocks[static_cast<std::size_t>(v)];
+      vwgt.push_back(static_cast<idx_t>(b.particles + b.bonds) + 1);
+      for_each_neighbour_block(b.key, [&](std::uint64_t other) {
+        const auto it = index.find(other);
+        if (it == index.end() || it->second == v) return;
+        const BlockLoad& o = blocks[static_cast<std::size_t>(it->second)];
+        adjncy.push_back(it->second);
+        // Interactions across the face scale with the smaller population of the two.
+        adjwgt.push_back(static_cast<idx_t>(std::min(b.particles, o.particles)) + 1);
+      });
+      xadj.push_back(static_cast<idx_t>(adjncy.size()));
+    }
+    if (n <= n_parts) {
+      for (idx_t v = 0; v < n; ++v)
+        part[static_cast<std::size_t>(v)] = static_cast<std::int32_t>(v);
+    } else {
+      idx_t ncon = 1, nparts = n_parts, objval = 0;
+      idx_t options[METIS_NOPTIONS];
+      METIS_SetDefaultOptions(options);
+      options[METIS_OPTION_SEED] = 1;
+      std::vector<idx_t> out(static_cast<std::size_t>(n));
+      const int status = METIS_PartGraphKway(
+          const_cast<idx_t*>(&n), &ncon, xadj.data(), adjncy.data(), vwgt.data(), nullptr,
+          adjwgt.data(), &nparts, nullptr, nullptr, options, &objval, out.data());
+      if (status != METIS_OK) throw std::runtime_error("METIS_PartGraphKway failed");
+      for (idx_t v = 0; v < n; ++v)
+        part[static_cast<std::size_t>(v)] =
+            static_cast<std::int32_t>(out[static_cast<std::size_t>(v)]);
+    }
+  }
+  comm_.broadcast(part, 0);
+  for (std::size_t v = 0; v < blocks.size(); ++v)
+    owner_[blocks[v].key] = part[v];
+  ++repartitions_;
+}
+
+void DomainDecomposition::assign_new_blocks(const std::vector<BlockLoad>& blocks) {
+  // A block that became occupied goes to the smallest rank that has particles in it, which
+  // every rank can tell from the merged list.
+  for (const auto& b : blocks)
+    owner_.try_emplace(b.key, b.rank);
+}
+
+void DomainDecomposition::distribute_initial(ParticleStore& p, BondStore& bonds) {
+  const auto blocks = global_blocks(p, bonds, /*all_ranks_hold_everything=*/true);
+  partition(blocks);
+  p.resize_ghosts(0);
+  p.rebuild_index();
+  const std::size_t n = p.n_local();
+  std::vector<int> dest(n);
+  std::vector<char> keep(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    dest[k] = owner_of(p.position[k]);
+    keep[k] = dest[k] == comm_.rank();
+  }
+  std::vector<char> keep_bond(bonds.size());
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    const auto ia = static_cast<std::size_t>(p.index_of(bonds.gid_a[b]));
+    const auto ib = static_cast<std::size_t>(p.index_of(bonds.gid_b[b]));
+    keep_bond[b] = keep[ia] || keep[ib];
+  }
+  compact(bonds, keep_bond, bonds.size());
+  bonds.index_a.assign(bonds.size(), 0);
+  bonds.index_b.assign(bonds.size(), 0);
+  p.resize_local(compact(p, keep, n));
+  build_ghosts(p);
+}
+
+void DomainDecomposition::redistribute(ParticleStore& p, BondStore& bonds,
+                                       ContactHistory& history) {
+  const int me = comm_.rank();
+  const int n_ranks = comm_.size();
+  p.rebuild_index();
+  const auto blocks = global_blocks(p, bonds, /*all_ranks_hold_everything=*/false);
+  if (imbalance(p) > imbalance_threshold_) {
+    partition(blocks);
+  } else {
+    assign_new_blocks(blocks);
+  }
+
+  // New owner of every particle this rank holds (owned and ghost).
+  std::vector<int> owner(p.n_total());
+  for (std::size_t k = 0; k < p.n_total(); ++k)
+    owner[k] = owner_of(p.position[k]);
+  // -1 for a particle this rank does not hold (only the far end of a broken bond).
+  auto owner_of_gid = [&](std::int64_t gid) {
+    const std::int64_t k = p.index_of(gid);
+    return k < 0 ? -1 : owner[static_cast<std::size_t>(k)];
+  };
+
+  // Particles, bonds and history entries to send, one buffer of each per rank.
+  const unsigned migrate = field_flag::kMigrate;
+  std::vector<std::vector<char>> send_p(static_cast<std::size_t>(n_ranks));
+  std::vector<std::vector<char>> send_b(static_cast<std::size_t>(n_ranks));
+  std::vector<std::vector<char>> send_h(static_cast<std::size_t>(n_ranks));
+  std::vector<char> keep(p.n_local());
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    keep[k] = owner[k] == me;
+    if (!keep[k]) pack_fields(p, k, migrate, send_p[static_cast<std::size_t>(owner[k])]);
+  }
+  std::vector<char> keep_bond(bonds.size());
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    const int oa = owner_of_gid(bonds.gid_a[b]);
+    const int ob = owner_of_gid(bonds.gid_b[b]);
+    keep_bond[b] = oa == me || ob == me;
+    if (oa >= 0 && oa != me) pack_fields(bonds, b, migrate, send_b[static_cast<std::size_t>(oa)]);
+    if (ob >= 0 && ob != me && ob != oa)
+      pack_fields(bonds, b, migrate, send_b[static_cast<std::size_t>(ob)]);
+  }
+  ContactHistory kept_history;
+  for (const auto& h : history) {
+    const int oa = owner_of_gid(h.gid);
+    const int ob =
+        h.partner_kind == ContactHistoryEntry::Partner::kParticle ? owner_of_gid(h.partner) : oa;
+    if (oa == me || ob == me) kept_history.push_back(h);
+    std::set<int> targets{oa, ob};
+    for (int r : targets) {
+      if (r == me) continue;
+      const char* src = reinterpret_cast<const char*>(&h);
+      send_h[static_cast<std::size_t>(r)].insert(send_h[static_cast<std::size_t>(r)].end(), src,
+                                                 src + sizeof(h));
+    }
+  }
+
+  std::vector<int> counts;
+  const std::vector<char> recv_p = comm_.alltoall_bytes(send_p, counts);
+  const std::vector<char> recv_b = comm_.alltoall_bytes(send_b, counts);
+  const std::vector<char> recv_h = comm_.alltoall_bytes(send_h, counts);
+
+  // Particles: drop ghosts and emigrants, append immigrants.
+  p.resize_ghosts(0);
+  const std::size_t n_kept = compact(p, keep, p.n_local());
+  const std::size_t p_size = record_size(p, migrate);
+  const std::size_t n_in = recv_p.size() / p_size;
+  p.resize_local(n_kept + n_in);
+  const char* data = recv_p.data();
+  for (std::size_t k = 0; k < n_in; ++k)
+    data = unpack_fields(p, n_kept + k, migrate, data);
+
+  // Bonds: keep those with an end here, add arrivals not already held.
+  std::size_t n_bonds = compact(bonds, keep_bond, bonds.size());
+  std::set<std::pair<std::int64_t, std::int64_t>> held;
+  for (std::size_t b = 0; b < n_bonds; ++b)
+    held.emplace(bonds.gid_a[b], bonds.gid_b[b]);
+  const std::size_t b_size = record_size(bonds, migrate);
+  const std::size_t nb_in = recv_b.size() / b_size;
+  data = recv_b.data();
+  for (std::size_t k = 0; k < nb_in; ++k) {
+    bonds.for_each_field([&](const FieldInfo&, auto& v) { v.resize(n_bonds + 1); });
+    data = unpack_fields(bonds, n_bonds, migrate, data);
+    if (held.emplace(bonds.gid_a[n_bonds], bonds.gid_b[n_bonds]).second) ++n_bonds;
+  }
+  bonds.for_each_field([&](const FieldInfo&, auto& v) { v.resize(n_bonds); });
+  // Bonds in canonical (gid pair) order: storage then does not depend on arrival order.
+  {
+    std::vector<std::size_t> order(n_bonds);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+      return std::tie(bonds.gid_a[x], bonds.gid_b[x]) < std::tie(bonds.gid_a[y], bonds.gid_b[y]);
+    });
+    bonds.for_each_field([&](const FieldInfo&, auto& v) {
+      auto old = v;
+      for (std::size_t m = 0; m < order.size(); ++m)
+        v[m] = old[order[m]];
+    });
+  }
+  bonds.index_a.assign(n_bonds, 0);
+  bonds.index_b.assign(n_bonds, 0);
+
+  // History: kept entries plus arrivals (duplicates from the two old owners are identical).
+  const std::size_t nh_in = recv_h.size() / sizeof(ContactHistoryEntry);
+  for (std::size_t k = 0; k < nh_in; ++k) {
+    ContactHistoryEntry h;
+    std::memcpy(static_cast<void*>(&h), recv_h.data() + k * sizeof(h), sizeof(h));
+    kept_history.push_back(h);
+  }
+  history = std::move(kept_history);
+
+  // Owned particles in gid order, so the local layout is the same for any history of moves.
+  {
+    std::vector<std::size_t> order(p.n_local());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t x, std::size_t y) { return p.gid[x] < p.gid[y]; });
+    p.permute_local(order);
+  }
+  build_ghosts(p);
+}
+
+void DomainDecomposition::build_ghosts(ParticleStore& p) {
+  const int me = comm_.rank();
+  const auto n_ranks = static_cast<std::size_t>(comm_.size());
+  ghost_send_.assign(n_ranks, {});
+  std::vector<std::vector<char>> send(n_ranks);
+  std::vector<int> targets;
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    targets.clear();
+    for_each_neighbour_block(block_of(p.position[k]), [&](std::uint64_t key) {
+      const auto it = owner_.find(key);
+      if (it != owner_.end() && it->second != me) targets.push_back(it->second);
+    });
+    std::sort(targets.begin(), targets.end());
+    targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
+    for (int r : targets) {
+      ghost_send_[static_cast<std::size_t>(r)].push_back(static_cast<std::uint32_t>(k));
+      pack_fields(p, k, kGhostFields, send[static_cast<std::size_t>(r)]);
+    }
+  }
+  std::vector<int> counts;
+  const std::vector<char> recv = comm_.alltoall_bytes(send, counts);
+  const std::size_t size = record_size(p, kGhostFields);
+  ghost_recv_count_.assign(n_ranks, 0);
+  for (std::size_t r = 0; r < n_ranks; ++r)
+    ghost_recv_count_[r] = static_cast<int>(static_cast<std::size_t>(counts[r]) / size);
+  const std::size_t n_ghost = recv.size() / size;
+  const std::size_t first = p.n_local();
+  p.resize_ghosts(n_ghost);
+  const char* data = recv.data();
+  for (std::size_t k = 0; k < n_ghost; ++k)
+    data = unpack_fields(p, first + k, kGhostFields, data);
+  p.rebuild_index();
+}
+
+void DomainDecomposition::update_ghosts(ParticleStore& p) {
+  const auto n_ranks = static_cast<std::size_t>(comm_.size());
+  if (n_ranks == 1) return;
+  const unsigned flags = field_flag::kGhostStep;
+  std::vector<std::vector<char>> send(n_ranks);
+  for (std::size_t r = 0; r < n_ranks; ++r)
+    for (std::uint32_t k : ghost_send_[r])
+      pack_fields(p, k, flags, send[r]);
+  std::vector<int> counts;
+  const std::vector<char> recv = comm_.alltoall_bytes(send, counts);
+  const char* data = recv.data();
+  const std::size_t first = p.n_local();
+  const std::size_t n_ghost = recv.size() / record_size(p, flags);
+  if (n_ghost != p.n_ghost()) throw std::logic_error("ghost update: count changed");
+  for (std::size_t k = 0; k < n_ghost; ++k)
+    data = unpack_fields(p, first + k, flags, data);
+}
+
+double DomainDecomposition::imbalance(const ParticleStore& p) const {
+  const auto n = static_cast<std::int64_t>(p.n_local());
+  const double mean = static_cast<double>(comm_.sum(n)) / comm_.size();
+  const double most = static_cast<double>(comm_.max(n));
+  return mean > 0.0 ? most / mean - 1.0 : 0.0;
+}
+
+std::vector<DomainDecomposition::RankReport> DomainDecomposition::report(
+    const ParticleStore& p, const BondStore& bonds) const {
+  RankReport mine;
+  mine.particles = static_cast<std::int64_t>(p.n_local());
+  mine.ghosts = static_cast<std::int64_t>(p.n_ghost());
+  mine.bonds = static_cast<std::int64_t>(bonds.size());
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    const std::int64_t ia = p.index_of(bonds.gid_a[b]);
+    const std::int64_t ib = p.index_of(bonds.gid_b[b]);
+    const bool a_here = ia >= 0 && static_cast<std::size_t>(ia) < p.n_local();
+    const bool b_here = ib >= 0 && static_cast<std::size_t>(ib) < p.n_local();
+    mine.cut_bonds += a_here != b_here;
+  }
+  for (const auto& [key, rank] : owner_)
+    mine.blocks += rank == comm_.rank();
+  return comm_.allgather(std::vector<RankReport>{mine});
+}
+
+}  // namespace ringdem
