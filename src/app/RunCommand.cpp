@@ -39,7 +39,18 @@ void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64
                      bool print) {
   const std::int64_t particles = sim.global_particles();
   const std::int64_t bonds = sim.global_bonds();
+  const auto ranks = sim.decomposition().report(sim.model().particles, sim.model().bonds);
+  const double imbalance = sim.decomposition().imbalance(sim.model().particles);
   if (!print) return;
+  if (ranks.size() > 1) {
+    fmt::print("partition: {} ranks, block size {:.4g} m, particle imbalance {:.1f} %\n",
+               ranks.size(), sim.decomposition().block_size(), 100.0 * imbalance);
+    fmt::print("  {:>4} {:>10} {:>10} {:>10} {:>10} {:>8}\n", "rank", "particles", "ghosts",
+               "bonds", "cut bonds", "blocks");
+    for (std::size_t r = 0; r < ranks.size(); ++r)
+      fmt::print("  {:>4} {:>10} {:>10} {:>10} {:>10} {:>8}\n", r, ranks[r].particles,
+                 ranks[r].ghosts, ranks[r].bonds, ranks[r].cut_bonds, ranks[r].blocks);
+  }
   fmt::print("pre-flight: {} particles, {} bonds, {} rigid bodies, {} contact candidates\n",
              particles, bonds, sim.model().bodies.size(),
              sim.interactions().n_contact_candidates());

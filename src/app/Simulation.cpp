@@ -33,6 +33,7 @@ SimulationSettings settings_from_case(const CaseConfig& c) {
   s.dt_safety = c.simulation.dt_safety;
   s.skin = c.simulation.skin;
   s.gravity = c.simulation.gravity;
+  s.imbalance_threshold = c.simulation.imbalance_threshold;
   return s;
 }
 
@@ -109,10 +110,15 @@ bool Simulation::needs_rebuild() const {
     const double turn = angle > 0.0 ? angle * body.extent() : 0.0;
     body_move = std::max(body_move, norm(body.position - body_position_at_rebuild_[b]) + turn);
   }
-  const double particle_move = comm_.max(std::sqrt(max_move2_));
+  // One reduction per step for both triggers: the largest move, and whether a bond broke
+  // anywhere in the last force evaluation (its pair may now touch).
+  const auto global = comm_.max(
+      std::array<double, 2>{std::sqrt(max_move2_), interactions_.bonds_broke() ? 1.0 : 0.0});
+  const double particle_move = global[0];
+  const bool bond_broke = global[1] > 0.0;
   // Two particles close by at most twice the largest move; a particle and a surface by the
   // sum of the two.
-  return force_rebuild_ || 2.0 * particle_move > settings_.skin ||
+  return force_rebuild_ || bond_broke || 2.0 * particle_move > settings_.skin ||
          particle_move + body_move > settings_.skin;
 }
 
@@ -131,7 +137,6 @@ void Simulation::compute_forces() {
     PhaseTimer t(phase_seconds_[kGather]);
     interactions_.gather(p, settings_.gravity);
   }
-  if (comm_.any(interactions_.bonds_broke())) force_rebuild_ = true;
 }
 
 void Simulation::reduce_body_loads() {

@@ -104,6 +104,34 @@ std::vector<char> Communicator::alltoall_bytes(const std::vector<std::vector<cha
   return out;
 }
 
+void Communicator::max_in_place(const double* in, double* out, int n) const {
+  MPI_Allreduce(in, out, n, MPI_DOUBLE, MPI_MAX, comm_);
+}
+
+std::vector<char> Communicator::exchange_bytes(const std::vector<std::vector<char>>& send,
+                                               const std::vector<int>& recv_counts) const {
+  std::vector<int> displs(recv_counts.size(), 0);
+  std::partial_sum(recv_counts.begin(), recv_counts.end() - 1, displs.begin() + 1);
+  std::vector<char> out(static_cast<std::size_t>(displs.back() + recv_counts.back()));
+  std::vector<MPI_Request> requests;
+  constexpr int kTag = 7301;
+  for (int r = 0; r < size_; ++r) {
+    const auto ru = static_cast<std::size_t>(r);
+    if (recv_counts[ru] == 0) continue;
+    requests.emplace_back();
+    MPI_Irecv(out.data() + displs[ru], recv_counts[ru], MPI_BYTE, r, kTag, comm_, &requests.back());
+  }
+  for (int r = 0; r < size_; ++r) {
+    const auto ru = static_cast<std::size_t>(r);
+    if (send[ru].empty()) continue;
+    requests.emplace_back();
+    MPI_Isend(send[ru].data(), static_cast<int>(send[ru].size()), MPI_BYTE, r, kTag, comm_,
+              &requests.back());
+  }
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+  return out;
+}
+
 bool Communicator::any(bool v) const {
   int x = v ? 1 : 0;
   int r = 0;

@@ -2,6 +2,7 @@
 
 #include <mpi.h>
 
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
@@ -27,6 +28,13 @@ class Communicator {
   double min(double v) const;
   double max(double v) const;
   std::int64_t sum(std::int64_t v) const;
+  /// Element-wise maximum of a small fixed array over the ranks.
+  template <std::size_t N>
+  std::array<double, N> max(const std::array<double, N>& v) const {
+    std::array<double, N> r{};
+    max_in_place(v.data(), r.data(), static_cast<int>(N));
+    return r;
+  }
   std::int64_t min(std::int64_t v) const;
   std::int64_t max(std::int64_t v) const;
   /// Sum of doubles that does not depend on the number of ranks or their order: every
@@ -52,6 +60,11 @@ class Communicator {
     items.resize(static_cast<std::size_t>(n));
     broadcast_bytes(items.data(), items.size() * sizeof(T), root);
   }
+  /// Point-to-point exchange with a fixed set of partners: send[r] goes to rank r when not
+  /// empty, and recv_counts[r] bytes (known in advance) arrive from rank r. No collective:
+  /// only the partners synchronise. Returns the arrivals in source-rank order.
+  std::vector<char> exchange_bytes(const std::vector<std::vector<char>>& send,
+                                   const std::vector<int>& recv_counts) const;
   /// Personalised all-to-all of byte buffers: send[r] goes to rank r. Returns what arrived,
   /// concatenated in source-rank order, and the byte count from each source in recv_counts.
   std::vector<char> alltoall_bytes(const std::vector<std::vector<char>>& send,
@@ -63,6 +76,7 @@ class Communicator {
 
  private:
   std::vector<char> allgather_bytes(const char* data, std::size_t n) const;
+  void max_in_place(const double* in, double* out, int n) const;
   void broadcast_bytes(void* data, std::size_t n, int root) const;
 
   MPI_Comm comm_;

@@ -383,11 +383,14 @@ void DomainDecomposition::update_ghosts(ParticleStore& p) {
   for (std::size_t r = 0; r < n_ranks; ++r)
     for (std::uint32_t k : ghost_send_[r])
       pack_fields(p, k, flags, send[r]);
-  std::vector<int> counts;
-  const std::vector<char> recv = comm_.alltoall_bytes(send, counts);
+  const std::size_t size = record_size(p, flags);
+  std::vector<int> counts(n_ranks);
+  for (std::size_t r = 0; r < n_ranks; ++r)
+    counts[r] = static_cast<int>(static_cast<std::size_t>(ghost_recv_count_[r]) * size);
+  const std::vector<char> recv = comm_.exchange_bytes(send, counts);
   const char* data = recv.data();
   const std::size_t first = p.n_local();
-  const std::size_t n_ghost = recv.size() / record_size(p, flags);
+  const std::size_t n_ghost = recv.size() / size;
   if (n_ghost != p.n_ghost()) throw std::logic_error("ghost update: count changed");
   for (std::size_t k = 0; k < n_ghost; ++k)
     data = unpack_fields(p, first + k, flags, data);

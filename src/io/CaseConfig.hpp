@@ -137,6 +137,7 @@ struct SimulationConfig {
   double progress_interval = 2.0;  ///< wall seconds between progress lines
   double series_interval = 1e-3;   ///< simulated seconds between series.csv rows
   std::string contact_model = "hertz_mindlin";
+  double imbalance_threshold = 0.1;  ///< repartition when max/mean particles - 1 exceeds it
 };
 
 /// Quasi-static tensile test of ring elements (the paper's "DEM Modeling of a Tensile Test"):

@@ -54,6 +54,9 @@ const Table<SimulationConfig>& simulation_table() {
                          "Simulated time between rows of series.csv"),
           schema::choice("contact_model", &S::contact_model, {"hertz_mindlin"},
                          "Particle contact law"),
+          schema::number("imbalance_threshold", &S::imbalance_threshold, at_least(0), "",
+                         "Repartition the ranks (METIS) at a neighbour-list rebuild when the "
+                         "largest rank holds more than (1 + this) times the mean particles"),
       }};
   return table;
 }
