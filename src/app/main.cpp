@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "app/BuildInfo.hpp"
+#include "app/Calibration.hpp"
 #include "app/RunCommand.hpp"
 #include "app/SweepCommand.hpp"
 #include "comm/Communicator.hpp"
@@ -53,11 +54,57 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   sweep->add_flag("-q,--quiet", sweep_opts.quiet, "no progress lines");
 
+  ringdem::CalibrationOptions cal_opts;
+  std::vector<double> lambda_range, modulus_range;
+  auto* calibrate = app.add_subcommand(
+      "calibrate",
+      "fit the bond radius multiplier (and E_b) to a measured load-displacement curve");
+  calibrate->add_option("case", cal_opts.case_path, "tensile-test case file (YAML)")->required();
+  calibrate
+      ->add_option("--reference", cal_opts.reference_path,
+                   "measured curve: CSV with columns displacement_m and load_N")
+      ->required();
+  calibrate
+      ->add_option("--fit", cal_opts.fit,
+                   "lambda (E_b from Eq. 17 when the bond has derive_from) or lambda_and_modulus")
+      ->check(CLI::IsMember({"lambda", "lambda_and_modulus"}));
+  calibrate->add_option("-o,--output", cal_opts.output_dir,
+                        "output folder (default results/<case name>_calibration)");
+  calibrate->add_option("--set", cal_opts.overrides, "override a case key: key.path=value")
+      ->take_all()
+      ->allow_extra_args(false);
+  calibrate->add_option("--bond", cal_opts.bond, "bond to fit (default: the one the rings use)");
+  calibrate->add_option("--lambda-range", lambda_range, "lambda bounds (default 0.2 1.0)")
+      ->expected(2);
+  calibrate->add_option("--modulus-range", modulus_range, "E_b bounds in Pa (default 40e9 600e9)")
+      ->expected(2);
+  calibrate->add_option("--scan", cal_opts.scan_points,
+                        "lambda fit: evenly spaced first trials (default 5)");
+  calibrate->add_option("--tolerance", cal_opts.lambda_tolerance,
+                        "tolerance on lambda (default 0.001)");
+  calibrate->add_option("--modulus-tolerance", cal_opts.modulus_tolerance,
+                        "relative tolerance on E_b (default 0.002)");
+  calibrate->add_option("--misfit-tolerance", cal_opts.misfit_tolerance,
+                        "two-parameter fit: stop when the simplex's misfits (relative to the "
+                        "reference peak) differ by at most this (default 0.002)");
+  calibrate->add_option("--max-evaluations", cal_opts.max_evaluations,
+                        "most tensile tests to run (default 40)");
+  calibrate->add_flag("-q,--quiet", cal_opts.quiet, "no progress lines");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : kExitInputError;
+  }
+
+  if (lambda_range.size() == 2) {
+    cal_opts.lambda_lower = lambda_range[0];
+    cal_opts.lambda_upper = lambda_range[1];
+  }
+  if (modulus_range.size() == 2) {
+    cal_opts.modulus_lower = modulus_range[0];
+    cal_opts.modulus_upper = modulus_range[1];
   }
 
   if (*check) {
@@ -82,6 +129,8 @@ int main(int argc, char** argv) {
     try {
       if (*sweep) {
         code = ringdem::run_sweep(sweep_opts, comm);
+      } else if (*calibrate) {
+        ringdem::run_calibration(cal_opts, comm);
       } else {
         const auto config = ringdem::load_case(run_opts.case_path, run_opts.overrides);
         code = ringdem::run_case(config, run_opts, comm);
