@@ -29,12 +29,12 @@ print(f"{sys.argv[4]:<12} ranks {ranks:>2}  particles {s['particles']:>7}  "
 PY
 }
 
-$py scripts/bench/make_ring_grid.py 20 10 "$work/strong.yaml"
-echo "strong scaling, 200 rings = 20 000 particles, 2.5k steps:"
+$py scripts/bench/make_ring_grid.py --linked 20 10 "$work/strong.yaml"
+echo "strong scaling, linked net of 200 rings = 20 000 particles, 2.5k steps:"
 for ranks in $(seq 1 "$max_ranks"); do run "$ranks" "$work/strong.yaml" "strong_np$ranks"; done
 
 echo "weak scaling, 100 rings = 10 000 particles per rank:"
 for ranks in $(seq 1 "$max_ranks"); do
-  $py scripts/bench/make_ring_grid.py 10 $((10 * ranks)) "$work/weak_np$ranks.yaml"
+  $py scripts/bench/make_ring_grid.py --linked 10 $((10 * ranks)) "$work/weak_np$ranks.yaml"
   run "$ranks" "$work/weak_np$ranks.yaml" "weak_np$ranks"
 done

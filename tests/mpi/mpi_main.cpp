@@ -28,6 +28,9 @@ class RankFailurePrinter : public ::testing::EmptyTestEventListener {
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
   ::testing::InitGoogleTest(&argc, argv);
+  // An exception on one rank must end the job (mpirun then stops the others), not be caught
+  // by gtest while the other ranks wait in a collective.
+  GTEST_FLAG_SET(catch_exceptions, false);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (rank != 0) {
