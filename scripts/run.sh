@@ -12,8 +12,8 @@ if [ $# -gt 0 ] && [[ "$1" != -* ]]; then
 fi
 
 ringdem_install_packages
-ringdem_build release
+ringdem_build "${RINGDEM_PRESET:-native}"
 cd "$RINGDEM_ROOT"
 ranks="${RINGDEM_RANKS:-1}"
 ringdem_log "running $case_file on $ranks rank(s)"
-exec mpirun -np "$ranks" build/release/ringdem run "$case_file" "$@"
+exec mpirun -np "$ranks" "build/${RINGDEM_PRESET:-native}/ringdem" run "$case_file" "$@"

@@ -7,7 +7,7 @@
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
-preset=release
+preset="${RINGDEM_PRESET:-native}"
 label_args=(-LE long)
 ctest_extra=()
 while [ $# -gt 0 ]; do

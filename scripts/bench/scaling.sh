@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Strong and weak scaling of whole runs (issue 4). Builds the release preset, generates the
+# Strong and weak scaling of whole runs (issue 4). Builds the native preset, generates the
 # workloads with make_ring_grid.py and runs them at several rank counts.
 #   scripts/bench/scaling.sh [MAX_RANKS]     (default: the number of cores)
 # Strong: 200 rings (20 000 particles) at 1..MAX_RANKS ranks. Weak: 100 rings per rank.
@@ -7,17 +7,17 @@
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
 ringdem_install_packages
-ringdem_build release
+ringdem_build native
 cd "$RINGDEM_ROOT"
 cores=$(nproc)
 max_ranks="${1:-$cores}"
-work=build/release/scaling
+work=build/native/scaling
 mkdir -p "$work"
 py=/usr/bin/python3
 
 run() {  # ranks case label
   local ranks=$1 case=$2 label=$3
-  mpirun -np "$ranks" build/release/ringdem run "$case" -q -o "$work/$label" >/dev/null
+  mpirun -np "$ranks" build/native/ringdem run "$case" -q -o "$work/$label" >/dev/null
   $py - "$work/$label/summary.json" "$ranks" "$cores" "$label" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1])); ranks = int(sys.argv[2]); cores = int(sys.argv[3])

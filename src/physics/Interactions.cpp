@@ -197,37 +197,58 @@ void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, doubl
   const double* const sigma_t = bonds.tensile_strength.data();
   const double* const sigma_c = bonds.compressive_strength.data();
   const double* const tau = bonds.shear_strength.data();
+  // Bonds in chunks: a scalar pass copies the end particles' positions and orientations
+  // into contiguous scratch arrays, so the vector loop that follows loads everything
+  // contiguously instead of gathering it element by element.
+  constexpr std::size_t kChunk = 256;
+  BondScratch& g = bond_scratch_;
+  for (std::size_t start = 0; start < nb; start += kChunk) {
+    const std::size_t n = std::min(kChunk, nb - start);
+    for (std::size_t c = 0; c < n; ++c) {
+      const Vec3& xa = pos[ia[start + c]];
+      const Vec3& xb = pos[ib[start + c]];
+      const Quat& qa = rot[ia[start + c]];
+      const Quat& qb = rot[ib[start + c]];
+      g.xa[0][c] = xa.x, g.xa[1][c] = xa.y, g.xa[2][c] = xa.z;
+      g.xb[0][c] = xb.x, g.xb[1][c] = xb.y, g.xb[2][c] = xb.z;
+      g.qa[0][c] = qa.w, g.qa[1][c] = qa.x, g.qa[2][c] = qa.y, g.qa[3][c] = qa.z;
+      g.qb[0][c] = qb.w, g.qb[1][c] = qb.x, g.qb[2][c] = qb.y, g.qb[3][c] = qb.z;
+    }
 #pragma GCC ivdep
-  for (std::size_t k = 0; k < nb; ++k) {
-    BondTimoshenko::Section sec;
-    sec.length0 = l0[k];
-    sec.k_axial = k_ax[k];
-    sec.k_torsion = k_tor[k];
-    sec.k_bend_self = k_self[k];
-    sec.k_bend_cross = k_cross[k];
-    sec.inv_area = inv_area[k];
-    sec.bend_factor = bend_factor[k];
-    const BondTimoshenko::Reference ref{frame_a[k], frame_b[k]};
-    const auto r =
-        BondTimoshenko::compute(sec, ref, pos[ia[k]], rot[ia[k]], pos[ib[k]], rot[ib[k]]);
-    const auto st = BondTimoshenko::stresses(sec, r);
-    const int fails =
-        (st.tensile > sigma_t[k]) | (st.compressive > sigma_c[k]) | (st.shear > tau[k]);
-    failed[k] = static_cast<std::uint8_t>(fails & (broken[k] == 0));
-    // A select, not a product: a broken bond's state may be NaN (ends far apart or borrowed).
-    const bool keep = !(fails | broken[k]);
-    fx[k] = keep ? r.force_a.x : 0.0;
-    fy[k] = keep ? r.force_a.y : 0.0;
-    fz[k] = keep ? r.force_a.z : 0.0;
-    tx[k] = keep ? r.torque_a.x : 0.0;
-    ty[k] = keep ? r.torque_a.y : 0.0;
-    tz[k] = keep ? r.torque_a.z : 0.0;
-    fx[nb + k] = keep ? r.force_b.x : 0.0;
-    fy[nb + k] = keep ? r.force_b.y : 0.0;
-    fz[nb + k] = keep ? r.force_b.z : 0.0;
-    tx[nb + k] = keep ? r.torque_b.x : 0.0;
-    ty[nb + k] = keep ? r.torque_b.y : 0.0;
-    tz[nb + k] = keep ? r.torque_b.z : 0.0;
+    for (std::size_t c = 0; c < n; ++c) {
+      const std::size_t k = start + c;
+      BondTimoshenko::Section sec;
+      sec.length0 = l0[k];
+      sec.k_axial = k_ax[k];
+      sec.k_torsion = k_tor[k];
+      sec.k_bend_self = k_self[k];
+      sec.k_bend_cross = k_cross[k];
+      sec.inv_area = inv_area[k];
+      sec.bend_factor = bend_factor[k];
+      const BondTimoshenko::Reference ref{frame_a[k], frame_b[k]};
+      const auto r = BondTimoshenko::compute(sec, ref, Vec3{g.xa[0][c], g.xa[1][c], g.xa[2][c]},
+                                             Quat{g.qa[0][c], g.qa[1][c], g.qa[2][c], g.qa[3][c]},
+                                             Vec3{g.xb[0][c], g.xb[1][c], g.xb[2][c]},
+                                             Quat{g.qb[0][c], g.qb[1][c], g.qb[2][c], g.qb[3][c]});
+      const auto st = BondTimoshenko::stresses(sec, r);
+      const int fails =
+          (st.tensile > sigma_t[k]) | (st.compressive > sigma_c[k]) | (st.shear > tau[k]);
+      failed[k] = static_cast<std::uint8_t>(fails & (broken[k] == 0));
+      // A select, not a product: a broken bond's state may be NaN (ends far apart or borrowed).
+      const bool keep = !(fails | broken[k]);
+      fx[k] = keep ? r.force_a.x : 0.0;
+      fy[k] = keep ? r.force_a.y : 0.0;
+      fz[k] = keep ? r.force_a.z : 0.0;
+      tx[k] = keep ? r.torque_a.x : 0.0;
+      ty[k] = keep ? r.torque_a.y : 0.0;
+      tz[k] = keep ? r.torque_a.z : 0.0;
+      fx[nb + k] = keep ? r.force_b.x : 0.0;
+      fy[nb + k] = keep ? r.force_b.y : 0.0;
+      fz[nb + k] = keep ? r.force_b.z : 0.0;
+      tx[nb + k] = keep ? r.torque_b.x : 0.0;
+      ty[nb + k] = keep ? r.torque_b.y : 0.0;
+      tz[nb + k] = keep ? r.torque_b.z : 0.0;
+    }
   }
   if (std::find(bond_failed_.begin(), bond_failed_.end(), 1) == bond_failed_.end()) return;
   for (std::size_t k = 0; k < nb; ++k) {

@@ -90,6 +90,11 @@ class Interactions {
   };
   Slots slots_;
   std::vector<std::uint8_t> bond_failed_;  ///< scratch: bonds that failed in this step
+  /// Scratch of the bond loop: end positions and orientations of one chunk, by component.
+  struct BondScratch {
+    double xa[3][256], xb[3][256], qa[4][256], qb[4][256];
+  };
+  BondScratch bond_scratch_;
   std::vector<std::uint32_t> gather_offset_, gather_slot_;
 
   bool bonds_broke_ = false;

@@ -71,8 +71,11 @@ void expect_identical(const State& ref, const State& got) {
     const bool same = a.gid == b.gid && a.position == b.position && a.velocity == b.velocity &&
                       a.omega == b.omega && a.orientation == b.orientation;
     if (!same && ++mismatches <= 3)
-      ADD_FAILURE() << "particle gid " << a.gid << " differs: x " << a.position.x << " vs "
-                    << b.position.x;
+      ADD_FAILURE() << "particle gid " << a.gid << " differs (position, velocity, omega, "
+                    << "orientation equal: " << (a.position == b.position)
+                    << (a.velocity == b.velocity) << (a.omega == b.omega)
+                    << (a.orientation == b.orientation) << "), x - x_ref = "
+                    << b.position.x - a.position.x;
   }
   EXPECT_EQ(mismatches, 0u);
   ASSERT_EQ(ref.bonds.size(), got.bonds.size());
