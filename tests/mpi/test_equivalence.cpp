@@ -74,8 +74,8 @@ void expect_identical(const State& ref, const State& got) {
       ADD_FAILURE() << "particle gid " << a.gid << " differs (position, velocity, omega, "
                     << "orientation equal: " << (a.position == b.position)
                     << (a.velocity == b.velocity) << (a.omega == b.omega)
-                    << (a.orientation == b.orientation) << "), x - x_ref = "
-                    << b.position.x - a.position.x;
+                    << (a.orientation == b.orientation)
+                    << "), x - x_ref = " << b.position.x - a.position.x;
   }
   EXPECT_EQ(mismatches, 0u);
   ASSERT_EQ(ref.bonds.size(), got.bonds.size());
