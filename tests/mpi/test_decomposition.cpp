@@ -1,0 +1,167 @@
+// Migration and ghost exchange of the domain decomposition, checked with rank-encoded data
+// (value = rank + 1) and gid-encoded data, exactly.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <vector>
+
+#include "comm/DomainDecomposition.hpp"
+
+namespace ringdem {
+namespace {
+
+constexpr double kBlock = 0.01;
+
+class Decomposition : public ::testing::Test {
+ protected:
+  void SetUp() override { MPI_Comm_dup(MPI_COMM_WORLD, &comm_); }
+  void TearDown() override { MPI_Comm_free(&comm_); }
+  MPI_Comm comm_ = MPI_COMM_NULL;
+};
+
+/// A 12 x 12 x 2 lattice of particles, 6 mm apart (several per block), the same on every
+/// rank; consecutive gids along x are bonded. Field values encode the gid.
+void make_lattice(ParticleStore& p, BondStore& bonds) {
+  std::int64_t gid = 0;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 12; ++j)
+      for (int i = 0; i < 12; ++i) {
+        ParticleStore::NewParticle np;
+        np.gid = gid++;
+        np.position = {0.006 * i, 0.006 * j, 0.006 * k};
+        np.radius = 0.002;
+        np.density = 1000;
+        p.add(np);
+      }
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    p.external_force[k] = {7.0 * p.gid[k] + 1, 0, 0};
+  BondTimoshenko::Section s;
+  BondTimoshenko::Reference ref;
+  for (std::int64_t g = 0; g + 1 < gid; ++g)
+    if ((g + 1) % 12 != 0) bonds.add(g, g + 1, 0, s, ref, {1, 1, 1});
+  p.rebuild_index();
+}
+
+/// gid -> owning rank over all ranks; fails if a gid is owned twice or not at all.
+std::map<std::int64_t, int> owners(const Communicator& c, const ParticleStore& p,
+                                   std::int64_t n_total) {
+  std::vector<std::int64_t> mine(p.gid.begin(), p.gid.begin() + static_cast<long>(p.n_local()));
+  std::vector<std::int64_t> rank_of_mine(p.n_local(), c.rank());
+  const auto gids = c.allgather(mine);
+  const auto ranks = c.allgather(rank_of_mine);
+  std::map<std::int64_t, int> out;
+  for (std::size_t k = 0; k < gids.size(); ++k) {
+    EXPECT_TRUE(out.emplace(gids[k], static_cast<int>(ranks[k])).second)
+        << "gid " << gids[k] << " owned twice";
+  }
+  EXPECT_EQ(static_cast<std::int64_t>(out.size()), n_total);
+  return out;
+}
+
+TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
+  const Communicator c(comm_);
+  ParticleStore p;
+  BondStore bonds;
+  make_lattice(p, bonds);
+  const std::int64_t n_total = static_cast<std::int64_t>(p.n_local());
+  DomainDecomposition d(c, kBlock, 0.1);
+  d.distribute_initial(p, bonds);
+  const auto owner = owners(c, p, n_total);
+  // Rank-encoded refresh: owners write rank + 1, ghosts must read their owner's rank + 1.
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    p.velocity[k] = {c.rank() + 1.0, 0, 0};
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
+    p.velocity[k] = {-1, 0, 0};
+  d.update_ghosts(p);
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
+    EXPECT_EQ(p.velocity[k].x, owner.at(p.gid[k]) + 1.0) << "ghost gid " << p.gid[k];
+  // Gid-encoded once-only field came with the ghost.
+  for (std::size_t k = 0; k < p.n_total(); ++k)
+    EXPECT_EQ(p.radius[k], 0.002);
+  // Every particle within one block of an owned particle is present (owned or ghost): the
+  // brute-force neighbourhood of the whole lattice.
+  ParticleStore all;
+  BondStore unused;
+  make_lattice(all, unused);
+  std::set<std::int64_t> here(p.gid.begin(), p.gid.end());
+  for (std::size_t a = 0; a < p.n_local(); ++a)
+    for (std::size_t b = 0; b < all.n_local(); ++b)
+      if (norm(all.position[b] - p.position[a]) < kBlock) {
+        EXPECT_TRUE(here.count(all.gid[b])) << "neighbour " << all.gid[b] << " of " << p.gid[a];
+      }
+  // Bonds: exactly those with an owned end.
+  std::size_t expected_bonds = 0;
+  for (std::size_t b = 0; b < unused.size(); ++b) {
+    const std::int64_t ia = p.index_of(unused.gid_a[b]);
+    const std::int64_t ib = p.index_of(unused.gid_b[b]);
+    expected_bonds += (ia >= 0 && static_cast<std::size_t>(ia) < p.n_local()) ||
+                      (ib >= 0 && static_cast<std::size_t>(ib) < p.n_local());
+  }
+  EXPECT_EQ(bonds.size(), expected_bonds);
+}
+
+TEST_F(Decomposition, MigrationCarriesParticlesBondsAndHistory) {
+  const Communicator c(comm_);
+  ParticleStore p;
+  BondStore bonds;
+  make_lattice(p, bonds);
+  const std::int64_t n_total = static_cast<std::int64_t>(p.n_local());
+  DomainDecomposition d(c, kBlock, /*imbalance_threshold=*/0.0);
+  d.distribute_initial(p, bonds);
+  // Mark state that must travel: a broken bond with its break time, a history entry per
+  // owned particle (spring = gid-encoded), and rank-encoded velocities.
+  for (std::size_t b = 0; b < bonds.size(); ++b)
+    if (bonds.gid_a[b] == 30) {
+      bonds.broken[b] = 1;
+      bonds.break_time[b] = 0.125;
+    }
+  ContactHistory history;
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    p.velocity[k] = {c.rank() + 1.0, 0, 0};
+    history.push_back(
+        {ContactHistoryEntry::Partner::kRigidBody, p.gid[k], 0, Vec3{3.0 * p.gid[k], 0, 0}});
+  }
+  const auto before = owners(c, p, n_total);
+  // Shift the lattice by 4 blocks along x and mirror it in y, so that most particles land in
+  // blocks that other ranks own (imbalance threshold 0: the blocks are partitioned again).
+  for (std::size_t k = 0; k < p.n_total(); ++k)
+    p.position[k] = {p.position[k].x + 4 * kBlock, 0.066 - p.position[k].y, p.position[k].z};
+  d.redistribute(p, bonds, history);
+  const auto after = owners(c, p, n_total);
+  int moved = 0;
+  for (const auto& [gid, rank] : after)
+    moved += rank != before.at(gid);
+  if (c.size() > 1) {
+    EXPECT_GT(c.sum(std::int64_t{moved}), 0) << "some particles should change rank";
+  }
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    EXPECT_EQ(p.external_force[k].x, 7.0 * p.gid[k] + 1) << "gid-encoded field lost";
+    EXPECT_EQ(p.velocity[k].x, before.at(p.gid[k]) + 1.0) << "rank-encoded value of old owner";
+  }
+  // Owned particles sit in gid order.
+  EXPECT_TRUE(std::is_sorted(p.gid.begin(), p.gid.begin() + static_cast<long>(p.n_local())));
+  // History: exactly one entry per owned particle, with its value.
+  std::map<std::int64_t, double> springs;
+  for (const auto& h : history)
+    springs[h.gid] = h.spring.x;
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    EXPECT_EQ(springs.at(p.gid[k]), 3.0 * p.gid[k]);
+  // The broken bond is held by the owner(s) of its ends with its state.
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    EXPECT_EQ(bonds.broken[b], bonds.gid_a[b] == 30 ? 1 : 0);
+    if (bonds.gid_a[b] == 30) {
+      EXPECT_EQ(bonds.break_time[b], 0.125);
+    }
+  }
+  std::int64_t holders_of_30 = 0;
+  for (std::size_t b = 0; b < bonds.size(); ++b)
+    holders_of_30 += bonds.gid_a[b] == 30;
+  const bool own_an_end = after.at(30) == c.rank() || after.at(31) == c.rank();
+  EXPECT_EQ(holders_of_30, own_an_end ? 1 : 0);
+}
+
+}  // namespace
+}  // namespace ringdem
