@@ -99,7 +99,7 @@ void Simulation::rebuild() {
   ++rebuilds_;
 }
 
-bool Simulation::needs_rebuild() const {
+bool Simulation::needs_rebuild() {
   // How far any rigid surface point moved: translation plus rotation angle times extent.
   double body_move = 0.0;
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
@@ -116,6 +116,7 @@ bool Simulation::needs_rebuild() const {
       std::array<double, 2>{std::sqrt(max_move2_), interactions_.bonds_broke() ? 1.0 : 0.0});
   const double particle_move = global[0];
   const bool bond_broke = global[1] > 0.0;
+  bonds_broke_anywhere_ = bond_broke;
   // Two particles close by at most twice the largest move; a particle and a surface by the
   // sum of the two.
   return force_rebuild_ || bond_broke || 2.0 * particle_move > settings_.skin ||

@@ -54,6 +54,10 @@ class Simulation {
   const Communicator& comm() const { return comm_; }
   const DomainDecomposition& decomposition() const { return decomposition_; }
 
+  /// True on every rank when a bond broke on any rank in the force evaluation of the
+  /// previous step (known from the step's one reduction, so it costs no communication).
+  bool bonds_broke_anywhere() const { return bonds_broke_anywhere_; }
+
   std::int64_t global_particles() const;
   std::int64_t global_bonds() const;
   std::int64_t global_broken_bonds() const;
@@ -69,7 +73,7 @@ class Simulation {
   void rebuild();
   void compute_forces();
   void reduce_body_loads();
-  bool needs_rebuild() const;
+  bool needs_rebuild();
 
   Model model_;
   const Communicator& comm_;
@@ -82,6 +86,7 @@ class Simulation {
   std::int64_t steps_ = 0;
   std::int64_t rebuilds_ = 0;
   bool force_rebuild_ = false;
+  bool bonds_broke_anywhere_ = false;
   std::vector<Vec3> position_at_rebuild_;
   double max_move2_ = 0.0;  ///< largest squared particle move since the rebuild (this rank)
   std::vector<Vec3> body_position_at_rebuild_;

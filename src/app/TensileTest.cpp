@@ -230,7 +230,8 @@ TensileResult run_tensile_test(const CaseConfig& config, const TensileRunOptions
     sim.step();
     const double displacement = meter.displacement(sim.model().bodies);
     const double load = meter.load(sim.model().bodies);
-    if (sim.interactions().bonds_broke() || broken > 0) {
+    // A collective call: the condition must be the same on every rank.
+    if (sim.bonds_broke_anywhere() || broken > 0) {
       const std::int64_t now_broken = sim.global_broken_bonds();
       if (now_broken > 0 && broken == 0) result.elongation_at_failure = displacement;
       broken = now_broken;
@@ -275,6 +276,7 @@ TensileResult run_tensile_test(const CaseConfig& config, const TensileRunOptions
   result.first_bond_break_time = first_break_time(sim);
   result.broken_bonds = sim.global_broken_bonds();
   result.particles = sim.global_particles();
+  const std::int64_t n_bonds = sim.global_bonds();  // collective: on every rank, before `write`
   result.steps = sim.steps();
   result.final_displacement = meter.displacement(sim.model().bodies);
   result.particle_steps_per_s =
@@ -288,7 +290,7 @@ TensileResult run_tensile_test(const CaseConfig& config, const TensileRunOptions
         .set("scenario", "tensile_test")
         .set("ranks", comm.size())
         .set("particles", static_cast<long long>(result.particles))
-        .set("bonds", static_cast<long long>(sim.global_bonds()))
+        .set("bonds", static_cast<long long>(n_bonds))
         .set("loading_rate_m_per_s", test.loading_rate)
         .set("dt_s", sim.dt())
         .set("stop_reason", stop_reason_name(reason))

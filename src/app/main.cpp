@@ -140,6 +140,9 @@ int main(int argc, char** argv) {
       code = kExitInputError;
     } catch (const std::exception& e) {
       std::cerr << fmt::format("ringdem: error on rank {}: {}\n", comm.rank(), e.what());
+      std::cerr.flush();
+      // The other ranks may be waiting in a collective: end the whole job.
+      if (comm.size() > 1) MPI_Abort(world, kExitRuntimeError);
       code = kExitRuntimeError;
     }
     MPI_Comm_free(&world);

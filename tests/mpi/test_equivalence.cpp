@@ -12,6 +12,7 @@
 #include "TestCases.hpp"
 #include "app/ModelBuilder.hpp"
 #include "app/Simulation.hpp"
+#include "app/TensileTest.hpp"
 #include "io/CaseLoader.hpp"
 
 namespace ringdem {
@@ -145,6 +146,35 @@ TEST(Equivalence, Ring4TensileBendingStage) {
     EXPECT_GT(r.cut_bonds, 0) << "the ring should be split between ranks";
   }
   expect_identical(r.reference, r.parallel);
+}
+
+// The tensile driver on this run's ranks: the same curve, bit for bit, as on one rank, through
+// failure (its stop rule and bookkeeping make collective calls that every rank must reach).
+TEST(Equivalence, TensileDriverToFailure) {
+  const CaseConfig c =
+      load_case(std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_calibrated.yaml",
+                {"scenario.tensile_test.loading_rate=0.5"});
+  MPI_Comm world;
+  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  TensileRunOptions quiet;
+  quiet.verbose = false;
+  TensileResult parallel, serial;
+  {
+    const Communicator comm(world);
+    parallel = run_tensile_test(c, quiet, comm);
+    serial = run_tensile_test(c, quiet, Communicator::self());
+  }
+  MPI_Comm_free(&world);
+  EXPECT_EQ(parallel.stop_reason, TensileStopRule::Reason::kFailure);
+  EXPECT_GT(parallel.broken_bonds, 0);
+  ASSERT_EQ(parallel.curve.size(), serial.curve.size());
+  for (std::size_t k = 0; k < serial.curve.size(); ++k) {
+    EXPECT_EQ(parallel.curve[k].displacement, serial.curve[k].displacement);
+    EXPECT_EQ(parallel.curve[k].load, serial.curve[k].load);
+    EXPECT_EQ(parallel.curve[k].broken_bonds, serial.curve[k].broken_bonds);
+  }
+  EXPECT_EQ(parallel.elongation_at_failure, serial.elongation_at_failure);
+  EXPECT_EQ(parallel.first_bond_break_time, serial.first_bond_break_time);
 }
 
 // (b) A 5 x 5 patch of interlinked rings (chain mail: each ring linked with its four
