@@ -108,11 +108,12 @@ void Communicator::max_in_place(const double* in, double* out, int n) const {
   MPI_Allreduce(in, out, n, MPI_DOUBLE, MPI_MAX, comm_);
 }
 
-std::vector<char> Communicator::exchange_bytes(const std::vector<std::vector<char>>& send,
-                                               const std::vector<int>& recv_counts) const {
+void Communicator::exchange_bytes(const std::vector<std::vector<char>>& send,
+                                  const std::vector<int>& recv_counts,
+                                  std::vector<char>& out) const {
   std::vector<int> displs(recv_counts.size(), 0);
   std::partial_sum(recv_counts.begin(), recv_counts.end() - 1, displs.begin() + 1);
-  std::vector<char> out(static_cast<std::size_t>(displs.back() + recv_counts.back()));
+  out.resize(static_cast<std::size_t>(displs.back() + recv_counts.back()));
   std::vector<MPI_Request> requests;
   constexpr int kTag = 7301;
   for (int r = 0; r < size_; ++r) {
@@ -129,7 +130,6 @@ std::vector<char> Communicator::exchange_bytes(const std::vector<std::vector<cha
               &requests.back());
   }
   MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
-  return out;
 }
 
 bool Communicator::any(bool v) const {

@@ -63,8 +63,9 @@ class Communicator {
   /// Point-to-point exchange with a fixed set of partners: send[r] goes to rank r when not
   /// empty, and recv_counts[r] bytes (known in advance) arrive from rank r. No collective:
   /// only the partners synchronise. Returns the arrivals in source-rank order.
-  std::vector<char> exchange_bytes(const std::vector<std::vector<char>>& send,
-                                   const std::vector<int>& recv_counts) const;
+  /// `out` is resized (its capacity kept) and filled.
+  void exchange_bytes(const std::vector<std::vector<char>>& send,
+                      const std::vector<int>& recv_counts, std::vector<char>& out) const;
   /// Personalised all-to-all of byte buffers: send[r] goes to rank r. Returns what arrived,
   /// concatenated in source-rank order, and the byte count from each source in recv_counts.
   std::vector<char> alltoall_bytes(const std::vector<std::vector<char>>& send,

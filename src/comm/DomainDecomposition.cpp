@@ -379,18 +379,21 @@ void DomainDecomposition::update_ghosts(ParticleStore& p) {
   const auto n_ranks = static_cast<std::size_t>(comm_.size());
   if (n_ranks == 1) return;
   const unsigned flags = field_flag::kGhostStep;
-  std::vector<std::vector<char>> send(n_ranks);
-  for (std::size_t r = 0; r < n_ranks; ++r)
+  // Buffers are members: cleared, not freed, so the step loop does not allocate.
+  ghost_send_buffers_.resize(n_ranks);
+  for (std::size_t r = 0; r < n_ranks; ++r) {
+    ghost_send_buffers_[r].clear();
     for (std::uint32_t k : ghost_send_[r])
-      pack_fields(p, k, flags, send[r]);
+      pack_fields(p, k, flags, ghost_send_buffers_[r]);
+  }
   const std::size_t size = record_size(p, flags);
-  std::vector<int> counts(n_ranks);
+  ghost_recv_bytes_.resize(n_ranks);
   for (std::size_t r = 0; r < n_ranks; ++r)
-    counts[r] = static_cast<int>(static_cast<std::size_t>(ghost_recv_count_[r]) * size);
-  const std::vector<char> recv = comm_.exchange_bytes(send, counts);
-  const char* data = recv.data();
+    ghost_recv_bytes_[r] = static_cast<int>(static_cast<std::size_t>(ghost_recv_count_[r]) * size);
+  comm_.exchange_bytes(ghost_send_buffers_, ghost_recv_bytes_, ghost_recv_buffer_);
+  const char* data = ghost_recv_buffer_.data();
   const std::size_t first = p.n_local();
-  const std::size_t n_ghost = recv.size() / size;
+  const std::size_t n_ghost = ghost_recv_buffer_.size() / size;
   if (n_ghost != p.n_ghost()) throw std::logic_error("ghost update: count changed");
   for (std::size_t k = 0; k < n_ghost; ++k)
     data = unpack_fields(p, first + k, flags, data);

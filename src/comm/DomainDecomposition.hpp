@@ -70,6 +70,9 @@ class DomainDecomposition {
   std::unordered_map<std::uint64_t, int> owner_;
   std::vector<std::vector<std::uint32_t>> ghost_send_;  ///< per rank: local indices to send
   std::vector<int> ghost_recv_count_;                   ///< per rank: ghosts received
+  std::vector<std::vector<char>> ghost_send_buffers_;   ///< per-step scratch of update_ghosts
+  std::vector<int> ghost_recv_bytes_;
+  std::vector<char> ghost_recv_buffer_;
   std::int64_t repartitions_ = 0;
 };
 
