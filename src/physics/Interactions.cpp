@@ -288,7 +288,6 @@ double Interactions::update_bond_diagnostics(const ParticleStore& p, BondStore& 
 void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBody>& bodies,
                                     const MaterialTable& materials, double dt) {
   contact_energy_ = 0.0;
-  n_active_ = 0;
   // Particle contacts (physics.md §3).
   const std::size_t np = pairs_.size();
   const std::size_t base = slots_.size() - 2 * np - wall_particle_.size();
@@ -306,7 +305,6 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
       slots_.set(slot_b, {}, {});
       continue;
     }
-    ++n_active_;
     const double dist = std::sqrt(dist2);
     const Vec3 n = d / dist;
     const double overlap = reach - dist;
@@ -348,7 +346,6 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
       slots_.set(wbase + w, {}, {});
       continue;
     }
-    ++n_active_;
     const Vec3 n = -sp.normal;  // from the particle to the body
     const double arm = p.radius[k] - 0.5 * overlap;
     const Vec3 contact = p.position[k] + n * arm;

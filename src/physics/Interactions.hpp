@@ -54,8 +54,6 @@ class Interactions {
   /// Set when a bond broke during the last compute(): its pair may now touch.
   bool bonds_broke() const { return bonds_broke_; }
   std::size_t n_contact_candidates() const { return pairs_.size(); }
-  std::size_t n_wall_candidates() const { return wall_particle_.size(); }
-  std::size_t n_active_contacts() const { return n_active_; }
   /// Elastic energy stored in the contacts of the last compute_contacts().
   double contact_energy() const { return contact_energy_; }
 
@@ -98,7 +96,6 @@ class Interactions {
   std::vector<std::uint32_t> gather_offset_, gather_slot_;
 
   bool bonds_broke_ = false;
-  std::size_t n_active_ = 0;
   double contact_energy_ = 0.0;
   std::vector<BodyLoad> body_loads_;
 };
