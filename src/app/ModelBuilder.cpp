@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "domain/RingGenerator.hpp"
+#include "domain/RingNet.hpp"
 
 namespace ringdem {
 
@@ -52,6 +53,67 @@ double damping_of(const CaseConfig& c, const std::string& group) {
 /// Rotation taking the body z axis onto the unit vector n.
 Quat orientation_for_axis(const Vec3& n) {
   return quat_between({0, 0, 1}, normalized(n));
+}
+
+constexpr int kNoBond = -1;
+
+/// Adds the particles of one ring as a body of its own and, unless bond_type is kNoBond, the
+/// bonds between consecutive particles.
+void add_ring(Model& model, const CaseConfig& c, const RingConfig& ring, int bond_type,
+              std::uint64_t bond_seed, std::int64_t& next_gid, std::int32_t& next_body) {
+  ParticleStore& p = model.particles;
+  RingGeometry g;
+  g.centre = ring.centre;
+  g.normal = ring.normal;
+  g.reference = ring.reference;
+  g.internal_diameter = ring.internal_diameter;
+  g.particle_radius = ring.particle_radius;
+  g.n_particles = ring.n_particles;
+  const int group = ensure_group(model, ring.group);
+  const int mat = material_index(model.materials, ring.material);
+  const std::size_t first = p.n_local();
+  // A given ring mass sets the particle density (the particles stand for the whole wire).
+  const double particle_volume = 4.0 / 3.0 * M_PI * std::pow(ring.particle_radius, 3);
+  const double density = ring.mass ? *ring.mass / (ring.n_particles * particle_volume)
+                                   : model.materials[static_cast<std::size_t>(mat)].density;
+  for (const Vec3& x : g.positions()) {
+    ParticleStore::NewParticle np;
+    np.gid = next_gid++;
+    np.position = x;
+    np.velocity = ring.velocity;
+    np.radius = ring.particle_radius;
+    np.contact_radius = std::max(ring.contact_radius, ring.particle_radius);
+    np.density = density;
+    np.damping = damping_of(c, ring.group);
+    np.material = mat;
+    np.body = next_body;
+    np.group = group;
+    np.motion = to_motion(ring.motion);
+    p.add(np);
+  }
+  ++next_body;
+  if (bond_type == kNoBond) return;
+  for (const auto& [ka, kb] : g.bonded_pairs()) {
+    add_bond(model, first + static_cast<std::size_t>(ka), first + static_cast<std::size_t>(kb),
+             bond_type, bond_seed);
+  }
+}
+
+RingNetParameters net_parameters(const RingNetConfig& net) {
+  RingNetParameters g;
+  g.rows = net.rows;
+  g.columns = net.columns;
+  g.link_distance = net.link_distance;
+  g.tilt = net.tilt;
+  g.centre = net.centre;
+  g.internal_diameter = net.internal_diameter;
+  g.particle_radius = net.particle_radius;
+  g.n_particles = net.n_particles;
+  g.shackles = net.shackles.enabled;
+  g.shackle_internal_diameter = net.shackles.internal_diameter;
+  g.shackle_particle_radius = net.shackles.particle_radius;
+  g.shackle_n_particles = net.shackles.n_particles;
+  return g;
 }
 
 }  // namespace
@@ -110,45 +172,53 @@ Model build_model(const CaseConfig& c) {
   std::int64_t next_gid = 0;
   std::int32_t next_body = 0;
 
+  const auto bond_type_of = [&](const std::string& name) {
+    const auto it = std::find(model.bond_type_names.begin(), model.bond_type_names.end(), name);
+    if (it == model.bond_type_names.end())
+      throw std::invalid_argument("unknown bond '" + name + "'");
+    return static_cast<int>(it - model.bond_type_names.begin());
+  };
+  const auto seed_of = [&](int bond_type) {
+    return bond_seeds[static_cast<std::size_t>(bond_type)];
+  };
+
   for (const auto& ring : c.rings) {
-    RingGeometry g;
-    g.centre = ring.centre;
-    g.normal = ring.normal;
-    g.reference = ring.reference;
-    g.internal_diameter = ring.internal_diameter;
-    g.particle_radius = ring.particle_radius;
-    g.n_particles = ring.n_particles;
-    const int group = ensure_group(model, ring.group);
-    const int mat = material_index(model.materials, ring.material);
-    const auto bt_it =
-        std::find(model.bond_type_names.begin(), model.bond_type_names.end(), ring.bond);
-    if (bt_it == model.bond_type_names.end())
-      throw std::invalid_argument("unknown bond '" + ring.bond + "'");
-    const int bond_type = static_cast<int>(bt_it - model.bond_type_names.begin());
-    const std::size_t first = p.n_local();
-    // A given ring mass sets the particle density (the particles stand for the whole wire).
-    const double particle_volume = 4.0 / 3.0 * M_PI * std::pow(ring.particle_radius, 3);
-    const double density = ring.mass ? *ring.mass / (ring.n_particles * particle_volume)
-                                     : model.materials[static_cast<std::size_t>(mat)].density;
-    for (const Vec3& x : g.positions()) {
-      ParticleStore::NewParticle np;
-      np.gid = next_gid++;
-      np.position = x;
-      np.velocity = ring.velocity;
-      np.radius = ring.particle_radius;
-      np.contact_radius = std::max(ring.contact_radius, ring.particle_radius);
-      np.density = density;
-      np.damping = damping_of(c, ring.group);
-      np.material = mat;
-      np.body = next_body;
-      np.group = group;
-      np.motion = to_motion(ring.motion);
-      p.add(np);
+    const int bond_type = bond_type_of(ring.bond);
+    add_ring(model, c, ring, bond_type, seed_of(bond_type), next_gid, next_body);
+  }
+
+  // Nets: each ring is a `rings` entry; the shackles are fixed rings without bonds.
+  for (const auto& net : c.nets) {
+    const RingNetLayout layout = generate_ring_net(net_parameters(net));
+    const int bond_type = bond_type_of(net.bond);
+    for (const RingPlacement& placement : layout.rings) {
+      RingConfig ring;
+      ring.group = net.group;
+      ring.centre = placement.centre;
+      ring.normal = placement.normal;
+      ring.reference = placement.reference;
+      ring.internal_diameter = net.internal_diameter;
+      ring.n_particles = net.n_particles;
+      ring.particle_radius = net.particle_radius;
+      ring.contact_radius = net.contact_radius;
+      ring.material = net.material;
+      ring.bond = net.bond;
+      ring.mass = net.mass;
+      add_ring(model, c, ring, bond_type, seed_of(bond_type), next_gid, next_body);
     }
-    ++next_body;
-    for (const auto& [ka, kb] : g.bonded_pairs()) {
-      add_bond(model, first + static_cast<std::size_t>(ka), first + static_cast<std::size_t>(kb),
-               bond_type, bond_seeds[static_cast<std::size_t>(bond_type)]);
+    for (const ShacklePlacement& placement : layout.shackles) {
+      RingConfig shackle;
+      shackle.group = net.shackles.group;
+      shackle.centre = placement.centre;
+      shackle.normal = placement.normal;
+      shackle.reference = placement.reference;
+      shackle.internal_diameter = net.shackles.internal_diameter;
+      shackle.n_particles = net.shackles.n_particles;
+      shackle.particle_radius = net.shackles.particle_radius;
+      shackle.contact_radius = net.shackles.particle_radius;
+      shackle.material = net.shackles.material;
+      shackle.motion = MotionKind::kFixed;
+      add_ring(model, c, shackle, kNoBond, 0, next_gid, next_body);
     }
   }
 

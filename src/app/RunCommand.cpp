@@ -7,6 +7,8 @@
 #include <filesystem>
 
 #include "app/ModelBuilder.hpp"
+#include "app/RockfallTest.hpp"
+#include "app/RunControl.hpp"
 #include "app/Simulation.hpp"
 #include "app/TensileTest.hpp"
 #include "core/Version.hpp"
@@ -99,20 +101,32 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
   if (comm.is_root()) std::filesystem::create_directories(out_dir);
 
   if (config.scenario.type == "tensile_test") {
+    if (!options.restart.empty() || options.max_walltime > 0.0)
+      throw std::runtime_error(
+          "--restart and --max-walltime are not available for tensile tests (they run in "
+          "minutes); run the case again");
     TensileRunOptions tensile;
     tensile.output_dir = out_dir;
     tensile.verbose = !options.quiet;
     run_tensile_test(config, tensile, comm);
     return 0;
   }
+  if (config.scenario.type == "rockfall") return run_rockfall(config, options, out_dir, comm);
   if (root) print_banner(config, out_dir, comm);
 
-  Simulation sim(build_model(config), comm, settings_from_case(config));
+  RunControlOptions control_options;
+  control_options.output_dir = out_dir;
+  control_options.restart = options.restart;
+  control_options.max_walltime = options.max_walltime;
+  control_options.verbose = !options.quiet;
+  RunControl control(config, control_options, comm);
+  std::unique_ptr<Simulation> sim_ptr = control.make_simulation(settings_from_case(config));
+  Simulation& sim = *sim_ptr;
   const Model& model = sim.model();
   const double end_time = config.simulation.end_time;
   const auto total_steps = static_cast<std::int64_t>(std::ceil(end_time / sim.dt() - 1e-9));
 
-  print_preflight(sim, config, total_steps, root);
+  print_preflight(sim, config, total_steps - sim.steps(), root);
 
   // series.csv columns: energies, broken bonds, and the contact force on each rigid body.
   std::vector<std::string> columns{"time_s",        "kinetic_energy_J", "potential_energy_J",
@@ -121,10 +135,15 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
     for (const char* c : {"fx_N", "fy_N", "fz_N"})
       columns.push_back(b.name + "_" + c);
   SeriesWriter series;
-  if (comm.is_root()) series = SeriesWriter(out_dir + "/series.csv", columns);
+  if (comm.is_root())
+    series = control.restarted()
+                 ? SeriesWriter::resume(out_dir + "/series.csv", columns, control.restart_time())
+                 : SeriesWriter(out_dir + "/series.csv", columns);
 
-  double max_kinetic = 0.0;
-  double max_util = 0.0;  // largest bond utilisation seen at any record
+  const DriverState& restored = control.driver_state();
+  double max_kinetic = restored.get("max_kinetic_energy", 0.0);
+  double max_util = restored.get("max_bond_utilisation", 0.0);
+  double next_record = restored.get("next_record_time", config.simulation.series_interval);
   auto record = [&]() {
     const Energies e = sim.energies();
     const std::int64_t broken = sim.global_broken_bonds();
@@ -143,29 +162,47 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
     }
     series.row(row);
   };
+  auto driver_state = [&]() {
+    DriverState d;
+    d.set("max_kinetic_energy", max_kinetic);
+    d.set("max_bond_utilisation", max_util);
+    d.set("next_record_time", next_record);
+    return d;
+  };
 
-  record();
-  double next_record = config.simulation.series_interval;
+  if (!control.restarted()) {
+    record();
+    control.write_frame(sim);
+  }
   auto last_progress = Clock::now();
   const auto loop_start = Clock::now();
+  const std::int64_t first_step = sim.steps();
+  bool stopped = false;
   while (sim.steps() < total_steps) {
+    control.before_step(sim);
     sim.step();
     if (sim.time() + 1e-12 >= next_record || sim.steps() == total_steps) {
       record();
       next_record += config.simulation.series_interval;
+    }
+    if (control.after_step(sim, driver_state)) {
+      stopped = true;
+      break;
     }
     const auto now = Clock::now();
     if (root && std::chrono::duration<double>(now - last_progress).count() >=
                     config.simulation.progress_interval) {
       last_progress = now;
       const double elapsed = std::chrono::duration<double>(now - loop_start).count();
-      const double rate = sim.steps() / elapsed;
+      const double rate = static_cast<double>(sim.steps() - first_step) / elapsed;
       fmt::print("step {:>10} t = {:.5f} s  {:>9.0f} steps/s  ETA {:>7}  broken bonds {}\n",
                  sim.steps(), sim.time(), rate, format_duration((total_steps - sim.steps()) / rate),
                  sim.model().bonds.count_broken());
       std::fflush(stdout);
     }
   }
+  if (stopped) return kExitCheckpointed;
+  control.write_frame(sim);
   const double loop_seconds = std::chrono::duration<double>(Clock::now() - loop_start).count();
   const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
 
@@ -174,7 +211,9 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
   const std::int64_t n_bonds = sim.global_bonds();
   const std::int64_t n_broken = sim.global_broken_bonds();
   const double particle_steps_per_s =
-      loop_seconds > 0 ? static_cast<double>(n_particles) * sim.steps() / loop_seconds : 0.0;
+      loop_seconds > 0 ? static_cast<double>(n_particles) *
+                             static_cast<double>(sim.steps() - first_step) / loop_seconds
+                       : 0.0;
 
   if (comm.is_root()) {
     JsonObject summary;
@@ -193,7 +232,10 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
         .set("final_kinetic_energy_J", e.kinetic)
         .set("max_kinetic_energy_J", max_kinetic)
         .set("final_bond_energy_J", e.bond_elastic)
-        .set("max_bond_utilisation", max_util);
+        .set("max_bond_utilisation", max_util)
+        .set("restarted", control.restarted())
+        .set("frames", static_cast<long long>(control.frames() ? control.frames()->frames() : 0))
+        .set("frame_output_s", control.frames() ? control.frames()->seconds() : 0.0);
     JsonObject bodies;
     for (const auto& b : model.bodies) {
       JsonObject one;
@@ -209,6 +251,10 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
   if (root) {
     print_timing(sim, loop_seconds, particle_steps_per_s, comm.size());
     fmt::print("results: {}/summary.json, {}/series.csv\n", out_dir, out_dir);
+    if (control.frames())
+      fmt::print("frames: {} ({} frames, {:.2f} s writing); open {} in ParaView\n",
+                 control.frames()->h5_path(), control.frames()->frames(),
+                 control.frames()->seconds(), control.frames()->xdmf_path());
   }
   return 0;
 }

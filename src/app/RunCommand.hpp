@@ -16,6 +16,8 @@ struct RunOptions {
   std::string output_dir;  ///< empty: results/<case name>
   std::vector<std::string> overrides;
   bool quiet = false;
+  std::string restart;        ///< "", "auto" or a checkpoint path
+  double max_walltime = 0.0;  ///< seconds; checkpoint and exit 3 when reached (0: no limit)
 };
 
 /// `ringdem run`: builds the case, prints the banner, configuration and pre-flight numbers,

@@ -60,18 +60,22 @@ double block_size_for(const Model& m, double skin) {
 
 }  // namespace
 
+void Simulation::init_limits() {
+  model_.particles.rebuild_index();
+  limits_ = stability_limits(model_.particles, model_.bonds, model_.materials);
+  limits_.rayleigh = comm_.min(limits_.rayleigh);
+  limits_.bond_axial = comm_.min(limits_.bond_axial);
+  limits_.bond_shear = comm_.min(limits_.bond_shear);
+  limits_.bond_rotation = comm_.min(limits_.bond_rotation);
+}
+
 Simulation::Simulation(Model model, const Communicator& comm, const SimulationSettings& settings)
     : model_(std::move(model)),
       comm_(comm),
       settings_(settings),
       decomposition_(comm, block_size_for(model_, settings.skin), settings.imbalance_threshold) {
   ParticleStore& p = model_.particles;
-  p.rebuild_index();
-  limits_ = stability_limits(p, model_.bonds, model_.materials);
-  limits_.rayleigh = comm_.min(limits_.rayleigh);
-  limits_.bond_axial = comm_.min(limits_.bond_axial);
-  limits_.bond_shear = comm_.min(limits_.bond_shear);
-  limits_.bond_rotation = comm_.min(limits_.bond_rotation);
+  init_limits();
   dt_ = settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("cannot choose a time step: give simulation.dt explicitly");
@@ -79,12 +83,58 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   decomposition_.distribute_initial(p, model_.bonds);
   rebuild();
   compute_forces();  // loads of the initial state, for the first half kick
-  apply_global_damping(model_.particles);
+  apply_global_damping(model_.particles, dt_);
+  interactions_.accumulate_ledger(model_.particles, model_.bodies, dt_, /*initial=*/true);
+}
+
+Simulation::Simulation(Model model, const Communicator& comm, const SimulationSettings& settings,
+                       const RestartState& restart)
+    : model_(std::move(model)),
+      comm_(comm),
+      settings_(settings),
+      decomposition_(comm, block_size_for(model_, settings.skin), settings.imbalance_threshold) {
+  ParticleStore& p = model_.particles;
+  init_limits();
+  // The checkpoint's dt, whatever the case now says: a different dt would not continue the
+  // same trajectory.
+  dt_ = restart.dt;
+  time_ = restart.time;
+  steps_ = restart.steps;
+  rebuilds_ = restart.rebuilds - 1;  // the rebuild below is not a new one of the trajectory
+  if (!(dt_ > 0.0) || !std::isfinite(dt_))
+    throw std::runtime_error("restart state has no valid time step");
+  decomposition_.distribute_initial(p, model_.bonds);
+  // Keep the springs of pairs this rank holds (owned or ghost ends); the redistribution
+  // hands each to the owners of its particles.
+  ContactHistory history;
+  for (const auto& h : restart.history) {
+    const bool have_first = p.index_of(h.gid) >= 0;
+    const bool have_partner =
+        h.partner_kind == ContactHistoryEntry::Partner::kRigidBody || p.index_of(h.partner) >= 0;
+    if (have_first && have_partner) history.push_back(h);
+  }
+  rebuild(std::move(history));
+  // No force evaluation: forces, torques and body loads come from the checkpoint (a new
+  // evaluation would advance the tangential springs a second time).
+}
+
+ContactHistory Simulation::owned_contact_history() const {
+  const ParticleStore& p = model_.particles;
+  ContactHistory out;
+  for (const auto& h : interactions_.export_history()) {
+    const std::int64_t i = p.index_of(h.gid);
+    // A pair across ranks is evaluated on both: keep it where its first particle is owned.
+    if (i >= 0 && static_cast<std::size_t>(i) < p.n_local()) out.push_back(h);
+  }
+  return out;
 }
 
 void Simulation::rebuild() {
+  rebuild(interactions_.export_history());
+}
+
+void Simulation::rebuild(ContactHistory history) {
   ParticleStore& p = model_.particles;
-  ContactHistory history = interactions_.export_history();
   decomposition_.redistribute(p, model_.bonds, history);
   interactions_.rebuild(p, model_.bonds, model_.bodies, settings_.skin, history);
   position_at_rebuild_.assign(p.position.begin(),
@@ -110,12 +160,13 @@ bool Simulation::needs_rebuild() {
     const double turn = angle > 0.0 ? angle * body.extent() : 0.0;
     body_move = std::max(body_move, norm(body.position - body_position_at_rebuild_[b]) + turn);
   }
-  // One reduction per step for both triggers: the largest move, and whether a bond broke
-  // anywhere in the last force evaluation (its pair may now touch).
-  const auto global = comm_.max(
-      std::array<double, 2>{std::sqrt(max_move2_), interactions_.bonds_broke() ? 1.0 : 0.0});
+  // One reduction per step for both triggers — the largest move, and whether a bond broke
+  // anywhere in the last force evaluation (its pair may now touch) — and for stop requests.
+  const auto global = comm_.max(std::array<double, 3>{
+      std::sqrt(max_move2_), interactions_.bonds_broke() ? 1.0 : 0.0, stop_local_ ? 1.0 : 0.0});
   const double particle_move = global[0];
   const bool bond_broke = global[1] > 0.0;
+  stop_agreed_ = global[2] > 0.0;
   bonds_broke_anywhere_ = bond_broke;
   // Two particles close by at most twice the largest move; a particle and a surface by the
   // sum of the two.
@@ -127,7 +178,7 @@ void Simulation::compute_forces() {
   ParticleStore& p = model_.particles;
   {
     PhaseTimer t(phase_seconds_[kBonds]);
-    interactions_.compute_bonds(p, model_.bonds, time_);
+    interactions_.compute_bonds(p, model_.bonds, time_, dt_);
   }
   {
     PhaseTimer t(phase_seconds_[kContacts]);
@@ -176,6 +227,7 @@ void Simulation::step() {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     Integrator::second_half(p, dt_);
     Integrator::second_half(model_.bodies, dt_, settings_.gravity);
+    interactions_.accumulate_ledger(p, model_.bodies, dt_);  // needs both at v^{n+1}
   }
   ++steps_;
 }
@@ -185,26 +237,71 @@ void Simulation::run_steps(std::int64_t n) {
     step();
 }
 
+void Simulation::place_body(std::size_t index, const Vec3& position, const Vec3& velocity,
+                            RigidMotion motion) {
+  RigidBody& b = model_.bodies.at(index);
+  b.position = position;
+  b.velocity = velocity;
+  b.omega = {};
+  b.motion = motion;
+  force_rebuild_ = true;
+}
+
+void Simulation::set_group_damping(int group, double coefficient) {
+  ParticleStore& p = model_.particles;
+  for (std::size_t k = 0; k < p.n_total(); ++k)
+    if (p.group[k] == group) p.damping[k] = coefficient;
+}
+
+void Simulation::refresh_bond_diagnostics() {
+  interactions_.update_bond_diagnostics(model_.particles, model_.bonds);
+}
+
 std::int64_t Simulation::global_particles() const {
   return comm_.sum(static_cast<std::int64_t>(model_.particles.n_local()));
 }
 
+namespace {
+
+/// A bond whose ends live on two ranks is held by both: count it where end a is owned.
+template <class Pred>
+std::int64_t count_owned_bonds(const ParticleStore& p, const BondStore& bonds, Pred pred) {
+  std::int64_t n = 0;
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    const std::int64_t a = p.index_of(bonds.gid_a[k]);
+    if (a >= 0 && static_cast<std::size_t>(a) < p.n_local() && pred(k)) ++n;
+  }
+  return n;
+}
+
+}  // namespace
+
 std::int64_t Simulation::global_bonds() const {
-  return comm_.sum(static_cast<std::int64_t>(model_.bonds.size()));
+  return comm_.sum(
+      count_owned_bonds(model_.particles, model_.bonds, [](std::size_t) { return true; }));
 }
 
 std::int64_t Simulation::global_broken_bonds() const {
-  return comm_.sum(static_cast<std::int64_t>(model_.bonds.count_broken()));
+  const BondStore& b = model_.bonds;
+  return comm_.sum(
+      count_owned_bonds(model_.particles, b, [&b](std::size_t k) { return b.broken[k] != 0; }));
 }
 
 Energies Simulation::energies() {
   interactions_.update_bond_diagnostics(model_.particles, model_.bonds);
   const ParticleStore& p = model_.particles;
   std::vector<std::int64_t> keys;
-  std::vector<double> kin, pot;
+  std::vector<double> kin, pot, damping, friction, global, boundary, contact;
   keys.reserve(p.n_local());
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     keys.push_back(p.gid[k]);
+    damping.push_back(
+        ParticleStore::ledger_value(p.dissipated_damping[k], p.power_damping[k], dt_));
+    friction.push_back(
+        ParticleStore::ledger_value(p.dissipated_friction[k], p.power_friction[k], dt_));
+    global.push_back(ParticleStore::ledger_value(p.dissipated_global[k], p.power_global[k], dt_));
+    boundary.push_back(ParticleStore::ledger_value(p.boundary_work[k], p.power_boundary[k], dt_));
+    contact.push_back(p.contact_energy[k]);
     if (p.motion[k] == Motion::kFree) {
       kin.push_back(0.5 * p.mass[k] * norm2(p.velocity[k]) +
                     0.5 * p.inertia[k] * norm2(p.omega[k]));
@@ -214,21 +311,35 @@ Energies Simulation::energies() {
       pot.push_back(0.0);
     }
   }
+  // Summed by gid and by bond id (dense rows): the same bits on any rank count.
+  if (n_global_particles_ < 0) {
+    n_global_particles_ = global_particles();
+    n_global_bonds_ = global_bonds();
+  }
+  const auto particle_sums = comm_.sum_columns_by_row(
+      keys, n_global_particles_, {&kin, &pot, &damping, &friction, &global, &boundary, &contact});
   Energies e;
-  e.kinetic = comm_.sum_by_key(keys, kin);
-  e.potential = comm_.sum_by_key(keys, pot);
-  std::vector<std::int64_t> bond_keys;
-  std::vector<double> bond_energy;
+  e.kinetic = particle_sums[0];
+  e.potential = particle_sums[1];
+  e.contact_damping = particle_sums[2];
+  e.friction = particle_sums[3];
+  e.global_damping = particle_sums[4];
+  e.boundary_work = particle_sums[5];
+  e.contact_elastic = particle_sums[6];
+  std::vector<std::int64_t> bond_rows;
+  std::vector<double> bond_energy, break_energy;
   const BondStore& bonds = model_.bonds;
   for (std::size_t k = 0; k < bonds.size(); ++k) {
     const std::int64_t a = p.index_of(bonds.gid_a[k]);
     if (a < 0 || static_cast<std::size_t>(a) >= p.n_local()) continue;  // once: owner of end a
-    bond_keys.push_back(bonds.gid_a[k]);
+    bond_rows.push_back(bonds.id[k]);
     bond_energy.push_back(bonds.energy[k]);
+    break_energy.push_back(bonds.break_energy[k]);
   }
-  e.bond_elastic = comm_.sum_by_key(bond_keys, bond_energy);
-  e.contact_elastic =
-      comm_.sum_by_key({static_cast<std::int64_t>(comm_.rank())}, {interactions_.contact_energy()});
+  const auto bond_sums =
+      comm_.sum_columns_by_row(bond_rows, n_global_bonds_, {&bond_energy, &break_energy});
+  e.bond_elastic = bond_sums[0];
+  e.broken_bonds = bond_sums[1];
   for (const auto& b : model_.bodies) {
     if (b.motion != RigidMotion::kFree) continue;
     const Mat3 r = rotation_matrix(b.orientation);

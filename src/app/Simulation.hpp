@@ -29,13 +29,47 @@ struct Energies {
   double potential = 0.0;  ///< -m g.x of free particles and free bodies
   double bond_elastic = 0.0;
   double contact_elastic = 0.0;
+  // Energy ledger (docs/physics.md "Energy ledger"): totals since the start of the run, each
+  // the trapezoidal time integral of a load's power at the synchronised velocities.
+  double contact_damping = 0.0;  ///< dissipated by viscous contact damping (Eq. 7, 9)
+  double friction = 0.0;         ///< dissipated by Coulomb slip and rolling friction
+  double global_damping = 0.0;   ///< dissipated by Cundall global damping
+  double broken_bonds = 0.0;     ///< elastic energy the bonds held when they broke
+  /// Work done on the particles by driven (prescribed) rigid bodies and particles and by
+  /// external forces: energy put in, so it enters the balance with a minus sign.
+  double boundary_work = 0.0;
+
+  /// Mechanical energy: kinetic + potential + bond and contact elastic.
   double total() const { return kinetic + potential + bond_elastic + contact_elastic; }
+  double dissipated() const { return contact_damping + friction + global_damping + broken_bonds; }
+  /// Mechanical + dissipated - boundary work: constant in time, up to the integrator's O(dt^2)
+  /// energy error.
+  double ledger() const { return total() + dissipated() - boundary_work; }
+  /// How far the ledger moved since `initial` (energies() at the start): 0 when it closes.
+  double balance_error(const Energies& initial) const { return ledger() - initial.ledger(); }
+};
+
+/// What a checkpoint restores besides the particle, bond and body fields (app/Checkpoint).
+struct RestartState {
+  double time = 0.0;
+  std::int64_t steps = 0;
+  double dt = 0.0;
+  std::int64_t rebuilds = 0;
+  ContactHistory history;  ///< every tangential spring once (any rank may hold any entry)
 };
 
 /// The time-step loop of DESIGN §3 over one Model.
 class Simulation {
  public:
   Simulation(Model model, const Communicator& comm, const SimulationSettings& settings);
+  /// Continues from a checkpoint: `model` holds the checkpointed fields (forces and torques
+  /// included, so the loads of the last step are not recomputed: the run goes on bit for bit).
+  Simulation(Model model, const Communicator& comm, const SimulationSettings& settings,
+             const RestartState& restart);
+
+  /// Tangential springs of the contacts of owned particles (each contact once over the ranks),
+  /// for checkpoints.
+  ContactHistory owned_contact_history() const;
 
   /// Advances one step of dt.
   void step();
@@ -58,9 +92,25 @@ class Simulation {
   /// previous step (known from the step's one reduction, so it costs no communication).
   bool bonds_broke_anywhere() const { return bonds_broke_anywhere_; }
 
+  /// Moves rigid body `index` (every rank calls it alike: bodies are replicated) and sets its
+  /// motion; the neighbour lists are rebuilt at the next step.
+  void place_body(std::size_t index, const Vec3& position, const Vec3& velocity,
+                  RigidMotion motion);
+  /// Sets the Cundall coefficient of every particle of a group (physics.md §4).
+  void set_group_damping(int group, double coefficient);
+
+  /// A stop request of this rank (signal, wall-time limit). It rides on the step's one
+  /// reduction, so after the next step every rank knows, at the same step, whether any rank
+  /// asked: stop_agreed().
+  void request_stop(bool local) { stop_local_ = local; }
+  bool stop_agreed() const { return stop_agreed_; }
+
   std::int64_t global_particles() const;
   std::int64_t global_bonds() const;
   std::int64_t global_broken_bonds() const;
+  /// Recomputes the bond output fields (axial force, moment, utilisation, energy) for the
+  /// current configuration (frames read them).
+  void refresh_bond_diagnostics();
   /// Refreshes the bond diagnostics (forces, utilisation, energy) and sums the energies.
   Energies energies();
 
@@ -70,7 +120,10 @@ class Simulation {
   const std::array<double, kPhaseCount>& phase_seconds() const { return phase_seconds_; }
 
  private:
+  /// Particle index and the stability limits (global minima).
+  void init_limits();
   void rebuild();
+  void rebuild(ContactHistory history);
   void compute_forces();
   void reduce_body_loads();
   bool needs_rebuild();
@@ -87,6 +140,10 @@ class Simulation {
   std::int64_t rebuilds_ = 0;
   bool force_rebuild_ = false;
   bool bonds_broke_anywhere_ = false;
+  std::int64_t n_global_particles_ = -1;  ///< row counts of the energy sums (first use)
+  std::int64_t n_global_bonds_ = -1;
+  bool stop_local_ = false;
+  bool stop_agreed_ = false;
   std::vector<Vec3> position_at_rebuild_;
   double max_move2_ = 0.0;  ///< largest squared particle move since the rebuild (this rank)
   std::vector<Vec3> body_position_at_rebuild_;

@@ -8,7 +8,9 @@
 
 #include "app/BuildInfo.hpp"
 #include "app/Calibration.hpp"
+#include "app/InfoCommand.hpp"
 #include "app/RunCommand.hpp"
+#include "app/RunControl.hpp"
 #include "app/SweepCommand.hpp"
 #include "comm/Communicator.hpp"
 #include "core/Version.hpp"
@@ -23,6 +25,8 @@ constexpr int kExitInputError = 2;
 }  // namespace
 
 int main(int argc, char** argv) {
+  // First thing: SIGUSR1 (checkpoint and stop) must never hit the default action, which kills.
+  ringdem::install_stop_signal_handler();
   CLI::App app{"ringdem: MPI-parallel discrete elements for flexible steel ring nets", "ringdem"};
   app.set_version_flag(
       "--version", [] { return ringdem::build_info(); },
@@ -37,6 +41,17 @@ int main(int argc, char** argv) {
       ->take_all()
       ->allow_extra_args(false);
   run->add_flag("-q,--quiet", run_opts.quiet, "no banner or progress lines");
+  run->add_option("--restart", run_opts.restart,
+                  "continue from a checkpoint: its path, or 'auto' for the newest valid one in "
+                  "<output>/checkpoints (a fresh start when there is none)");
+  std::string max_walltime;
+  run->add_option("--max-walltime", max_walltime,
+                  "write a checkpoint and exit with code 3 after this wall time (seconds, or "
+                  "H:MM:SS, or 90m / 2h)");
+
+  std::string info_path;
+  auto* info = app.add_subcommand("info", "what a frame or checkpoint file holds");
+  info->add_option("file", info_path, "frames_*.h5 or checkpoint_*.h5")->required();
 
   std::string check_path;
   std::vector<std::string> check_overrides;
@@ -107,12 +122,25 @@ int main(int argc, char** argv) {
     cal_opts.modulus_upper = modulus_range[1];
   }
 
+  if (*run && !max_walltime.empty()) {
+    try {
+      run_opts.max_walltime = ringdem::parse_duration(max_walltime);
+    } catch (const std::exception& e) {
+      std::cerr << "ringdem: --max-walltime: " << e.what() << "\n";
+      return kExitInputError;
+    }
+  }
+
+  if (*info) return ringdem::print_file_info(info_path, std::cout);
+
   if (*check) {
     try {
       const auto config = ringdem::load_case(check_path, check_overrides);
-      fmt::print("{}: valid ({} materials, {} bonds types, {} rings, {} rigid bodies)\n",
-                 check_path, config.materials.size(), config.bonds.size(), config.rings.size(),
-                 config.rigid_bodies.size());
+      fmt::print(
+          "{}: valid ({} materials, {} bond types, {} rings, {} nets, {} rigid bodies, "
+          "scenario {})\n",
+          check_path, config.materials.size(), config.bonds.size(), config.rings.size(),
+          config.nets.size(), config.rigid_bodies.size(), config.scenario.type);
       return 0;
     } catch (const ringdem::InputError& e) {
       std::cerr << e.format();

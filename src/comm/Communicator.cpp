@@ -68,6 +68,30 @@ double Communicator::sum_by_key(const std::vector<std::int64_t>& keys,
   return s;
 }
 
+std::vector<double> Communicator::sum_columns_by_row(
+    const std::vector<std::int64_t>& rows, std::int64_t n_rows,
+    const std::vector<const std::vector<double>*>& columns) const {
+  const std::size_t n_cols = columns.size();
+  std::vector<double> table(static_cast<std::size_t>(n_rows) * n_cols, 0.0);
+  for (std::size_t c = 0; c < n_cols; ++c) {
+    if (columns[c]->size() != rows.size())
+      throw std::invalid_argument("sum_columns_by_row: size mismatch");
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      if (rows[i] < 0 || rows[i] >= n_rows)
+        throw std::invalid_argument("sum_columns_by_row: row out of range");
+      table[static_cast<std::size_t>(rows[i]) * n_cols + c] = (*columns[c])[i];
+    }
+  }
+  if (size_ > 1 && !table.empty())
+    MPI_Allreduce(MPI_IN_PLACE, table.data(), static_cast<int>(table.size()), MPI_DOUBLE, MPI_SUM,
+                  comm_);
+  std::vector<double> sums(n_cols, 0.0);
+  for (std::size_t r = 0; r < static_cast<std::size_t>(n_rows); ++r)
+    for (std::size_t c = 0; c < n_cols; ++c)
+      sums[c] += table[r * n_cols + c];
+  return sums;
+}
+
 std::vector<char> Communicator::allgather_bytes(const char* data, std::size_t n) const {
   const int count = static_cast<int>(n);
   std::vector<int> counts(static_cast<std::size_t>(size_));

@@ -42,6 +42,15 @@ class Communicator {
   /// its terms keyed by a global id; terms are summed in key order.
   double sum_by_key(const std::vector<std::int64_t>& keys, const std::vector<double>& values) const;
   /// Every rank's items, concatenated in rank order, on every rank (trivially copyable T).
+  /// Column sums of a table whose rows are spread over the ranks, each row held by exactly one
+  /// rank: rows[i] in 0..n_rows-1 is the row of local item i, columns[c][i] its value in
+  /// column c. Every rank gets each column summed in row order, so the sums do not depend on
+  /// the rank count (like sum_by_key, but for dense row indices: one all-reduce of
+  /// n_rows x columns values, exact because every other rank adds zeros, and no sort).
+  std::vector<double> sum_columns_by_row(
+      const std::vector<std::int64_t>& rows, std::int64_t n_rows,
+      const std::vector<const std::vector<double>*>& columns) const;
+
   template <class T>
   std::vector<T> allgather(const std::vector<T>& local) const {
     static_assert(std::is_trivially_copyable_v<T>);

@@ -13,6 +13,7 @@ void BondStore::add(std::int64_t gid_first, std::int64_t gid_second, std::int32_
   for_each_field([k](const FieldInfo&, auto& v) { v.resize(k + 1); });
   index_a.resize(k + 1);
   index_b.resize(k + 1);
+  id[k] = static_cast<std::int64_t>(k);
   gid_a[k] = gid_first;
   gid_b[k] = gid_second;
   type[k] = bond_type;
@@ -36,6 +37,7 @@ void BondStore::add(std::int64_t gid_first, std::int64_t gid_second, std::int32_
   broken[k] = 0;
   failure[k] = BondTimoshenko::Failure::kNone;
   break_time[k] = -1.0;
+  break_energy[k] = 0.0;
 }
 
 std::size_t BondStore::count_broken() const {

@@ -17,6 +17,7 @@ namespace ringdem {
 class BondStore {
  public:
   // --- identity ---
+  std::vector<std::int64_t> id;  ///< global bond id, 0..N_b-1 in creation order (file row)
   std::vector<std::int64_t> gid_a, gid_b;
   std::vector<std::int32_t> type;  ///< bond type (case-file table)
   // --- section and stiffness (BondTimoshenko::Section, member by member) ---
@@ -31,6 +32,9 @@ class BondStore {
   std::vector<std::uint8_t> broken;  ///< 0 intact, 1 broken
   std::vector<BondTimoshenko::Failure> failure;
   std::vector<double> break_time;  ///< simulated time of failure, -1 while intact
+  /// Elastic energy the bond held when it broke (energy ledger: mean of its energy at the
+  /// start and the end of the step in which it broke), 0 while intact.
+  std::vector<double> break_energy;
   // --- output quantities, refreshed by Interactions::update_bond_diagnostics ---
   std::vector<double> axial_force, bending_moment, utilisation, energy;
 
@@ -38,6 +42,7 @@ class BondStore {
   void for_each_field(F&& f) {
     using namespace field_flag;
     constexpr unsigned kState = kMigrate | kCheckpoint;
+    f(FieldInfo{"id", kState | kOutput}, id);
     f(FieldInfo{"gid_a", kState | kOutput}, gid_a);
     f(FieldInfo{"gid_b", kState | kOutput}, gid_b);
     f(FieldInfo{"type", kState}, type);
@@ -61,6 +66,7 @@ class BondStore {
     f(FieldInfo{"broken", kState | kOutput}, broken);
     f(FieldInfo{"failure", kState | kOutput}, failure);
     f(FieldInfo{"break_time", kState | kOutput}, break_time);
+    f(FieldInfo{"break_energy", kState}, break_energy);
     f(FieldInfo{"axial_force", kOutput}, axial_force);
     f(FieldInfo{"bending_moment", kOutput}, bending_moment);
     f(FieldInfo{"utilisation", kOutput}, utilisation);
@@ -72,7 +78,8 @@ class BondStore {
 
   std::size_t size() const { return gid_a.size(); }
 
-  /// Adds an intact bond; expects gid_first < gid_second (the canonical order).
+  /// Adds an intact bond with id = its index; expects gid_first < gid_second (the canonical
+  /// order). Generators add every bond of the model on every rank, so ids are global.
   void add(std::int64_t gid_first, std::int64_t gid_second, std::int32_t bond_type,
            const BondTimoshenko::Section& s, const BondTimoshenko::Reference& ref,
            const BondTimoshenko::Strength& st);

@@ -55,6 +55,28 @@ class ParticleStore {
   std::vector<std::int32_t> body;   ///< ring / clump id, -1 for none
   std::vector<std::int32_t> group;  ///< particle group (case-file name table)
   std::vector<Motion> motion;
+  // --- energy ledger (docs/physics.md "Energy ledger"): this particle's share of the energy
+  // dissipated or put in since the start, accumulated every step. Owned state (migrated and
+  // checkpointed, never sent to ghosts), summed over the ranks by gid so the totals do not
+  // depend on the rank count. Each dissipated_* / boundary_work holds dt/2 P^0 + sum_{n>=1}
+  // dt P^n of its power P (plus, for friction, minus the change of tangential_energy, and for
+  // boundary_work the exact work F_ext . dx of an external force); power_* holds the last P^n,
+  // so the tally up to the current step is dissipated_* - dt/2 power_* (ledger_value()).
+  std::vector<double> dissipated_damping;   ///< viscous contact damping (Eq. 7, 9)
+  std::vector<double> dissipated_friction;  ///< Coulomb slip, rolling friction
+  std::vector<double> dissipated_global;    ///< Cundall global damping
+  std::vector<double> boundary_work;        ///< work put in by driven bodies and loads
+  std::vector<double> power_damping, power_friction, power_global, power_boundary;
+  /// This particle's share of the tangential spring energy of its contacts at the last step.
+  std::vector<double> tangential_energy;
+  /// This particle's share of the elastic energy of its contacts (half of a pair's, all of a
+  /// contact with a rigid body), for the rank-count independent sum of contact energy.
+  std::vector<double> contact_energy;
+
+  /// The trapezoidal tally of an accumulator and its last power (see dissipated_damping).
+  static double ledger_value(double accumulated, double last_power, double dt) {
+    return accumulated - 0.5 * dt * last_power;
+  }
 
   /// The field registry: calls f(FieldInfo, std::vector<T>&) for every field.
   template <class F>
@@ -78,6 +100,16 @@ class ParticleStore {
     f(FieldInfo{"body", kState | kGhostOnce | kOutput}, body);
     f(FieldInfo{"group", kState | kGhostOnce | kOutput}, group);
     f(FieldInfo{"motion", kState | kGhostOnce}, motion);
+    f(FieldInfo{"dissipated_damping", kState}, dissipated_damping);
+    f(FieldInfo{"dissipated_friction", kState}, dissipated_friction);
+    f(FieldInfo{"dissipated_global", kState}, dissipated_global);
+    f(FieldInfo{"boundary_work", kState}, boundary_work);
+    f(FieldInfo{"power_damping", kState}, power_damping);
+    f(FieldInfo{"power_friction", kState}, power_friction);
+    f(FieldInfo{"power_global", kState}, power_global);
+    f(FieldInfo{"power_boundary", kState}, power_boundary);
+    f(FieldInfo{"tangential_energy", kState}, tangential_energy);
+    f(FieldInfo{"contact_energy", kState}, contact_energy);
   }
 
   std::size_t n_local() const { return n_local_; }

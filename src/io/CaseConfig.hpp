@@ -76,6 +76,38 @@ struct RingConfig {
   Vec3 velocity;
 };
 
+/// Rigid shackles holding the outer rings of a net (domain/RingNet.hpp): fixed rings of
+/// unbonded spheres, one per boundary ring and side.
+struct ShackleConfig {
+  bool enabled = true;
+  std::string group = "shackles";
+  double internal_diameter = 0.06;
+  int n_particles = 14;
+  double particle_radius = 0.008;
+  std::string material = "steel";
+};
+
+/// A horizontal chain-mail net of rings (domain/RingNet.hpp); the defaults are the paper's
+/// 180-ring net. `width` / `length`, when given, set `columns` / `rows` (the loader does).
+struct RingNetConfig {
+  std::string group = "net";
+  int rows = 19;
+  int columns = 19;
+  std::optional<double> width;
+  std::optional<double> length;
+  double link_distance = 0.28;
+  double tilt = 0.28;
+  Vec3 centre;
+  double internal_diameter = 0.3;
+  int n_particles = 100;
+  double particle_radius = 0.0045;
+  double contact_radius = 0.008;
+  std::string material = "steel";
+  std::string bond = "ring";
+  std::optional<double> mass;  ///< per ring, as RingConfig::mass
+  ShackleConfig shackles;
+};
+
 /// Free spheres on a regular lattice (debris, packing tests).
 struct LatticeConfig {
   std::string group = "spheres";
@@ -153,9 +185,43 @@ struct TensileTestConfig {
   double record_interval = 2e-4;       ///< plate travel between rows of series.csv
 };
 
+/// Rockfall impact test (the paper's "Modeling of Rockfall Impact Tests", docs/rockfall.md):
+/// the net sags under gravity until it is at rest, then a spherical boulder is released
+/// `drop_height` above the sagged net and falls onto it.
+struct RockfallConfig {
+  double boulder_mass = 825.0;
+  double boulder_density = 2600.0;  ///< radius = (3 m / (4 pi rho))^(1/3)
+  std::string boulder_material = "steel";
+  double drop_height = 3.0;        ///< free fall from rest to first contact (24.3 kJ for 825 kg)
+  std::optional<Vec3> drop_point;  ///< x, y of the drop axis; default: centre of the net group
+  std::string net_group = "net";   ///< particles whose sag and deflection are measured
+  std::string frame_group = "shackles";  ///< particles whose contact load is the frame force
+  double sag_max_time = 2.0;             ///< give up waiting for rest (error) after this
+  double sag_min_time = 0.05;
+  double sag_kinetic_energy = 0.05;      ///< J: at rest below this and half its peak
+  double sag_check_interval = 1e-3;      ///< simulated seconds between rest checks
+  std::optional<double> sag_damping;     ///< Cundall coefficient of the net while it sags
+  std::optional<double> impact_damping;  ///< of the net from the release on (default: as set)
+  bool integrate_free_fall = false;  ///< false: the fall is advanced analytically to release_gap
+  double release_gap = 0.005;        ///< boulder bottom above the net top when stepping resumes
+  double duration = 0.6;             ///< simulated time after first contact
+  double record_interval = 1e-4;     ///< simulated seconds between rows of series.csv
+};
+
 struct ScenarioConfig {
-  std::string type = "free_run";  ///< free_run | tensile_test
+  std::string type = "free_run";  ///< free_run | tensile_test | rockfall
   TensileTestConfig tensile_test;
+  RockfallConfig rockfall;
+};
+
+/// Frame files and checkpoints (DESIGN §5).
+struct OutputConfig {
+  double frame_interval = 0.0;            ///< simulated seconds between frames (0: by steps or off)
+  int frame_interval_steps = 0;           ///< steps between frames (0: by time or off)
+  int compression = 0;                    ///< deflate level of frame datasets, 0-9
+  double checkpoint_interval = 0.0;       ///< simulated seconds between checkpoints (0: none)
+  double checkpoint_wall_interval = 0.0;  ///< wall seconds between checkpoints (0: none)
+  int checkpoints_kept = 2;
 };
 
 struct CaseConfig {
@@ -168,10 +234,12 @@ struct CaseConfig {
   std::vector<BondConfig> bonds;
   DampingConfig damping;
   std::vector<RingConfig> rings;
+  std::vector<RingNetConfig> nets;
   std::vector<LatticeConfig> lattices;
   std::vector<SphereConfig> spheres;
   std::vector<RigidBodyConfig> rigid_bodies;
   ScenarioConfig scenario;
+  OutputConfig output;
   std::string source_path;  ///< the file it came from, for messages
 };
 

@@ -5,13 +5,16 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include "domain/LinkingNumber.hpp"
 #include "domain/RingGenerator.hpp"
+#include "domain/RingNet.hpp"
 #include "io/Schema.hpp"
 
 namespace ringdem {
@@ -212,6 +215,79 @@ const Table<RingConfig>& ring_table() {
   return table;
 }
 
+const Table<ShackleConfig>& shackle_table() {
+  using S = ShackleConfig;
+  static const Table<S> table{
+      "particles.nets[].shackles",
+      "Rigid shackles holding the net's outer rings: one per boundary ring and side it is on "
+      "(two on a corner ring), centred on the ring's outermost wire with the wire through its "
+      "middle, so the ring can rotate and slide in it. Shackle particles are fixed and not "
+      "bonded (they never move); neighbouring particles must not overlap, and must be close "
+      "enough that no net particle (contact_radius) slips between them.",
+      {
+          schema::boolean("enabled", &S::enabled, "Create the shackles"),
+          schema::text("group", &S::group, Type::kName, "Particle group (damping, output)"),
+          schema::number("internal_diameter", &S::internal_diameter, above(0), "m",
+                         "Clear inside diameter of a shackle"),
+          schema::integer("n_particles", &S::n_particles, at_least(3), "Spheres per shackle"),
+          schema::number("particle_radius", &S::particle_radius, above(0), "m",
+                         "Radius of the shackle spheres (also their contact radius)"),
+          schema::text("material", &S::material, Type::kName, "Material (from `materials`)"),
+      }};
+  return table;
+}
+
+const Table<RingNetConfig>& net_table() {
+  using N = RingNetConfig;
+  static const Table<N> table{
+      "particles.nets[]",
+      "A horizontal chain-mail net of rings like `rings` entries. The rings sit on a square "
+      "lattice of pitch link_distance / sqrt(2) centred on `centre`, at the sites (column m, "
+      "row n) with m + n odd; each is linked with its four diagonal neighbours. Ring planes are "
+      "tilted about x by +-tilt, alternating row by row, so that linked rings start clear of "
+      "each other. Defaults: the paper's net, 180 rings, 3.88 m x 3.87 m, with shackles.",
+      {
+          schema::text("group", &N::group, Type::kName, "Particle group of the net rings"),
+          schema::integer("rows", &N::rows, at_least(2),
+                          "Lattice rows (along y); not with `length`")
+              .dump_if([](const N& n) { return !n.length; }),
+          schema::integer("columns", &N::columns, at_least(2),
+                          "Lattice columns (along x); not with `width`")
+              .dump_if([](const N& n) { return !n.width; }),
+          schema::optional_number("width", &N::width, above(0), "m",
+                                  "Target extent along x (outer ring surfaces): sets `columns` "
+                                  "to the closest fit, at least 2")
+              .default_text("none (columns)"),
+          schema::optional_number("length", &N::length, above(0), "m",
+                                  "Target extent along y: sets `rows` to the closest fit, at "
+                                  "least 2")
+              .default_text("none (rows)"),
+          schema::number("link_distance", &N::link_distance, above(0), "m",
+                         "Centre distance of linked rings; must be < internal_diameter + 2 * "
+                         "particle_radius"),
+          schema::number("tilt", &N::tilt, interval(0, false, 1.5, true), "rad",
+                         "Tilt of the ring planes about x, alternating in sign row by row"),
+          schema::vec3("centre", &N::centre, "m", "Centre of the net (ring centres at its z)"),
+          schema::number("internal_diameter", &N::internal_diameter, above(0), "m",
+                         "Clear inside diameter of a ring"),
+          schema::integer("n_particles", &N::n_particles, at_least(3), "Spheres per ring"),
+          schema::number("particle_radius", &N::particle_radius, above(0), "m",
+                         "Radius of the bonded spheres (the wire radius)"),
+          schema::number("contact_radius", &N::contact_radius, above(0), "m",
+                         "Radius used for contacts; must be >= particle_radius")
+              .default_text("max(0.008, particle_radius)"),
+          schema::text("material", &N::material, Type::kName, "Material (from `materials`)"),
+          schema::text("bond", &N::bond, Type::kName, "Bond properties (from `bonds`)"),
+          schema::optional_number("mass", &N::mass, above(0), "kg",
+                                  "Real mass of one ring (sets the particle density, as for "
+                                  "`rings`)")
+              .default_text("material density x particle volume"),
+          schema::section("shackles", &N::shackles, shackle_table(),
+                          "Rigid shackles holding the outer rings"),
+      }};
+  return table;
+}
+
 const Table<LatticeConfig>& lattice_table() {
   using L = LatticeConfig;
   static const Table<L> table{
@@ -259,6 +335,7 @@ const Table<CaseConfig>& particles_table() {
       "Particle generators; together they must create at least one particle.",
       {
           schema::list("rings", &C::rings, ring_table(), "Rings of bonded spheres"),
+          schema::list("nets", &C::nets, net_table(), "Chain-mail nets of rings with shackles"),
           schema::list("lattices", &C::lattices, lattice_table(), "Lattices of free spheres"),
           schema::list("spheres", &C::spheres, sphere_table(), "Single spheres"),
       }};
@@ -337,18 +414,102 @@ const Table<TensileTestConfig>& tensile_test_table() {
   return table;
 }
 
+const Table<RockfallConfig>& rockfall_table() {
+  using R = RockfallConfig;
+  static const Table<R> table{
+      "scenario.rockfall",
+      "Rockfall impact test (docs/rockfall.md): the net sags under gravity to rest, then a "
+      "spherical boulder is released drop_height above it. Time 0 of the results is the first "
+      "contact.",
+      {
+          schema::number("boulder_mass", &R::boulder_mass, above(0), "kg",
+                         "Boulder mass (paper: 825)"),
+          schema::number("boulder_density", &R::boulder_density, above(0), "kg/m^3",
+                         "Boulder density; the radius follows from mass and density"),
+          schema::text("boulder_material", &R::boulder_material, Type::kName,
+                       "Contact material of the boulder"),
+          schema::number("drop_height", &R::drop_height, above(0), "m",
+                         "Free fall from rest to the top of the sagged net (paper: 3 m)"),
+          schema::optional_vec3("drop_point", &R::drop_point, "m",
+                                "x, y of the drop axis (z ignored)")
+              .default_text("centre of the net group"),
+          schema::text("net_group", &R::net_group, Type::kName,
+                       "Particle group of the net (sag, deflection, rest test)"),
+          schema::text("frame_group", &R::frame_group, Type::kName,
+                       "Particle group whose contact load is the force on the frame (the "
+                       "shackles)"),
+          schema::number("sag_max_time", &R::sag_max_time, above(0), "s",
+                         "Stop with an error when the net is not at rest by then"),
+          schema::number("sag_min_time", &R::sag_min_time, at_least(0), "s",
+                         "Shortest sag phase"),
+          schema::number("sag_kinetic_energy", &R::sag_kinetic_energy, above(0), "J",
+                         "The net is at rest when the kinetic energy of all particles is below "
+                         "this and below half its peak during the sag"),
+          schema::number("sag_check_interval", &R::sag_check_interval, above(0), "s",
+                         "Simulated time between rest checks"),
+          schema::optional_number("sag_damping", &R::sag_damping, interval(0, true, 1, false), "",
+                                  "Cundall coefficient of the net group while it sags")
+              .default_text("as the damping section sets it"),
+          schema::optional_number("impact_damping", &R::impact_damping,
+                                  interval(0, true, 1, false), "",
+                                  "Cundall coefficient of the net group from the release on")
+              .default_text("as the damping section sets it"),
+          schema::boolean("integrate_free_fall", &R::integrate_free_fall,
+                          "Step through the whole fall (false: advance it analytically, exact "
+                          "for a fall in vacuum, to release_gap above the net)"),
+          schema::number("release_gap", &R::release_gap, above(0), "m",
+                         "Boulder bottom above the net top where stepping resumes"),
+          schema::number("duration", &R::duration, above(0), "s",
+                         "Simulated time after the first contact"),
+          schema::number("record_interval", &R::record_interval, above(0), "s",
+                         "Simulated time between rows of series.csv (loads are averaged over "
+                         "it)"),
+      }};
+  return table;
+}
+
 const Table<ScenarioConfig>& scenario_table() {
   using S = ScenarioConfig;
   static const Table<S> table{
       "scenario",
       "What the run does and measures.",
       {
-          schema::choice("type", &S::type, {"free_run", "tensile_test"},
+          schema::choice("type", &S::type, {"free_run", "tensile_test", "rockfall"},
                          "free_run: step to simulation.end_time, series of energies and "
-                         "rigid-body forces; tensile_test: see scenario.tensile_test"),
+                         "rigid-body forces; tensile_test: see scenario.tensile_test; "
+                         "rockfall: see scenario.rockfall"),
           schema::section("tensile_test", &S::tensile_test, tensile_test_table(),
                           "Settings of a tensile test (required when type is tensile_test)")
               .dump_if([](const S& sc) { return sc.type == "tensile_test"; }),
+          schema::section("rockfall", &S::rockfall, rockfall_table(),
+                          "Settings of a rockfall impact test")
+              .dump_if([](const S& sc) { return sc.type == "rockfall"; }),
+      }};
+  return table;
+}
+
+const Table<OutputConfig>& output_table() {
+  using O = OutputConfig;
+  static const Table<O> table{
+      "output",
+      "Frame files for ParaView and checkpoints (docs/output.md). Frames: "
+      "<output>/frames_NNNN.h5 with an XDMF sidecar, one pair per run segment; checkpoints: "
+      "<output>/checkpoints/.",
+      {
+          schema::number("frame_interval", &O::frame_interval, at_least(0), "s",
+                         "Simulated time between frames (0: no frames by time)"),
+          schema::integer("frame_interval_steps", &O::frame_interval_steps,
+                          schema::at_least(0), "Steps between frames (0: no frames by steps)"),
+          schema::integer("compression", &O::compression, schema::interval(0, true, 9, true),
+                          "Deflate level of the frame datasets (0: none; 1-3 saves about a "
+                          "third on positions at a few per cent of run time)"),
+          schema::number("checkpoint_interval", &O::checkpoint_interval, at_least(0), "s",
+                         "Simulated time between checkpoints (0: only on SIGUSR1 or "
+                         "--max-walltime)"),
+          schema::number("checkpoint_wall_interval", &O::checkpoint_wall_interval, at_least(0),
+                         "s (wall)", "Wall-clock time between checkpoints (0: none)"),
+          schema::integer("checkpoints_kept", &O::checkpoints_kept, schema::at_least(1),
+                          "Newest checkpoints kept; older ones are deleted"),
       }};
   return table;
 }
@@ -379,6 +540,8 @@ const Table<CaseConfig>& case_table() {
                        "Rigid walls, pins, boulders"),
           schema::section("scenario", &C::scenario, scenario_table(),
                           "Scenario driver and its measurements"),
+          schema::section("output", &C::output, output_table(),
+                          "Frame files (HDF5 + XDMF) and checkpoints"),
       }};
   return table;
 }
@@ -611,21 +774,24 @@ void derive_bond_moduli(CaseConfig& c, Context& ctx) {
     }
     std::optional<double> particle_radius;
     std::string first_ring;
-    for (std::size_t k = 0; k < c.rings.size(); ++k) {
-      const RingConfig& r = c.rings[k];
-      const std::string rp = schema::index_path("particles.rings", k);
-      if (r.bond != b.name || ctx.failed(rp + ".particle_radius")) continue;
+    // Rings and nets using the bond; rp is the entry's key path.
+    const auto use = [&](const std::string& bond, double radius, const std::string& rp) {
+      if (bond != b.name || ctx.failed(rp + ".particle_radius")) return;
       if (!particle_radius) {
-        particle_radius = r.particle_radius;
+        particle_radius = radius;
         first_ring = rp;
-      } else if (r.particle_radius != *particle_radius) {
+      } else if (radius != *particle_radius) {
         ctx.error(ctx.where(rp + ".particle_radius", rp), rp + ".particle_radius",
                   fmt::format("bond '{}' derives its modulus from the particle radius, so every "
                               "ring using it needs the same particle_radius: {} has {} m, got {}",
                               b.name, first_ring, schema::format_number(*particle_radius),
-                              schema::format_number(r.particle_radius)));
+                              schema::format_number(radius)));
       }
-    }
+    };
+    for (std::size_t k = 0; k < c.rings.size(); ++k)
+      use(c.rings[k].bond, c.rings[k].particle_radius, schema::index_path("particles.rings", k));
+    for (std::size_t k = 0; k < c.nets.size(); ++k)
+      use(c.nets[k].bond, c.nets[k].particle_radius, schema::index_path("particles.nets", k));
     if (!particle_radius) continue;  // unused bond: nothing to derive from
     const BondDerivationConfig& d = *b.derive_from;
     const RingReductionFactors f =
@@ -634,6 +800,154 @@ void derive_bond_moduli(CaseConfig& c, Context& ctx) {
     b.youngs_modulus = f.bond_youngs_modulus;
     b.derived_particle_radius = *particle_radius;
   }
+}
+
+std::string describe_net_ring(const RingNetLayout& net, std::size_t index) {
+  static const char* const side_names[] = {"-x", "+x", "-y", "+y"};
+  if (index < net.rings.size())
+    return fmt::format("ring (row {}, column {})", net.rings[index].row, net.rings[index].column);
+  const ShacklePlacement& s = net.shackles[index - net.rings.size()];
+  return fmt::format("the {} shackle of ring (row {}, column {})",
+                     side_names[static_cast<int>(s.side)], net.rings[s.net_ring].row,
+                     net.rings[s.net_ring].column);
+}
+
+/// Resolves width / length into columns / rows, checks references and the geometry: that the
+/// rings can interlink, that shackle particles neither overlap nor let a wire through, and, on
+/// the generated net, that no two rings touch at creation and that linked rings are linked.
+/// Returns the number of particles the net creates (0 if its geometry is invalid).
+long long validate_net(RingNetConfig& n, const std::string& p,
+                       const std::vector<std::string>& materials, bool materials_ok,
+                       const std::vector<std::string>& bonds, bool bonds_ok, Context& ctx) {
+  const std::string sp = p + ".shackles";
+  check_reference(n.material, materials, materials_ok, p + ".material", p, "material", "materials",
+                  ctx);
+  check_reference(n.bond, bonds, bonds_ok, p + ".bond", p, "bond", "bonds", ctx);
+  if (n.shackles.enabled)
+    check_reference(n.shackles.material, materials, materials_ok, sp + ".material",
+                    ctx.given(sp) ? sp : p, "material", "materials", ctx);
+  if (!ctx.given(p + ".contact_radius")) {
+    n.contact_radius = std::max(0.008, n.particle_radius);
+  } else if (!ctx.failed(p + ".contact_radius") && !ctx.failed(p + ".particle_radius") &&
+             n.contact_radius < n.particle_radius) {
+    ctx.error(ctx.where(p + ".contact_radius"), p + ".contact_radius",
+              fmt::format("must be >= particle_radius ({} m), got {}",
+                          schema::format_number(n.particle_radius),
+                          schema::format_number(n.contact_radius)));
+  }
+  for (const auto& [target, count] : {std::pair{"width", "columns"}, std::pair{"length", "rows"}}) {
+    if (ctx.given(p + "." + target) && ctx.given(p + "." + count))
+      ctx.error(
+          ctx.where(p + "." + count), p + "." + count,
+          fmt::format("give either {} or {}, not both ({} sets {})", count, target, target, count));
+  }
+  for (const char* key :
+       {"rows", "columns", "width", "length", "link_distance", "tilt", "centre",
+        "internal_diameter", "n_particles", "particle_radius", "contact_radius", "shackles"}) {
+    if (ctx.failed(p + "." + key)) return 0;
+  }
+
+  RingNetParameters g;
+  g.rows = n.rows;
+  g.columns = n.columns;
+  g.link_distance = n.link_distance;
+  g.tilt = n.tilt;
+  g.centre = n.centre;
+  g.internal_diameter = n.internal_diameter;
+  g.particle_radius = n.particle_radius;
+  g.n_particles = n.n_particles;
+  g.shackles = n.shackles.enabled;
+  g.shackle_internal_diameter = n.shackles.internal_diameter;
+  g.shackle_particle_radius = n.shackles.particle_radius;
+  g.shackle_n_particles = n.shackles.n_particles;
+  if (n.width || n.length) {
+    const LatticeSize size = lattice_size_for(n.width.value_or(0.0), n.length.value_or(0.0), g);
+    if (n.width) n.columns = g.columns = size.columns;
+    if (n.length) n.rows = g.rows = size.rows;
+  }
+
+  bool geometry_ok = true;
+  const double centreline_diameter = 2.0 * g.centreline_radius();
+  if (g.link_distance >= centreline_diameter) {
+    ctx.error(ctx.where(p + ".link_distance", p), p + ".link_distance",
+              fmt::format("must be < internal_diameter + 2 * particle_radius = {} m (rings "
+                          "farther apart cannot interlink), got {}",
+                          schema::format_number(centreline_diameter),
+                          schema::format_number(g.link_distance)));
+    geometry_ok = false;
+  }
+  if (g.shackles) {
+    // Bond-free rigid shackles: neighbours must not press on each other, and the gap between
+    // them must stay narrower than a net particle (contact radius) plus the shackle particles.
+    const double rs = g.shackle_particle_radius;
+    const auto spacing = [&](int count) {
+      return 2.0 * g.shackle_centreline_radius() * std::sin(M_PI / count);
+    };
+    const double too_wide = 2.0 * (rs + n.contact_radius);
+    const std::string key = sp + ".n_particles";
+    const Location at = ctx.where(key, ctx.given(sp) ? sp : p);
+    if (spacing(g.shackle_n_particles) < 2.0 * rs) {
+      int most = 3;
+      while (spacing(most + 1) >= 2.0 * rs)
+        ++most;
+      ctx.error(
+          at, key,
+          fmt::format("shackle particles would overlap: spacing {} m < 2 * particle_radius "
+                      "= {} m{}",
+                      schema::format_number(spacing(g.shackle_n_particles)),
+                      schema::format_number(2.0 * rs),
+                      spacing(3) >= 2.0 * rs ? fmt::format("; use at most {} particles", most)
+                                             : std::string("; use a larger internal_diameter")));
+      geometry_ok = false;
+    } else if (spacing(g.shackle_n_particles) >= too_wide) {
+      int fewest = g.shackle_n_particles;
+      while (spacing(fewest) >= too_wide)
+        ++fewest;
+      ctx.error(at, key,
+                fmt::format("net particles (contact_radius {} m) could slip between shackle "
+                            "particles: spacing {} m >= 2 * (particle_radius + net "
+                            "contact_radius) = {} m; use at least {} particles",
+                            schema::format_number(n.contact_radius),
+                            schema::format_number(spacing(g.shackle_n_particles)),
+                            schema::format_number(too_wide), fewest));
+      geometry_ok = false;
+    }
+  }
+  if (!geometry_ok) return 0;
+
+  const RingNetLayout net = generate_ring_net(g);
+  const RingNetClearance clearance =
+      smallest_clearance(net, n.contact_radius, g.shackle_particle_radius, 0.0);
+  if (clearance.gap < 0.0) {
+    ctx.error(ctx.where(p), p,
+              fmt::format("rings touch at creation: particles of {} and {} overlap by {} m "
+                          "(contact radii); change tilt or link_distance",
+                          describe_net_ring(net, clearance.ring_a),
+                          describe_net_ring(net, clearance.ring_b),
+                          schema::format_number(-clearance.gap)));
+  } else {
+    // Clear of each other, linked pairs are linked exactly when their linking number is +-1
+    // (domain/LinkingNumber.hpp); unlinked rings would fall apart.
+    const auto linked = [](const RingGeometry& a, const RingGeometry& b) {
+      return std::lround(std::abs(gauss_linking_number(a.positions(), b.positions()))) == 1;
+    };
+    for (const auto& [a, b] : net.links) {
+      if (linked(net.ring_geometry(a), net.ring_geometry(b))) continue;
+      ctx.error(ctx.where(p + ".link_distance", p), p + ".link_distance",
+                fmt::format("neighbouring {} and {} are not linked; decrease link_distance or "
+                            "change tilt",
+                            describe_net_ring(net, a), describe_net_ring(net, b)));
+      break;
+    }
+    for (std::size_t k = 0; k < net.shackles.size(); ++k) {
+      if (linked(net.shackle_geometry(k), net.ring_geometry(net.shackles[k].net_ring))) continue;
+      ctx.error(ctx.where(sp, p), sp,
+                fmt::format("{} does not hold its ring; enlarge internal_diameter",
+                            describe_net_ring(net, net.rings.size() + k)));
+      break;
+    }
+  }
+  return static_cast<long long>(net.n_particles());
 }
 
 void validate_scenario(CaseConfig& c, Context& ctx, bool bodies_ok) {
@@ -742,6 +1056,13 @@ void validate(CaseConfig& c, Context& ctx) {
       }
     }
   }
+  for (std::size_t i = 0; i < c.nets.size(); ++i) {
+    RingNetConfig& n = c.nets[i];
+    groups.insert(n.group);
+    if (n.shackles.enabled) groups.insert(n.shackles.group);
+    total_particles += validate_net(n, schema::index_path("particles.nets", i), materials,
+                                    materials_ok, bonds, bonds_ok, ctx);
+  }
   derive_bond_moduli(c, ctx);
   for (std::size_t i = 0; i < c.lattices.size(); ++i) {
     LatticeConfig& l = c.lattices[i];
@@ -768,7 +1089,7 @@ void validate(CaseConfig& c, Context& ctx) {
   }
   if (total_particles == 0 && ctx.given("particles") && !ctx.failed("particles")) {
     ctx.error(ctx.where("particles"), "particles",
-              "no particles: add at least one entry to rings, lattices or spheres");
+              "no particles: add at least one entry to rings, nets, lattices or spheres");
   }
 
   for (const DampingGroupConfig& g : c.damping.groups) {

@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 
@@ -109,6 +111,32 @@ SeriesWriter::SeriesWriter(const std::string& path, const std::vector<std::strin
   for (std::size_t i = 0; i < columns.size(); ++i)
     out_ << (i ? "," : "") << columns[i];
   out_ << "\n";
+}
+
+SeriesWriter SeriesWriter::resume(const std::string& path, const std::vector<std::string>& columns,
+                                  double until) {
+  std::ifstream in(path);
+  if (!in) return SeriesWriter(path, columns);
+  std::string header, line;
+  std::getline(in, header);
+  std::string expected;
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    expected += (i ? "," : "") + columns[i];
+  if (header != expected)
+    throw std::runtime_error(path + ": its columns differ from this run's; cannot continue it");
+  std::vector<std::string> kept;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    const double t = std::strtod(line.c_str(), nullptr);
+    // A relative margin: the row of the checkpoint step itself is kept.
+    if (t <= until + 1e-9 * std::max(1.0, std::abs(until))) kept.push_back(line);
+  }
+  in.close();
+  SeriesWriter w(path, columns);
+  for (const auto& k : kept)
+    w.out_ << k << "\n";
+  w.out_.flush();
+  return w;
 }
 
 void SeriesWriter::row(const std::vector<double>& values) {

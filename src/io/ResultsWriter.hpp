@@ -33,6 +33,11 @@ class SeriesWriter {
  public:
   SeriesWriter() = default;
   SeriesWriter(const std::string& path, const std::vector<std::string>& columns);
+  /// Continues an existing series after a restart: keeps the header (which must match) and the
+  /// rows whose first column is at most `until` (rows a stopped run wrote after its checkpoint
+  /// are dropped), then appends. Starts a new file when there is none.
+  static SeriesWriter resume(const std::string& path, const std::vector<std::string>& columns,
+                             double until);
   void row(const std::vector<double>& values);
   bool is_open() const { return out_.is_open(); }
   std::size_t columns() const { return n_columns_; }

@@ -438,6 +438,17 @@ Field<T> vec3(std::string name, Vec3 T::*m, std::string unit, std::string doc) {
   return f;
 }
 
+/// Optional vector: absent means "not set" (std::nullopt), left out of dumps.
+template <class T>
+Field<T> optional_vec3(std::string name, std::optional<Vec3> T::*m, std::string unit,
+                       std::string doc) {
+  Field<T> f;
+  f.info = make_key(std::move(name), Type::kVec3, std::move(unit), std::move(doc));
+  f.set = [m](T& t, const Value& v) { t.*m = std::get<Vec3>(v); };
+  f.get = [m](const T& t) -> Value { return (t.*m) ? Value{*(t.*m)} : Value{}; };
+  return f;
+}
+
 template <class T>
 Field<T> int_triple(std::string name, std::array<int, 3> T::*m, Range range, std::string doc) {
   Field<T> f;

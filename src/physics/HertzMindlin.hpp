@@ -58,13 +58,14 @@ struct HertzMindlin {
   };
 
   struct Result {
-    Vec3 force_i;           ///< total contact force on i (j receives -force_i)
-    Vec3 rolling_torque_i;  ///< rolling-friction torque on i
-    Vec3 rolling_torque_j;  ///< rolling-friction torque on j
-    double normal_force;    ///< signed normal force (spring + damping), repulsive positive
-    double elastic_energy;  ///< normal (2/5 F_ns delta) + tangential (|F_t|^2 / 2 S_t)
-    Vec3 damping_force_i;   ///< viscous part of force_i (normal + tangential), for energy
-                            ///< bookkeeping
+    Vec3 force_i;              ///< total contact force on i (j receives -force_i)
+    Vec3 rolling_torque_i;     ///< rolling-friction torque on i
+    Vec3 rolling_torque_j;     ///< rolling-friction torque on j
+    double normal_force;       ///< signed normal force (spring + damping), repulsive positive
+    double elastic_energy;     ///< normal (2/5 F_ns delta) + tangential (|F_t|^2 / 2 S_t)
+    Vec3 damping_force_i;      ///< viscous part of force_i (normal + tangential), for energy
+                               ///< bookkeeping
+    double tangential_energy;  ///< |F_t|^2 / 2 S_t of the updated spring (part of elastic_energy)
     bool sliding;
   };
 
@@ -108,7 +109,8 @@ struct HertzMindlin {
     r.force_i = f_t - n * f_n;
     r.damping_force_i = f_t_damp - n * f_n_damp;
     r.normal_force = f_n;
-    r.elastic_energy = 0.4 * f_spring * in.overlap + (s_t > 0.0 ? 0.5 * norm2(spring) / s_t : 0.0);
+    r.tangential_energy = s_t > 0.0 ? 0.5 * norm2(spring) / s_t : 0.0;
+    r.elastic_energy = 0.4 * f_spring * in.overlap + r.tangential_energy;
 
     // Rolling friction, EDEM "standard": tau = -mu_r F_n R_i omega_hat_i.
     if (p.rolling_friction > 0.0 && f_n > 0.0) {

@@ -7,16 +7,18 @@ namespace ringdem {
 
 namespace {
 
-inline double damp_component(double f, double v, double alpha) {
+/// The Cundall damping load alpha |f| sign(v) of one component, taken off f.
+inline double damping_component(double f, double v, double alpha) {
   // sign(0) = 0: a particle at rest is not pushed.
   const double s = (v > 0.0) - (v < 0.0);
-  return f - alpha * std::abs(f) * s;
+  return alpha * std::abs(f) * s;
 }
 
-/// Cundall damping of one vector load against its velocity; alpha = 0 leaves it bit for bit.
-inline Vec3 damped(const Vec3& f, const Vec3& v, double alpha) {
-  return {damp_component(f.x, v.x, alpha), damp_component(f.y, v.y, alpha),
-          damp_component(f.z, v.z, alpha)};
+/// Cundall damping load of one vector load against its velocity: the damped load is
+/// f - damping_load(f, v, alpha); alpha = 0 leaves f bit for bit.
+inline Vec3 damping_load(const Vec3& f, const Vec3& v, double alpha) {
+  return {damping_component(f.x, v.x, alpha), damping_component(f.y, v.y, alpha),
+          damping_component(f.z, v.z, alpha)};
 }
 
 /// Returns dq(omega dt) q with the Cayley form dq(phi) = (1, phi/2) / sqrt(1 + |phi|^2/4): a unit
@@ -85,13 +87,22 @@ void Integrator::second_half(ParticleStore& p, double dt) {
   Vec3* const torque = p.torque.data();
   Vec3* const v = p.velocity.data();
   Vec3* const w = p.omega.data();
+  double* const dissipated = p.dissipated_global.data();
+  double* const power = p.power_global.data();
 #pragma GCC ivdep
   for (std::size_t k = 0; k < n; ++k) {
-    force[k] = damped(force[k], v[k], alpha[k]);
-    torque[k] = damped(torque[k], w[k], alpha[k]);
+    const Vec3 damping_force = damping_load(force[k], v[k], alpha[k]);
+    const Vec3 damping_torque = damping_load(torque[k], w[k], alpha[k]);
+    force[k] -= damping_force;
+    torque[k] -= damping_torque;
     const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
     v[k] += force[k] * (free * half / mass[k]);
     w[k] += torque[k] * (free * half / inertia[k]);
+    // Energy ledger: the power the Cundall loads take out, at the synchronised velocity
+    // v^{n+1} just computed (docs/physics.md "Energy ledger").
+    const double q = free * (dot(damping_force, v[k]) + dot(damping_torque, w[k]));
+    dissipated[k] += q * dt;
+    power[k] = q;
   }
 }
 
@@ -119,10 +130,20 @@ void Integrator::second_half(std::vector<RigidBody>& bodies, double dt, const Ve
   }
 }
 
-void apply_global_damping(ParticleStore& p) {
+void apply_global_damping(ParticleStore& p, double dt) {
   for (std::size_t k = 0; k < p.n_local(); ++k) {
-    p.force[k] = damped(p.force[k], p.velocity[k], p.damping[k]);
-    p.torque[k] = damped(p.torque[k], p.omega[k], p.damping[k]);
+    const Vec3 damping_force = damping_load(p.force[k], p.velocity[k], p.damping[k]);
+    const Vec3 damping_torque = damping_load(p.torque[k], p.omega[k], p.damping[k]);
+    p.force[k] -= damping_force;
+    p.torque[k] -= damping_torque;
+    // The ledger's first trapezoid weight: the tally so far is kept and the power of the
+    // initial loads enters with dt/2 (see ParticleStore::ledger_value).
+    const double q = p.motion[k] == Motion::kFree
+                         ? dot(damping_force, p.velocity[k]) + dot(damping_torque, p.omega[k])
+                         : 0.0;
+    const double tally = ParticleStore::ledger_value(p.dissipated_global[k], p.power_global[k], dt);
+    p.power_global[k] = q;
+    p.dissipated_global[k] = tally + 0.5 * dt * q;
   }
 }
 

@@ -17,6 +17,8 @@ struct Integrator {
   static double first_half(ParticleStore& p, double dt, const std::vector<Vec3>& reference);
   /// Applies the global damping to the new loads (physics.md §4), then v += F/m dt/2,
   /// omega += T/I dt/2 for owned free particles; the damped loads stay for the next step.
+  /// Adds the energy the damping took out (its power at the new velocities, times dt) to the
+  /// particles' dissipated_global ledger.
   static void second_half(ParticleStore& p, double dt);
 
   /// Rigid bodies: prescribed ones move with their velocity; free ones are integrated from
@@ -27,7 +29,8 @@ struct Integrator {
 
 /// Cundall's non-viscous global damping, per particle and component (physics.md §4):
 /// F_i <- F_i - alpha |F_i| sign(v_i), T_i <- T_i - alpha |T_i| sign(omega_i). The step
-/// applies it inside second_half(); this is for the loads of the initial state.
-void apply_global_damping(ParticleStore& p);
+/// applies it inside second_half(); this is for the loads of the initial state, and it starts
+/// the dissipated_global ledger (first trapezoid weight dt/2 of the initial damping power).
+void apply_global_damping(ParticleStore& p, double dt);
 
 }  // namespace ringdem

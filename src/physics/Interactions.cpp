@@ -27,6 +27,14 @@ struct PairKeyHash {
 // Rigid bodies sort after every particle partner in the gather order.
 constexpr std::int64_t kBodyKeyBase = std::int64_t{1} << 62;
 
+/// The orientation a particle had one step earlier: the inverse of the integrator's Cayley
+/// update q <- dq(omega dt) q (Integrator.cpp), which dq(-omega dt) undoes.
+inline Quat rotated_back(const Quat& q, const Vec3& omega, double dt) {
+  const Vec3 h = omega * (-0.5 * dt);
+  const double s = 1.0 / std::sqrt(1.0 + norm2(h));
+  return renormalized(Quat{s, h.x * s, h.y * s, h.z * s} * q);
+}
+
 inline double effective_mass(double m_a, Motion motion_a, double m_b, Motion motion_b) {
   const bool inf_a = motion_a != Motion::kFree;
   const bool inf_b = motion_b != Motion::kFree;
@@ -162,9 +170,30 @@ void Interactions::rebuild(const ParticleStore& p, BondStore& bonds,
   }
   for (std::size_t k = 0; k < n_local; ++k)
     gather_offset_[k + 1] += gather_offset_[k];
+
+  // Energy ledger: the owned particles with contact slots (in gather order) or driven motion.
+  ledger_particle_.clear();
+  ledger_offset_.assign(1, 0);
+  ledger_slot_.clear();
+  for (std::size_t e = 0, k = 0; k < n_local; ++k) {
+    const std::size_t first = ledger_slot_.size();
+    for (; e < entries.size() && entries[e].particle == k; ++e)
+      if (entries[e].kind != 0) ledger_slot_.push_back(entries[e].slot);
+    if (ledger_slot_.size() > first || p.motion[k] != Motion::kFree) {
+      ledger_particle_.push_back(static_cast<std::uint32_t>(k));
+      ledger_offset_.push_back(static_cast<std::uint32_t>(ledger_slot_.size()));
+    }
+  }
+  // The contact kernel writes each record where the ledger pass reads it, so that pass reads
+  // one contiguous stream.
+  work_.assign(ledger_slot_.size() + 1, ContactWork{});
+  work_index_.assign(2 * np + nw, static_cast<std::uint32_t>(ledger_slot_.size()));
+  for (std::size_t e = 0; e < ledger_slot_.size(); ++e)
+    work_index_[ledger_slot_[e] - 2 * nb] = static_cast<std::uint32_t>(e);
+  ledger_list_changed_ = true;
 }
 
-void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, double time) {
+void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, double time, double dt) {
   bonds_broke_ = false;
   const std::size_t nb = bonds.size();
   bond_failed_.resize(nb);
@@ -259,6 +288,16 @@ void Interactions::compute_bonds(const ParticleStore& p, BondStore& bonds, doubl
     bonds.failure[k] = BondTimoshenko::check_failure(BondTimoshenko::stresses(bonds.section(k), r),
                                                      bonds.strength(k));
     bonds.break_time[k] = time;
+    // Energy ledger: the bond's force acted through the first half of this step and is zero
+    // from this evaluation on, so the energy it takes out of the books is its mean over the
+    // step (trapezoid; second order, docs/physics.md "Energy ledger"). The start of the step
+    // is x - v dt, q rotated back by omega dt (the mid-step velocities the drift used).
+    const std::uint32_t a = ia[k], b = ib[k];
+    const auto r0 =
+        BondTimoshenko::compute(bonds.section(k), bonds.reference(k), pos[a] - p.velocity[a] * dt,
+                                rotated_back(rot[a], p.omega[a], dt), pos[b] - p.velocity[b] * dt,
+                                rotated_back(rot[b], p.omega[b], dt));
+    bonds.break_energy[k] = 0.5 * (r0.energy + r.energy);
     bonds_broke_ = true;
   }
 }
@@ -303,6 +342,8 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
       pair_spring_[m] = {};
       slots_.set(slot_a, {}, {});
       slots_.set(slot_b, {}, {});
+      work_[work_index_[m]] = {};
+      work_[work_index_[np + m]] = {};
       continue;
     }
     const double dist = std::sqrt(dist2);
@@ -326,6 +367,14 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
         HertzMindlin::compute(materials.pair(p.material[a], p.material[b]), in, pair_spring_[m]);
     slots_.set(slot_a, r.force_i, cross(n * arm_a, r.force_i) + r.rolling_torque_i);
     slots_.set(slot_b, -r.force_i, cross(n * arm_b, r.force_i) + r.rolling_torque_j);
+    // Ledger: each end's loads; the tangential energy half to each end.
+    const Vec3& spring = pair_spring_[m];
+    work_[work_index_[m]] = {
+        r.damping_force_i,     spring, n * arm_a, r.rolling_torque_i, 0.5 * r.tangential_energy,
+        0.5 * r.elastic_energy};
+    work_[work_index_[np + m]] = {
+        -r.damping_force_i,    -spring, n * (-arm_b), r.rolling_torque_j, 0.5 * r.tangential_energy,
+        0.5 * r.elastic_energy};
     if (a < p.n_local()) contact_energy_ += r.elastic_energy;  // once, by the owner of a
   }
 
@@ -344,6 +393,7 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
     if (overlap <= 0.0) {
       wall_spring_[w] = {};
       slots_.set(wbase + w, {}, {});
+      work_[work_index_[2 * np + w]] = {};
       continue;
     }
     const Vec3 n = -sp.normal;  // from the particle to the body
@@ -365,6 +415,8 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
     const auto r =
         HertzMindlin::compute(materials.pair(p.material[k], body.material), in, wall_spring_[w]);
     slots_.set(wbase + w, r.force_i, cross(n * arm, r.force_i) + r.rolling_torque_i);
+    work_[work_index_[2 * np + w]] = {r.damping_force_i,  wall_spring_[w],     n * arm,
+                                      r.rolling_torque_i, r.tangential_energy, r.elastic_energy};
     const Vec3 torque_on_body = cross(contact - body.position, -r.force_i);
     body.force -= r.force_i;
     body.torque += torque_on_body;
@@ -374,19 +426,131 @@ void Interactions::compute_contacts(const ParticleStore& p, std::vector<RigidBod
   }
 }
 
-void Interactions::gather(ParticleStore& p, const Vec3& gravity) const {
+void Interactions::gather(ParticleStore& p, const Vec3& gravity) {
   const std::size_t n_local = p.n_local();
+  // Raw pointers, read once (nothing in the loop can move them).
+  const double* const mass = p.mass.data();
+  const Vec3* const external = p.external_force.data();
+  Vec3* const force = p.force.data();
+  Vec3* const torque = p.torque.data();
+  const std::uint32_t* const offset = gather_offset_.data();
+  const std::uint32_t* const slot = gather_slot_.data();
+  const double *const fx = slots_.fx.data(), *const fy = slots_.fy.data(),
+                      *const fz = slots_.fz.data();
+  const double *const tx = slots_.tx.data(), *const ty = slots_.ty.data(),
+                      *const tz = slots_.tz.data();
+  bool any_external = false;
   for (std::size_t k = 0; k < n_local; ++k) {
-    Vec3 f = gravity * p.mass[k] + p.external_force[k];
+    const Vec3 f_ext = external[k];
+    any_external |= (f_ext.x != 0.0) | (f_ext.y != 0.0) | (f_ext.z != 0.0);
+    Vec3 f = gravity * mass[k] + f_ext;
     Vec3 t;
-    for (std::uint32_t e = gather_offset_[k]; e < gather_offset_[k + 1]; ++e) {
-      const std::uint32_t s = gather_slot_[e];
-      f += Vec3{slots_.fx[s], slots_.fy[s], slots_.fz[s]};
-      t += Vec3{slots_.tx[s], slots_.ty[s], slots_.tz[s]};
+    for (std::uint32_t e = offset[k]; e < offset[k + 1]; ++e) {
+      const std::uint32_t s = slot[e];
+      f += Vec3{fx[s], fy[s], fz[s]};
+      t += Vec3{tx[s], ty[s], tz[s]};
     }
-    p.force[k] = f;
-    p.torque[k] = t;
+    force[k] = f;
+    torque[k] = t;
   }
+  // Energy ledger: external forces on free particles and their power at the mid-step
+  // velocity (the drift x += v dt used it), for accumulate_ledger().
+  external_.clear();
+  if (any_external)
+    for (std::size_t k = 0; k < n_local; ++k)
+      if ((external[k].x != 0.0 || external[k].y != 0.0 || external[k].z != 0.0) &&
+          p.motion[k] == Motion::kFree)
+        external_.push_back({static_cast<std::uint32_t>(k), dot(external[k], p.velocity[k])});
+}
+
+void Interactions::accumulate_ledger(ParticleStore& p, const std::vector<RigidBody>& bodies,
+                                     double dt, bool initial) {
+  // The tallies (docs/physics.md "Energy ledger"; physics.md §3 for the contact loads, §4
+  // for the integrator). Velocity Verlet applies a load F^n, computed at t_n, in two half
+  // kicks v^{n-1/2} -> v^n -> v^{n+1/2}; the kinetic energy they change is exactly
+  // dt F^n . v^n with v^n the synchronised velocity (the mean of the two half-step
+  // velocities), i.e. the load's power at the end of this step's second half kick, which is
+  // where this runs. Summing dt P^n is the trapezoidal rule in time for the work: the same
+  // as the mid-step form dt (F^n + F^{n+1})/2 . v^{n+1/2} summed over steps. The current
+  // step's second kick is only half done, so the reported tally is accumulated - dt/2 P^n
+  // (ParticleStore::ledger_value), and the ledger closes to O(dt^2) at every step, the order
+  // of velocity Verlet's own energy error. (The work of F^n with the half-step velocity the
+  // contact law saw, F^n . v^{n-1/2} dt, would be only first order.)
+  const std::size_t np = pairs_.size();
+  const std::size_t contact_base = slots_.size() - work_index_.size();
+  const std::size_t wall_base = contact_base + 2 * np;
+  auto add = [&](double& accumulated, double& last_power, double power) {
+    accumulated = initial
+                      ? ParticleStore::ledger_value(accumulated, last_power, dt) + 0.5 * dt * power
+                      : accumulated + dt * power;
+    last_power = power;
+  };
+  if (ledger_list_changed_) {
+    // Particles off the list have no contact and are not driven: zero power from now on. A
+    // tangential spring energy still booked to one (its contact gone) is released as friction.
+    for (std::size_t i = 0, k = 0; k < p.n_local(); ++k) {
+      if (i < ledger_particle_.size() && ledger_particle_[i] == k) {
+        ++i;
+        continue;
+      }
+      p.power_damping[k] = p.power_friction[k] = p.power_boundary[k] = 0.0;
+      if (!initial) p.dissipated_friction[k] += p.tangential_energy[k];
+      p.tangential_energy[k] = 0.0;
+      p.contact_energy[k] = 0.0;
+    }
+    ledger_list_changed_ = false;
+  }
+  for (std::size_t i = 0; i < ledger_particle_.size(); ++i) {
+    const std::uint32_t k = ledger_particle_[i];
+    const Vec3 v = p.velocity[k];
+    const Vec3 w = p.omega[k];
+    double damping = 0.0, friction = 0.0, boundary = 0.0, tangential = 0.0, elastic = 0.0;
+    // Contacts, in gather order (the same sum on any rank count). Each particle books the
+    // work its own contact loads do; over both ends of a pair this is the pair's dissipation.
+    // A rigid body's end is booked to the particle: against a driven body its surface
+    // velocity enters the relative velocity and the total contact load's power on the body
+    // is boundary work; a free body's own kinetic energy is in the ledger.
+    for (std::uint32_t e = ledger_offset_[i]; e < ledger_offset_[i + 1]; ++e) {
+      const std::uint32_t s = ledger_slot_[e];
+      const ContactWork& c = work_[e];
+      if (c.arm.x == 0.0 && c.arm.y == 0.0 && c.arm.z == 0.0) continue;  // not touching
+      Vec3 rel = v + cross(w, c.arm);  // velocity of the particle's contact point
+      if (s >= wall_base) {
+        const RigidBody& body = bodies[wall_body_[s - wall_base]];
+        if (body.motion != RigidMotion::kFixed) {
+          const Vec3 vb = body.velocity_at(p.position[k] + c.arm);
+          rel -= vb;
+          if (body.motion == RigidMotion::kPrescribed)
+            boundary += dot(Vec3{slots_.fx[s], slots_.fy[s], slots_.fz[s]}, vb);
+        }
+      }
+      damping -= dot(c.damping, rel);
+      friction -= dot(c.friction, rel) + dot(c.rolling, w);
+      tangential += c.tangential_energy;
+      elastic += c.elastic_energy;
+    }
+    if (p.motion[k] != Motion::kFree) {
+      // A driven particle: whatever its interactions push against, the driver supplies.
+      Vec3 f, t;
+      for (std::uint32_t e = gather_offset_[k]; e < gather_offset_[k + 1]; ++e) {
+        const std::uint32_t s = gather_slot_[e];
+        f += Vec3{slots_.fx[s], slots_.fy[s], slots_.fz[s]};
+        t += Vec3{slots_.tx[s], slots_.ty[s], slots_.tz[s]};
+      }
+      boundary -= dot(f, v) + dot(t, w);
+    }
+    add(p.dissipated_damping[k], p.power_damping[k], damping);
+    add(p.dissipated_friction[k], p.power_friction[k], friction);
+    add(p.boundary_work[k], p.power_boundary[k], boundary);
+    // Friction is what the tangential springs took in and do not hold any more.
+    if (!initial) p.dissipated_friction[k] -= tangential - p.tangential_energy[k];
+    p.tangential_energy[k] = tangential;
+    p.contact_energy[k] = elastic;  // summed in gather order: the same bits on any rank count
+  }
+  // External forces: F_ext . (x^{n+1} - x^n), exact for a constant force.
+  if (!initial)
+    for (const auto& x : external_)
+      p.boundary_work[x.particle] += dt * x.power;
 }
 
 }  // namespace ringdem

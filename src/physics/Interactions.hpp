@@ -27,8 +27,10 @@ class Interactions {
   ContactHistory export_history() const;
 
   /// Evaluates every bond for the current positions and orientations (rotation matrices
-  /// must be up to date). Bonds that fail are marked broken with their time.
-  void compute_bonds(const ParticleStore& p, BondStore& bonds, double time);
+  /// must be up to date). Bonds that fail are marked broken with their time and the elastic
+  /// energy they held (BondStore::break_energy: the mean of the energy at the end of the step
+  /// and at its start, x - v dt with the mid-step velocities; dt = 0 takes the end only).
+  void compute_bonds(const ParticleStore& p, BondStore& bonds, double time, double dt = 0.0);
   /// Recomputes the output state of every bond (axial force, largest bending moment,
   /// utilisation, elastic energy) for the current configuration; returns the summed energy.
   double update_bond_diagnostics(const ParticleStore& p, BondStore& bonds) const;
@@ -38,8 +40,19 @@ class Interactions {
                         const MaterialTable& materials, double dt);
 
   /// force = gravity * mass + external force + sum of the slots, torque = sum of the slots (owned
-  /// particles).
-  void gather(ParticleStore& p, const Vec3& gravity) const;
+  /// particles). Also notes the power F_ext . v of the external forces on free particles at
+  /// the mid-step velocities, for accumulate_ledger().
+  void gather(ParticleStore& p, const Vec3& gravity);
+
+  /// Energy ledger (docs/physics.md "Energy ledger"), after the second half kick of the
+  /// particles and the rigid bodies, with the velocities of the end of the step: adds to each
+  /// owned particle's dissipated_damping, dissipated_friction and boundary_work the work of
+  /// the last force evaluation (its power at the synchronised velocities times dt; power_*
+  /// keep that power for the trapezoid end correction), the change of its tangential spring
+  /// energy, and the work of its external force over the step. `initial`: the loads of the
+  /// initial state, entered with weight dt/2 and no work over a step.
+  void accumulate_ledger(ParticleStore& p, const std::vector<RigidBody>& bodies, double dt,
+                         bool initial = false);
 
   /// One particle's contact load on a rigid body in the last compute_contacts(), for the
   /// rank-independent reduction of the body loads (summed in (body, gid) order).
@@ -54,7 +67,8 @@ class Interactions {
   /// Set when a bond broke during the last compute(): its pair may now touch.
   bool bonds_broke() const { return bonds_broke_; }
   std::size_t n_contact_candidates() const { return pairs_.size(); }
-  /// Elastic energy stored in the contacts of the last compute_contacts().
+  /// Elastic energy stored in the contacts of the last compute_contacts() (this rank's sum;
+  /// ParticleStore::contact_energy holds each owned particle's share, for sums by gid).
   double contact_energy() const { return contact_energy_; }
 
  private:
@@ -88,6 +102,30 @@ class Interactions {
   };
   Slots slots_;
   std::vector<std::uint8_t> bond_failed_;  ///< scratch: bonds that failed in this step
+
+  /// Energy ledger: the parts of one contact slot's load that the ledger needs, written by
+  /// compute_contacts() in the order accumulate_ledger() reads them (ledger_slot_ order).
+  struct ContactWork {
+    Vec3 damping;                    ///< viscous force on this particle (Eq. 7 + Eq. 9)
+    Vec3 friction;                   ///< tangential spring force on this particle (Coulomb-capped)
+    Vec3 arm;                        ///< from this particle's centre to the contact point
+    Vec3 rolling;                    ///< rolling-friction torque on this particle
+    double tangential_energy = 0.0;  ///< this particle's share of |F_t|^2 / 2 S_t
+    double elastic_energy = 0.0;     ///< this particle's share of the contact's elastic energy
+  };
+  std::vector<ContactWork> work_;  ///< one per ledger_slot_ entry, then a scratch record
+  /// Record in work_ of each contact slot (index = slot - first contact slot); the scratch
+  /// record for the end of a pair that a ghost holds.
+  std::vector<std::uint32_t> work_index_;
+  /// Owned particles the ledger visits every step (those with contact candidates, and driven
+  /// ones), with their contact slots in gather order.
+  std::vector<std::uint32_t> ledger_particle_, ledger_offset_, ledger_slot_;
+  bool ledger_list_changed_ = false;  ///< particles off the list get zero power once
+  struct ExternalPower {
+    std::uint32_t particle;
+    double power;  ///< F_ext . v at the mid-step velocity
+  };
+  std::vector<ExternalPower> external_;
   /// Scratch of the bond loop: end positions and orientations of one chunk, by component.
   struct BondScratch {
     double xa[3][256], xb[3][256], qa[4][256], qb[4][256];

@@ -73,5 +73,36 @@ TEST_F(CommunicatorTest, SumByKeyEqualsTheSerialSumInKeyOrder) {
   EXPECT_EQ(c.sum_by_key({c.rank()}, {c.rank() + 1.0}), c.size() * (c.size() + 1) / 2.0);
 }
 
+// Column sums over dense rows: the same bits as summing each column in row order on one
+// process; rank-encoded columns give closed forms.
+TEST_F(CommunicatorTest, SumColumnsByRowEqualsTheSerialSumInRowOrder) {
+  const Communicator c(comm_);
+  const std::int64_t n_rows = 1000;
+  double serial = 0.0;
+  for (std::int64_t k = 0; k < n_rows; ++k)
+    serial += 1e3 / static_cast<double>(k + 1) * (k % 2 ? 1 : -1);
+  std::vector<std::int64_t> rows;
+  std::vector<double> harmonic, row_plus_one, owner;
+  for (std::int64_t k = n_rows - 1; k >= 0; --k)  // reverse round-robin: no rank in row order
+    if (k % c.size() == c.rank()) {
+      rows.push_back(k);
+      harmonic.push_back(1e3 / static_cast<double>(k + 1) * (k % 2 ? 1 : -1));
+      row_plus_one.push_back(static_cast<double>(k + 1));
+      owner.push_back(c.rank() + 1.0);
+    }
+  const auto sums = c.sum_columns_by_row(rows, n_rows, {&harmonic, &row_plus_one, &owner});
+  ASSERT_EQ(sums.size(), 3u);
+  EXPECT_EQ(sums[0], serial);
+  EXPECT_EQ(sums[1], n_rows * (n_rows + 1) / 2.0);
+  // Row k is held by rank k mod P, which adds rank + 1.
+  double expected_owner = 0.0;
+  for (std::int64_t k = 0; k < n_rows; ++k)
+    expected_owner += static_cast<double>(k % c.size() + 1);
+  EXPECT_EQ(sums[2], expected_owner);
+  EXPECT_EQ(sums[0], c.sum_by_key(rows, harmonic)) << "both orders are row order";
+  const std::vector<double> one{1.0};  // every rank throws before the collective
+  EXPECT_THROW(c.sum_columns_by_row({n_rows}, n_rows, {&one}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ringdem

@@ -89,8 +89,23 @@ void expect_identical(const State& ref, const State& got) {
   EXPECT_EQ(ref.body_forces, got.body_forces);
 }
 
+/// The energies both runs report: every term is summed by gid (the energy ledger's tallies and
+/// each particle's share of its contacts' elastic energy included), so it is the same to the bit.
+void expect_identical_energies(const Energies& ref, const Energies& got) {
+  EXPECT_EQ(ref.kinetic, got.kinetic);
+  EXPECT_EQ(ref.contact_elastic, got.contact_elastic);
+  EXPECT_EQ(ref.potential, got.potential);
+  EXPECT_EQ(ref.bond_elastic, got.bond_elastic);
+  EXPECT_EQ(ref.contact_damping, got.contact_damping);
+  EXPECT_EQ(ref.friction, got.friction);
+  EXPECT_EQ(ref.global_damping, got.global_damping);
+  EXPECT_EQ(ref.broken_bonds, got.broken_bonds);
+  EXPECT_EQ(ref.boundary_work, got.boundary_work);
+}
+
 struct EquivalenceResult {
   State reference, parallel;
+  Energies reference_energies, parallel_energies;
   std::int64_t cut_bonds = 0;
   std::int64_t ghosts = 0;
   std::int64_t repartitions = 0;
@@ -116,6 +131,7 @@ EquivalenceResult run_both(const CaseConfig& c, std::int64_t steps,
          parallel.decomposition().report(parallel.model().particles, parallel.model().bonds))
       r.ghosts += rank.ghosts;  // at the end: contacts made during the run cross ranks
     r.parallel = gather_state(parallel);
+    r.parallel_energies = parallel.energies();
     r.repartitions = parallel.decomposition().repartitions();
     r.broken = parallel.global_broken_bonds();
 
@@ -123,6 +139,7 @@ EquivalenceResult run_both(const CaseConfig& c, std::int64_t steps,
     Simulation serial(build_model(c), self, s);
     serial.run_steps(steps);
     r.reference = gather_state(serial);
+    r.reference_energies = serial.energies();
   }
   MPI_Comm_free(&world);
   return r;
@@ -146,6 +163,8 @@ TEST(Equivalence, Ring4TensileBendingStage) {
     EXPECT_GT(r.cut_bonds, 0) << "the ring should be split between ranks";
   }
   expect_identical(r.reference, r.parallel);
+  EXPECT_GT(r.reference_energies.boundary_work, 0.0) << "the pins should do work";
+  expect_identical_energies(r.reference_energies, r.parallel_energies);
 }
 
 // The tensile driver on this run's ranks: the same curve, bit for bit, as on one rank, through
@@ -182,34 +201,8 @@ TEST(Equivalence, TensileDriverToFailure) {
 // fixed, hit by a fast rigid sphere until bonds break: ring-ring contacts, bond failure
 // decided on both holders of a cut bond, and the sphere's load reduced over ranks.
 TEST(Equivalence, RingPatchHitBySphereUntilBondsBreak) {
-  CaseConfig c = testing::base_case();
-  c.bonds[0].youngs_modulus = 292e9;  // Table 3
-  c.bonds[0].radius_multiplier = 0.43;
-  c.bonds[0].tensile_strength = c.bonds[0].compressive_strength = 41e9;
-  c.bonds[0].shear_strength = 12e9;
-  c.damping.global = 0.95;
-  c.simulation.dt = 7.87e-7;
-  const double step = 0.25 / std::sqrt(2.0);
-  const double tilt = 12.0 * M_PI / 180.0;
-  for (int n = 0; n < 5; ++n)
-    for (int i = 0; i < 5; ++i) {
-      const int m = 2 * i + (n % 2 ? 0 : 1);
-      auto ring = testing::paper_ring({m * step, n * step, 0.0},
-                                      {0.0, (n % 2 ? 1.0 : -1.0) * std::sin(tilt), std::cos(tilt)});
-      const bool corner = (n == 0 || n == 4) && (i == 0 || i == 4);
-      ring.motion = corner ? MotionKind::kFixed : MotionKind::kFree;
-      c.rings.push_back(ring);
-    }
-  RigidBodyConfig boulder;
-  boulder.name = "boulder";
-  boulder.shape = ShapeKind::kSphere;
-  boulder.radius = 0.2;
-  boulder.mass = 400.0;
-  boulder.motion = MotionKind::kFree;
-  boulder.gravity = false;
-  boulder.position = {4.5 * step, 2.0 * step, 0.25};  // above the middle, 2 cm clear
-  boulder.velocity = {0, 0, -60.0};
-  c.rigid_bodies = {boulder};
+  // 2 cm clear of the rings, at 60 m/s, Table 1 damping.
+  const CaseConfig c = testing::ring_patch_hit_by_sphere(0.02, 60.0, 0.95);
   const auto r = run_both(c, 6000);
   EXPECT_GT(r.broken, 0) << "the impact should break bonds";
   if (world_size() > 1) {
@@ -217,6 +210,9 @@ TEST(Equivalence, RingPatchHitBySphereUntilBondsBreak) {
     EXPECT_GT(r.ghosts, 0) << "the patch should be split between ranks";
   }
   expect_identical(r.reference, r.parallel);
+  EXPECT_GT(r.reference_energies.broken_bonds, 0.0);
+  EXPECT_GT(r.reference_energies.contact_damping, 0.0);
+  expect_identical_energies(r.reference_energies, r.parallel_energies);
 }
 
 // (c) Free spheres poured onto a plane; repartitioning at every rebuild (threshold 0) makes
@@ -244,6 +240,8 @@ TEST(Equivalence, PouredSpheresCrossRanksManyTimes) {
     EXPECT_GT(r.repartitions, 3);
   }
   expect_identical(r.reference, r.parallel);
+  EXPECT_GT(r.reference_energies.friction, 0.0);
+  expect_identical_energies(r.reference_energies, r.parallel_energies);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 
 #include <mpi.h>
 
+#include <cmath>
+
 #include "comm/Communicator.hpp"
 #include "io/CaseConfig.hpp"
 
@@ -39,6 +41,42 @@ inline RingConfig paper_ring(const Vec3& centre = {}, const Vec3& normal = {0, 1
   r.normal = normal;
   r.reference = {1, 0, 0};
   return r;
+}
+
+/// 25 paper rings linked like chain mail (each with its four diagonal neighbours, the layout
+/// of scripts/bench/make_ring_grid.py --linked), Table 3 bonds, corner rings fixed, and a free
+/// rigid sphere of 400 kg and 0.2 m above the middle, `clearance` above the rings, falling at
+/// `speed` without gravity: ring-ring contacts, a particle-body contact history, bond failure.
+inline CaseConfig ring_patch_hit_by_sphere(double clearance, double speed, double damping) {
+  CaseConfig c = base_case();
+  c.bonds[0].youngs_modulus = 292e9;  // Table 3
+  c.bonds[0].radius_multiplier = 0.43;
+  c.bonds[0].tensile_strength = c.bonds[0].compressive_strength = 41e9;
+  c.bonds[0].shear_strength = 12e9;
+  c.damping.global = damping;
+  c.simulation.dt = 7.87e-7;
+  const double step = 0.25 / std::sqrt(2.0);
+  const double tilt = 12.0 * M_PI / 180.0;
+  for (int n = 0; n < 5; ++n)
+    for (int i = 0; i < 5; ++i) {
+      const int m = 2 * i + (n % 2 ? 0 : 1);
+      auto ring = paper_ring({m * step, n * step, 0.0},
+                             {0.0, (n % 2 ? 1.0 : -1.0) * std::sin(tilt), std::cos(tilt)});
+      const bool corner = (n == 0 || n == 4) && (i == 0 || i == 4);
+      ring.motion = corner ? MotionKind::kFixed : MotionKind::kFree;
+      c.rings.push_back(ring);
+    }
+  RigidBodyConfig boulder;
+  boulder.name = "boulder";
+  boulder.shape = ShapeKind::kSphere;
+  boulder.radius = 0.2;
+  boulder.mass = 400.0;
+  boulder.motion = MotionKind::kFree;
+  boulder.gravity = false;
+  boulder.position = {4.5 * step, 2.0 * step, 0.23 + clearance};
+  boulder.velocity = {0, 0, -speed};
+  c.rigid_bodies = {boulder};
+  return c;
 }
 
 }  // namespace ringdem::testing

@@ -1,0 +1,428 @@
+#include "app/Checkpoint.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <regex>
+
+#include "comm/RowBlocks.hpp"
+#include "core/Version.hpp"
+#include "io/Hdf5File.hpp"
+
+namespace ringdem {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kFormat = "ringdem-checkpoint";
+constexpr std::int64_t kFormatVersion = 1;
+
+/// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
+/// global row index, so partial sums of blocks written by any number of ranks add up to the
+/// checksum of the whole dataset read by one.
+template <class T>
+std::uint64_t rows_checksum(const std::vector<T>& rows, std::int64_t first_row) {
+  std::uint64_t sum = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const auto row = static_cast<std::uint64_t>(first_row) + k;
+    sum += fnv1a64(&rows[k], sizeof(T), fnv1a64(&row, sizeof(row)));
+  }
+  return sum;
+}
+
+std::uint64_t total(const Communicator& comm, std::uint64_t partial) {
+  std::uint64_t sum = 0;
+  for (std::uint64_t v : comm.allgather(std::vector<std::uint64_t>{partial}))
+    sum += v;
+  return sum;
+}
+
+void set_checksum(Hdf5File& f, const std::string& name, std::uint64_t sum) {
+  f.set_attribute(name, "checksum", static_cast<std::int64_t>(sum));
+}
+
+std::uint64_t bytes_checksum(const std::vector<char>& bytes, std::size_t row_bytes) {
+  std::uint64_t sum = 0;
+  if (row_bytes == 0) return 0;
+  for (std::size_t k = 0; k * row_bytes < bytes.size(); ++k) {
+    const std::uint64_t row = k;
+    sum += fnv1a64(bytes.data() + k * row_bytes, row_bytes, fnv1a64(&row, sizeof(row)));
+  }
+  return sum;
+}
+
+template <class T>
+void verify(const Hdf5File& f, const std::string& name, const std::vector<T>& rows) {
+  const auto stored = static_cast<std::uint64_t>(f.attribute_int(name, "checksum"));
+  if (stored != rows_checksum(rows, 0))
+    throw Hdf5Error(f.path() + ": dataset " + name +
+                    " fails its checksum: the checkpoint is corrupted");
+}
+
+/// Writes one registry field in row blocks, with its checksum.
+template <class T>
+void write_field(Hdf5File& f, const Communicator& comm, const RowBlocks& blocks,
+                 const std::string& name, const std::vector<T>& values) {
+  const std::vector<T> block = blocks.to_blocks(values);
+  f.create_rows(name, H5Layout<T>::type(), H5Layout<T>::components, blocks.n_rows());
+  f.write_rows(name, -1, blocks.first_row(), block);
+  set_checksum(f, name, total(comm, rows_checksum(block, blocks.first_row())));
+}
+
+/// Writes rows each rank holds (no global order), concatenated in rank order.
+template <class T>
+void write_concatenated(Hdf5File& f, const Communicator& comm, const std::string& name,
+                        const std::vector<T>& local) {
+  const auto counts =
+      comm.allgather(std::vector<std::int64_t>{static_cast<std::int64_t>(local.size())});
+  std::int64_t first = 0, n = 0;
+  for (int r = 0; r < comm.size(); ++r) {
+    if (r < comm.rank()) first += counts[static_cast<std::size_t>(r)];
+    n += counts[static_cast<std::size_t>(r)];
+  }
+  f.create_rows(name, H5Layout<T>::type(), H5Layout<T>::components, n);
+  f.write_rows(name, -1, first, local);
+  set_checksum(f, name, total(comm, rows_checksum(local, first)));
+}
+
+template <class T>
+std::vector<T> read_verified(const Hdf5File& f, const std::string& name, std::int64_t rows) {
+  std::vector<T> v = f.read_rows<T>(name);
+  if (static_cast<std::int64_t>(v.size()) != rows)
+    throw Hdf5Error(f.path() + ": dataset " + name + " has " + std::to_string(v.size()) +
+                    " rows, expected " + std::to_string(rows));
+  verify(f, name, v);
+  return v;
+}
+
+std::string join(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names)
+    s += (s.empty() ? "" : "\n") + n;
+  return s;
+}
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (!s.empty()) {
+    const std::size_t end = s.find('\n', start);
+    out.push_back(s.substr(start, end - start));
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return out;
+}
+
+/// The dynamic state of the rigid bodies, one row per body.
+struct BodyRows {
+  std::vector<Vec3> position, velocity, omega, force, torque;
+  std::vector<Quat> orientation;
+  std::vector<RigidMotion> motion;  ///< drivers change it (a boulder released)
+  template <class F>
+  void for_each(F&& f) {
+    f("motion", motion);
+    f("position", position);
+    f("orientation", orientation);
+    f("velocity", velocity);
+    f("omega", omega);
+    f("force", force);
+    f("torque", torque);
+  }
+};
+
+std::int64_t step_of(const fs::path& p) {
+  static const std::regex re(R"(checkpoint_(\d+)\.h5)");
+  std::smatch m;
+  const std::string name = p.filename().string();
+  return std::regex_match(name, m, re) ? std::stoll(m[1]) : -1;
+}
+
+}  // namespace
+
+void DriverState::set(const std::string& name, double v) {
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) {
+    names.push_back(name);
+    values.push_back(v);
+  } else {
+    values[static_cast<std::size_t>(it - names.begin())] = v;
+  }
+}
+
+double DriverState::get(const std::string& name, double fallback) const {
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? fallback : values[static_cast<std::size_t>(it - names.begin())];
+}
+
+CheckpointStore::CheckpointStore(std::string dir, int keep) : dir_(std::move(dir)), keep_(keep) {}
+
+std::vector<std::string> CheckpointStore::list() const {
+  std::vector<std::pair<std::int64_t, std::string>> found;
+  if (fs::is_directory(dir_))
+    for (const auto& e : fs::directory_iterator(dir_))
+      if (const std::int64_t s = step_of(e.path()); s >= 0)
+        found.emplace_back(s, e.path().string());
+  std::sort(found.begin(), found.end());
+  std::vector<std::string> out;
+  for (auto& f : found)
+    out.push_back(std::move(f.second));
+  return out;
+}
+
+std::string CheckpointStore::write(Simulation& sim, const DriverState& driver, std::int64_t segment,
+                                   const std::string& case_name) const {
+  const Communicator& comm = sim.comm();
+  const std::string final_path = fmt::format("{}/checkpoint_{:012d}.h5", dir_, sim.steps());
+  const std::string tmp_path = final_path + ".tmp";
+  if (comm.is_root()) fs::create_directories(dir_);
+  comm.barrier();
+  Model& model = sim.model();
+  ParticleStore& p = model.particles;
+  BondStore& bonds = model.bonds;
+  const std::int64_t n_particles = sim.global_particles();
+  const std::int64_t n_bonds = sim.global_bonds();
+  {
+    Hdf5File f = Hdf5File::create(tmp_path, comm);
+    f.set_attribute("/", "format", std::string(kFormat));
+    f.set_attribute("/", "format_version", kFormatVersion);
+    f.set_attribute("/", "ringdem_version", std::string(kVersion));
+    f.set_attribute("/", "case", case_name);
+    f.set_attribute("/", "time", sim.time());
+    f.set_attribute("/", "dt", sim.dt());
+    f.set_attribute("/", "step", sim.steps());
+    f.set_attribute("/", "rebuilds", sim.rebuilds());
+    f.set_attribute("/", "segment", segment);
+    f.set_attribute("/", "ranks", static_cast<std::int64_t>(comm.size()));
+    f.set_attribute("/", "particles", n_particles);
+    f.set_attribute("/", "bonds", n_bonds);
+    f.set_attribute("/", "bodies", static_cast<std::int64_t>(model.bodies.size()));
+
+    f.create_group("/particles");
+    const std::vector<std::int64_t> gids(p.gid.begin(),
+                                         p.gid.begin() + static_cast<std::ptrdiff_t>(p.n_local()));
+    const RowBlocks particle_rows(comm, n_particles, gids);
+    p.for_each_field([&](const FieldInfo& info, const auto& v) {
+      if (info.has(field_flag::kCheckpoint))
+        write_field(f, comm, particle_rows, "/particles/" + std::string(info.name), v);
+    });
+
+    // Bonds: each written by the owner of its end a.
+    f.create_group("/bonds");
+    std::vector<std::int64_t> bond_rows;
+    std::vector<std::size_t> bond_local;
+    for (std::size_t k = 0; k < bonds.size(); ++k) {
+      const std::int64_t a = p.index_of(bonds.gid_a[k]);
+      if (a < 0 || static_cast<std::size_t>(a) >= p.n_local()) continue;
+      bond_rows.push_back(bonds.id[k]);
+      bond_local.push_back(k);
+    }
+    const RowBlocks bond_blocks(comm, n_bonds, bond_rows);
+    bonds.for_each_field([&](const FieldInfo& info, const auto& v) {
+      if (!info.has(field_flag::kCheckpoint)) return;
+      std::remove_cvref_t<decltype(v)> mine;
+      mine.reserve(bond_local.size());
+      for (std::size_t k : bond_local)
+        mine.push_back(v[k]);
+      write_field(f, comm, bond_blocks, "/bonds/" + std::string(info.name), mine);
+    });
+
+    f.create_group("/history");
+    const ContactHistory history = sim.owned_contact_history();
+    std::vector<std::uint8_t> kind;
+    std::vector<std::int64_t> gid, partner;
+    std::vector<Vec3> spring;
+    for (const auto& h : history) {
+      kind.push_back(static_cast<std::uint8_t>(h.partner_kind));
+      gid.push_back(h.gid);
+      partner.push_back(h.partner);
+      spring.push_back(h.spring);
+    }
+    write_concatenated(f, comm, "/history/partner_kind", kind);
+    write_concatenated(f, comm, "/history/gid", gid);
+    write_concatenated(f, comm, "/history/partner", partner);
+    write_concatenated(f, comm, "/history/spring", spring);
+
+    // Bodies and driver state: the same on every rank; rank 0's rows land in the file.
+    f.create_group("/bodies");
+    BodyRows body_rows;
+    std::vector<std::string> body_names;
+    for (const auto& b : model.bodies) {
+      body_names.push_back(b.name);
+      body_rows.position.push_back(b.position);
+      body_rows.orientation.push_back(b.orientation);
+      body_rows.velocity.push_back(b.velocity);
+      body_rows.omega.push_back(b.omega);
+      body_rows.force.push_back(b.force);
+      body_rows.torque.push_back(b.torque);
+      body_rows.motion.push_back(b.motion);
+    }
+    f.set_attribute("/bodies", "names", join(body_names));
+    body_rows.for_each([&](const char* name, const auto& rows) {
+      auto mine = rows;
+      if (!comm.is_root()) mine.clear();
+      write_concatenated(f, comm, std::string("/bodies/") + name, mine);
+    });
+    f.create_group("/driver");
+    f.set_attribute("/driver", "names", join(driver.names));
+    std::vector<double> values = driver.values;
+    if (!comm.is_root()) values.clear();
+    write_concatenated(f, comm, "/driver/values", values);
+    // Written last: a file without it was cut short.
+    f.set_attribute("/", "complete", std::int64_t{1});
+  }
+  comm.barrier();
+  if (comm.is_root()) {
+    fs::rename(tmp_path, final_path);
+    const auto all = list();
+    for (std::size_t k = 0; k + static_cast<std::size_t>(keep_) < all.size(); ++k)
+      fs::remove(all[k]);
+  }
+  comm.barrier();
+  return final_path;
+}
+
+CheckpointInfo read_checkpoint_info(const std::string& path) {
+  if (!fs::exists(path)) throw Hdf5Error(path + ": no such checkpoint");
+  const Hdf5File f = Hdf5File::open_read(path);
+  if (!f.has_attribute("/", "format") || f.attribute_string("/", "format") != kFormat)
+    throw Hdf5Error(path + ": not a ringdem checkpoint");
+  if (f.attribute_int("/", "format_version") != kFormatVersion)
+    throw Hdf5Error(path + ": checkpoint format version " +
+                    std::to_string(f.attribute_int("/", "format_version")) +
+                    " is not the one this ringdem reads (" + std::to_string(kFormatVersion) + ")");
+  if (!f.has_attribute("/", "complete"))
+    throw Hdf5Error(path + ": incomplete checkpoint (the run stopped while writing it)");
+  CheckpointInfo info;
+  info.path = path;
+  info.version = f.attribute_string("/", "ringdem_version");
+  info.case_name = f.attribute_string("/", "case");
+  info.time = f.attribute_double("/", "time");
+  info.dt = f.attribute_double("/", "dt");
+  info.step = f.attribute_int("/", "step");
+  info.rebuilds = f.attribute_int("/", "rebuilds");
+  info.segment = f.attribute_int("/", "segment");
+  info.ranks = f.attribute_int("/", "ranks");
+  info.particles = f.attribute_int("/", "particles");
+  info.bonds = f.attribute_int("/", "bonds");
+  info.bodies = f.attribute_int("/", "bodies");
+  const auto d = f.dims("/history/gid");
+  info.history_entries = d.empty() ? 0 : d[0];
+  return info;
+}
+
+RestartState read_checkpoint(const std::string& path, Model& model, DriverState& driver,
+                             CheckpointInfo* info_out) {
+  const CheckpointInfo info = read_checkpoint_info(path);
+  ParticleStore& p = model.particles;
+  BondStore& bonds = model.bonds;
+  const auto n_particles = static_cast<std::int64_t>(p.n_local());
+  const auto n_bonds = static_cast<std::int64_t>(bonds.size());
+  if (info.particles != n_particles || info.bonds != n_bonds ||
+      info.bodies != static_cast<std::int64_t>(model.bodies.size()))
+    throw Hdf5Error(fmt::format(
+        "{}: the checkpoint holds {} particles, {} bonds and {} rigid bodies, the case builds {}, "
+        "{} and {}: it belongs to another case",
+        path, info.particles, info.bonds, info.bodies, n_particles, n_bonds, model.bodies.size()));
+  const Hdf5File f = Hdf5File::open_read(path);
+  p.for_each_field([&](const FieldInfo& info_field, auto& v) {
+    if (!info_field.has(field_flag::kCheckpoint)) return;
+    using T = typename std::remove_cvref_t<decltype(v)>::value_type;
+    auto rows = read_verified<T>(f, "/particles/" + std::string(info_field.name), n_particles);
+    std::copy(rows.begin(), rows.end(), v.begin());
+  });
+  for (std::int64_t k = 0; k < n_particles; ++k)
+    if (p.gid[static_cast<std::size_t>(k)] != k)
+      throw Hdf5Error(path + ": particle rows are not in gid order");
+  bonds.for_each_field([&](const FieldInfo& info_field, auto& v) {
+    if (!info_field.has(field_flag::kCheckpoint)) return;
+    using T = typename std::remove_cvref_t<decltype(v)>::value_type;
+    auto rows = read_verified<T>(f, "/bonds/" + std::string(info_field.name), n_bonds);
+    std::copy(rows.begin(), rows.end(), v.begin());
+  });
+
+  RestartState state;
+  state.time = info.time;
+  state.dt = info.dt;
+  state.steps = info.step;
+  state.rebuilds = info.rebuilds;
+  const std::int64_t nh = info.history_entries;
+  const auto kind = read_verified<std::uint8_t>(f, "/history/partner_kind", nh);
+  const auto gid = read_verified<std::int64_t>(f, "/history/gid", nh);
+  const auto partner = read_verified<std::int64_t>(f, "/history/partner", nh);
+  const auto spring = read_verified<Vec3>(f, "/history/spring", nh);
+  state.history.resize(static_cast<std::size_t>(nh));
+  for (std::size_t k = 0; k < state.history.size(); ++k) {
+    if (kind[k] > 1) throw Hdf5Error(path + ": invalid contact history entry");
+    state.history[k] = {static_cast<ContactHistoryEntry::Partner>(kind[k]), gid[k], partner[k],
+                        spring[k]};
+  }
+
+  const auto names = split(f.attribute_string("/bodies", "names"));
+  for (std::size_t b = 0; b < model.bodies.size(); ++b)
+    if (b >= names.size() || names[b] != model.bodies[b].name)
+      throw Hdf5Error(path + ": rigid body " + std::to_string(b) + " is '" +
+                      (b < names.size() ? names[b] : std::string("?")) + "' in the checkpoint, '" +
+                      model.bodies[b].name + "' in the case");
+  BodyRows rows;
+  const auto n_bodies = static_cast<std::int64_t>(model.bodies.size());
+  rows.for_each([&](const char* name, auto& v) {
+    using T = typename std::remove_cvref_t<decltype(v)>::value_type;
+    v = read_verified<T>(f, std::string("/bodies/") + name, n_bodies);
+  });
+  for (std::size_t b = 0; b < model.bodies.size(); ++b) {
+    RigidBody& body = model.bodies[b];
+    body.position = rows.position[b];
+    body.orientation = rows.orientation[b];
+    body.velocity = rows.velocity[b];
+    body.omega = rows.omega[b];
+    body.force = rows.force[b];
+    body.torque = rows.torque[b];
+    if (static_cast<int>(rows.motion[b]) > static_cast<int>(RigidMotion::kFree))
+      throw Hdf5Error(path + ": invalid rigid-body motion");
+    body.motion = rows.motion[b];
+  }
+  driver.names = split(f.attribute_string("/driver", "names"));
+  driver.values =
+      read_verified<double>(f, "/driver/values", static_cast<std::int64_t>(driver.names.size()));
+  if (info_out) *info_out = info;
+  return state;
+}
+
+std::vector<std::string> verify_checkpoint(const std::string& path) {
+  read_checkpoint_info(path);
+  const Hdf5File f = Hdf5File::open_read(path);
+  std::vector<std::string> checked;
+  for (const char* group : {"/particles", "/bonds", "/history", "/bodies", "/driver"}) {
+    for (const std::string& name : f.list(group)) {
+      const std::string full = std::string(group) + "/" + name;
+      std::size_t row_bytes = 0;
+      const std::vector<char> bytes = f.read_bytes(full, row_bytes);
+      const auto stored = static_cast<std::uint64_t>(f.attribute_int(full, "checksum"));
+      if (stored != bytes_checksum(bytes, row_bytes))
+        throw Hdf5Error(path + ": dataset " + full +
+                        " fails its checksum: the checkpoint is corrupted");
+      checked.push_back(full);
+    }
+  }
+  return checked;
+}
+
+std::string latest_valid_checkpoint(const std::string& dir, std::vector<std::string>* skipped) {
+  const auto all = CheckpointStore(dir).list();
+  for (auto it = all.rbegin(); it != all.rend(); ++it) {
+    try {
+      read_checkpoint_info(*it);
+      return *it;
+    } catch (const Hdf5Error& e) {
+      if (skipped) skipped->push_back(e.what());
+    }
+  }
+  return "";
+}
+
+}  // namespace ringdem

@@ -1,0 +1,77 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "app/Simulation.hpp"
+
+namespace ringdem {
+
+/// Named numbers a scenario driver needs to continue (next record time, peak values, phase).
+struct DriverState {
+  std::vector<std::string> names;
+  std::vector<double> values;
+  void set(const std::string& name, double v);
+  /// The value, or `fallback` when the checkpoint did not hold it.
+  double get(const std::string& name, double fallback = 0.0) const;
+};
+
+/// What a checkpoint says about itself (root attributes).
+struct CheckpointInfo {
+  std::string path;
+  std::string version;
+  std::string case_name;
+  double time = 0.0;
+  double dt = 0.0;
+  std::int64_t step = 0;
+  std::int64_t rebuilds = 0;
+  std::int64_t segment = 0;  ///< frame-file segment that was being written
+  std::int64_t ranks = 0;    ///< rank count that wrote it
+  std::int64_t particles = 0;
+  std::int64_t bonds = 0;
+  std::int64_t bodies = 0;
+  std::int64_t history_entries = 0;
+};
+
+/// Checkpoints (DESIGN §5): every piece of state the next step reads — particle and bond fields
+/// flagged kCheckpoint in the registries (rows by gid and bond id, so the file does not depend
+/// on the rank count), the contact history, the rigid bodies, time, step, dt and the driver's
+/// state — written collectively to "<name>.tmp" and renamed, with a checksum per dataset.
+class CheckpointStore {
+ public:
+  /// `dir` is created by rank 0 if missing; `keep` newest checkpoints are kept.
+  CheckpointStore(std::string dir, int keep = 2);
+
+  /// Collective. Returns the final path.
+  std::string write(Simulation& sim, const DriverState& driver, std::int64_t segment,
+                    const std::string& case_name) const;
+
+  /// Checkpoints in `dir`, oldest first.
+  std::vector<std::string> list() const;
+  const std::string& dir() const { return dir_; }
+
+ private:
+  std::string dir_;
+  int keep_;
+};
+
+/// Reads a checkpoint into `model` (built from the same case, not yet distributed: every rank
+/// holds all particles, gids 0..N-1) and returns the simulation state; fills `driver`.
+/// Throws Hdf5Error with a clear message for a missing, truncated, incomplete or corrupted
+/// file, or one that does not match the model (other particle, bond or body counts).
+RestartState read_checkpoint(const std::string& path, Model& model, DriverState& driver,
+                             CheckpointInfo* info = nullptr);
+
+/// Root attributes only (ringdem info, --restart auto).
+CheckpointInfo read_checkpoint_info(const std::string& path);
+
+/// Checks every dataset of a checkpoint against its checksum; returns the dataset names checked.
+/// Throws Hdf5Error naming the first dataset that fails.
+std::vector<std::string> verify_checkpoint(const std::string& path);
+
+/// `--restart auto`: the newest checkpoint in `dir` that validates, or "" when none.
+/// Unreadable newer ones are reported in `skipped`.
+std::string latest_valid_checkpoint(const std::string& dir, std::vector<std::string>* skipped);
+
+}  // namespace ringdem

@@ -1,0 +1,117 @@
+#include "app/InfoCommand.hpp"
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <cstdio>
+#include <stdexcept>
+
+#include "app/Checkpoint.hpp"
+#include "io/Hdf5File.hpp"
+
+namespace ringdem {
+
+double parse_duration(const std::string& text) {
+  if (text.empty()) throw std::invalid_argument("empty duration");
+  if (text.find(':') != std::string::npos) {
+    double total = 0.0;
+    std::size_t start = 0;
+    int parts = 0;
+    while (true) {
+      const std::size_t end = text.find(':', start);
+      const std::string part = text.substr(start, end - start);
+      if (part.empty() || part.find_first_not_of("0123456789.") != std::string::npos)
+        throw std::invalid_argument("'" + text + "' is not H:MM:SS");
+      total = total * 60.0 + std::stod(part);
+      ++parts;
+      if (end == std::string::npos) break;
+      start = end + 1;
+    }
+    if (parts > 3) throw std::invalid_argument("'" + text + "' is not H:MM:SS");
+    return total;
+  }
+  double total = 0.0;
+  std::size_t k = 0;
+  while (k < text.size()) {
+    std::size_t used = 0;
+    const double v = std::stod(text.substr(k), &used);
+    if (used == 0) throw std::invalid_argument("'" + text + "' is not a duration");
+    k += used;
+    double unit = 1.0;
+    if (k < text.size()) {
+      const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(text[k])));
+      if (c == 'h')
+        unit = 3600.0;
+      else if (c == 'm')
+        unit = 60.0;
+      else if (c == 's')
+        unit = 1.0;
+      else
+        throw std::invalid_argument("'" + text + "': unknown unit '" + text[k] + "'");
+      ++k;
+    }
+    total += v * unit;
+  }
+  if (!(total > 0.0)) throw std::invalid_argument("'" + text + "' is not a positive duration");
+  return total;
+}
+
+namespace {
+
+void print_datasets(const Hdf5File& f, const std::string& group, std::ostream& out) {
+  for (const std::string& name : f.list(group)) {
+    const std::string full = group + "/" + name;
+    std::string shape;
+    for (auto d : f.dims(full))
+      shape += (shape.empty() ? "" : " x ") + std::to_string(d);
+    out << fmt::format("  {:<32} {}\n", full, shape);
+  }
+}
+
+}  // namespace
+
+int print_file_info(const std::string& path, std::ostream& out) {
+  try {
+    const Hdf5File f = Hdf5File::open_read(path);
+    const std::string format =
+        f.has_attribute("/", "format") ? f.attribute_string("/", "format") : std::string("?");
+    if (format == "ringdem-checkpoint") {
+      const CheckpointInfo info = read_checkpoint_info(path);
+      out << fmt::format(
+          "{}: ringdem checkpoint (written by ringdem {} on {} rank{})\n"
+          "  case {}, t = {:.9g} s, step {}, dt = {:.6g} s, {} neighbour rebuilds, frame "
+          "segment {}\n"
+          "  {} particles, {} bonds, {} rigid bodies, {} contact springs\n",
+          path, info.version, info.ranks, info.ranks == 1 ? "" : "s", info.case_name, info.time,
+          info.step, info.dt, info.rebuilds, info.segment, info.particles, info.bonds, info.bodies,
+          info.history_entries);
+      const auto checked = verify_checkpoint(path);
+      out << fmt::format("  checksums: {} datasets verified\n", checked.size());
+      for (const char* g : {"/particles", "/bonds", "/history", "/bodies", "/driver"})
+        print_datasets(f, g, out);
+      return 0;
+    }
+    if (format == "ringdem-frames") {
+      const auto times = f.read_rows<double>("/frames/time");
+      out << fmt::format("{}: ringdem frame file (written by ringdem {} on {} rank{})\n", path,
+                         f.attribute_string("/", "ringdem_version"), f.attribute_int("/", "ranks"),
+                         f.attribute_int("/", "ranks") == 1 ? "" : "s");
+      out << fmt::format("  {} particles, {} bonds, {} frames", f.attribute_int("/", "particles"),
+                         f.attribute_int("/", "bonds"), times.size());
+      if (!times.empty())
+        out << fmt::format(" from t = {:.6g} s to {:.6g} s", times.front(), times.back());
+      out << "\n";
+      for (const char* g : {"/frames", "/particles", "/bonds"})
+        print_datasets(f, g, out);
+      return 0;
+    }
+    out << path << ": an HDF5 file, but not one ringdem wrote\n";
+    return 2;
+  } catch (const std::exception& e) {
+    out.flush();
+    std::fprintf(stderr, "ringdem info: %s\n", e.what());
+    return 2;
+  }
+}
+
+}  // namespace ringdem

@@ -1,0 +1,84 @@
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "app/Checkpoint.hpp"
+#include "app/Simulation.hpp"
+#include "io/CaseConfig.hpp"
+#include "io/FrameWriter.hpp"
+
+namespace ringdem {
+
+/// Exit code of a run that wrote a checkpoint on request (SIGUSR1, --max-walltime) and stopped.
+inline constexpr int kExitCheckpointed = 3;
+
+/// Installs the SIGUSR1 handler (what mpirun and SLURM --signal forward); idempotent.
+void install_stop_signal_handler();
+/// Whether this process received SIGUSR1 since the handler was installed.
+bool stop_signal_received();
+/// For tests: forget a received signal.
+void reset_stop_signal();
+
+/// How a run starts and what it writes besides series.csv and summary.json.
+struct RunControlOptions {
+  std::string output_dir;
+  std::string restart;        ///< "", "auto" or a checkpoint path
+  double max_walltime = 0.0;  ///< seconds; 0: no limit
+  bool verbose = true;
+};
+
+/// Frames, checkpoints and stop requests of one run, shared by the scenario drivers: builds the
+/// simulation fresh or from a checkpoint, writes frames and periodic checkpoints when due, and on
+/// a stop request agreed by all ranks writes a checkpoint so the driver can exit with
+/// kExitCheckpointed.
+class RunControl {
+ public:
+  RunControl(const CaseConfig& config, RunControlOptions options, const Communicator& comm);
+
+  /// The simulation: fresh, or restored from the checkpoint the options name (driver state in
+  /// driver_state()). Collective.
+  std::unique_ptr<Simulation> make_simulation(const SimulationSettings& settings);
+
+  bool restarted() const { return restarted_; }
+  /// State the driver saved in the checkpoint it restarted from (empty on a fresh start).
+  const DriverState& driver_state() const { return driver_state_; }
+  /// Simulated time of the checkpoint restarted from (0 on a fresh start).
+  double restart_time() const { return restart_time_; }
+
+  /// Before each step: passes this rank's stop request (signal or wall-time) to the step.
+  void before_step(Simulation& sim) const;
+  /// After each step: frames and checkpoints that are due. Returns true when all ranks agreed to
+  /// stop; a checkpoint has then been written. `driver` supplies the driver's state to save.
+  bool after_step(Simulation& sim, const std::function<DriverState()>& driver);
+  /// A frame now, whatever the schedule (first and last state). Collective.
+  void write_frame(Simulation& sim);
+  /// A checkpoint now. Collective.
+  std::string write_checkpoint(Simulation& sim, const std::function<DriverState()>& driver);
+
+  const FrameWriter* frames() const { return frames_.get(); }
+  const std::string& checkpoint_dir() const { return checkpoints_.dir(); }
+  std::int64_t segment() const { return segment_; }
+
+ private:
+  const CaseConfig& config_;
+  RunControlOptions options_;
+  const Communicator& comm_;
+  CheckpointStore checkpoints_;
+  std::unique_ptr<FrameWriter> frames_;
+  std::int64_t segment_ = 0;
+  bool restarted_ = false;
+  double restart_time_ = 0.0;
+  DriverState driver_state_;
+  double next_frame_time_ = 0.0;
+  std::int64_t next_frame_step_ = 0;
+  double next_checkpoint_time_ = 0.0;
+  double last_frame_time_ = -1.0;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_checkpoint_wall_ = start_;
+};
+
+}  // namespace ringdem

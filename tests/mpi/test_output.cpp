@@ -1,0 +1,212 @@
+// Frame files and checkpoints (issue 5, DESIGN §5): a frame file does not depend on the rank
+// count, and N steps -> checkpoint -> restart (on this rank count and on one rank) -> N steps
+// equals 2N steps, bit for bit. Every rank also runs the one-rank reference.
+#include <gtest/gtest.h>
+#include <mpi.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "TestCases.hpp"
+#include "app/Checkpoint.hpp"
+#include "app/ModelBuilder.hpp"
+#include "app/Simulation.hpp"
+#include "io/FrameWriter.hpp"
+#include "io/Hdf5File.hpp"
+
+namespace ringdem {
+namespace {
+
+/// A directory all ranks share (created by rank 0).
+std::string shared_temp_dir(const Communicator& comm, const std::string& tag) {
+  std::vector<char> path;
+  if (comm.is_root()) {
+    std::string templ =
+        (std::filesystem::temp_directory_path() / ("ringdem_" + tag + "_XXXXXX")).string();
+    if (!mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
+    path.assign(templ.begin(), templ.end());
+  }
+  comm.broadcast(path, 0);
+  return std::string(path.begin(), path.end());
+}
+
+void write_frames(Simulation& sim, FrameWriter& frames, std::int64_t steps, std::int64_t every) {
+  for (std::int64_t k = 0; k <= steps; ++k) {
+    if (k % every == 0) {
+      sim.refresh_bond_diagnostics();
+      frames.write(sim.model().particles, sim.model().bonds, sim.model().bodies, sim.time(),
+                   sim.steps());
+    }
+    if (k < steps) sim.step();
+  }
+}
+
+/// Every dataset below `groups`, byte for byte; returns the number of datasets compared.
+int expect_same_datasets(const std::string& a_path, const std::string& b_path,
+                         const std::vector<std::string>& groups,
+                         const std::vector<std::string>& skip = {}) {
+  const Hdf5File a = Hdf5File::open_read(a_path);
+  const Hdf5File b = Hdf5File::open_read(b_path);
+  int compared = 0;
+  for (const auto& g : groups) {
+    const auto names = a.list(g);
+    EXPECT_EQ(names, b.list(g)) << g;
+    for (const auto& n : names) {
+      const std::string full = g + "/" + n;
+      if (std::find(skip.begin(), skip.end(), full) != skip.end()) continue;
+      std::size_t ra = 0, rb = 0;
+      EXPECT_EQ(a.dims(full), b.dims(full)) << full;
+      EXPECT_TRUE(a.read_bytes(full, ra) == b.read_bytes(full, rb)) << full << " differs";
+      ++compared;
+    }
+  }
+  return compared;
+}
+
+TEST(FrameFile, SameOnAnyRankCountOrderedByGid) {
+  MPI_Comm world;
+  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  {
+    const Communicator comm(world);
+    const std::string dir = shared_temp_dir(comm, "frames");
+    const CaseConfig c = testing::ring_patch_hit_by_sphere(-0.005, 60.0, 0.5);
+    const SimulationSettings s = settings_from_case(c);
+    constexpr std::int64_t kSteps = 900, kEvery = 300;
+    {
+      Simulation sim(build_model(c), comm, s);
+      FrameWriter frames(comm, dir + "/parallel.h5", dir + "/parallel.xdmf");
+      write_frames(sim, frames, kSteps, kEvery);
+      EXPECT_EQ(frames.frames(), kSteps / kEvery + 1);
+    }
+    if (comm.is_root()) {
+      const Communicator self = Communicator::self();
+      Simulation sim(build_model(c), self, s);
+      FrameWriter frames(self, dir + "/serial.h5", dir + "/serial.xdmf");
+      write_frames(sim, frames, kSteps, kEvery);
+    }
+    comm.barrier();
+    if (comm.is_root()) {
+      const int n =
+          expect_same_datasets(dir + "/serial.h5", dir + "/parallel.h5",
+                               {"/frames", "/particles", "/bonds", "/bodies"}, {"/particles/rank"});
+      EXPECT_GE(n, 18);
+      const Hdf5File f = Hdf5File::open_read(dir + "/parallel.h5");
+      const auto gids = f.read_rows<std::int64_t>("/particles/gid", 2);
+      for (std::size_t k = 0; k < gids.size(); ++k)
+        ASSERT_EQ(gids[k], static_cast<std::int64_t>(k));
+      const auto ranks = f.read_rows<std::int32_t>("/particles/rank", 2);
+      const auto [lo, hi] = std::minmax_element(ranks.begin(), ranks.end());
+      EXPECT_EQ(*lo, 0);
+      EXPECT_EQ(*hi, comm.size() - 1) << "every rank owns part of the patch";
+      std::filesystem::remove_all(dir);
+    }
+  }
+  MPI_Comm_free(&world);
+}
+
+struct HistoryRow {
+  std::uint8_t kind;
+  std::int64_t gid, partner;
+  Vec3 spring;
+};
+
+/// The contact history of a checkpoint as a sorted set (ranks write it in their own order).
+std::vector<HistoryRow> history_of(const std::string& path) {
+  const Hdf5File f = Hdf5File::open_read(path);
+  const auto kind = f.read_rows<std::uint8_t>("/history/partner_kind");
+  const auto gid = f.read_rows<std::int64_t>("/history/gid");
+  const auto partner = f.read_rows<std::int64_t>("/history/partner");
+  const auto spring = f.read_rows<Vec3>("/history/spring");
+  std::vector<HistoryRow> rows;
+  for (std::size_t k = 0; k < kind.size(); ++k)
+    rows.push_back({kind[k], gid[k], partner[k], spring[k]});
+  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) {
+    return std::tie(a.kind, a.gid, a.partner) < std::tie(b.kind, b.gid, b.partner);
+  });
+  return rows;
+}
+
+void expect_same_checkpoint_state(const std::string& ref, const std::string& got) {
+  expect_same_datasets(ref, got, {"/particles", "/bonds", "/bodies", "/driver"});
+  const auto a = history_of(ref), b = history_of(got);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(std::tie(a[k].kind, a[k].gid, a[k].partner),
+              std::tie(b[k].kind, b[k].gid, b[k].partner));
+    EXPECT_EQ(a[k].spring, b[k].spring) << "spring of " << a[k].gid << "-" << a[k].partner;
+  }
+  const CheckpointInfo ia = read_checkpoint_info(ref), ib = read_checkpoint_info(got);
+  EXPECT_EQ(ia.time, ib.time);
+  EXPECT_EQ(ia.step, ib.step);
+  EXPECT_EQ(ia.dt, ib.dt);
+}
+
+std::unique_ptr<Simulation> restart(const CaseConfig& c, const std::string& path,
+                                    const Communicator& comm) {
+  Model model = build_model(c);
+  DriverState driver;
+  const RestartState state = read_checkpoint(path, model, driver);
+  EXPECT_EQ(driver.get("marker"), 42.0);
+  return std::make_unique<Simulation>(std::move(model), comm, settings_from_case(c), state);
+}
+
+TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
+  MPI_Comm world;
+  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  {
+    const Communicator comm(world);
+    const std::string dir = shared_temp_dir(comm, "restart");
+    const CaseConfig c = testing::ring_patch_hit_by_sphere(-0.005, 60.0, 0.5);
+    const SimulationSettings s = settings_from_case(c);
+    constexpr std::int64_t kHalf = 1000;
+    DriverState driver;
+    driver.set("marker", 42.0);
+    // 2N steps straight through.
+    std::string straight;
+    {
+      Simulation sim(build_model(c), comm, s);
+      sim.run_steps(2 * kHalf);
+      straight = CheckpointStore(dir + "/straight").write(sim, driver, 0, c.name);
+      EXPECT_GT(sim.owned_contact_history().size() + comm.size(), 0u);
+    }
+    // N steps, checkpoint, restart here, N steps.
+    std::string middle, resumed;
+    {
+      Simulation sim(build_model(c), comm, s);
+      sim.run_steps(kHalf);
+      middle = CheckpointStore(dir + "/middle").write(sim, driver, 0, c.name);
+    }
+    {
+      auto sim = restart(c, middle, comm);
+      EXPECT_EQ(sim->steps(), kHalf);
+      sim->run_steps(kHalf);
+      resumed = CheckpointStore(dir + "/resumed").write(*sim, driver, 0, c.name);
+    }
+    // And on one rank (another rank count whenever this run has more than one).
+    std::string resumed_serial;
+    if (comm.is_root()) {
+      const Communicator self = Communicator::self();
+      auto sim = restart(c, middle, self);
+      sim->run_steps(kHalf);
+      resumed_serial = CheckpointStore(dir + "/serial").write(*sim, driver, 0, c.name);
+    }
+    comm.barrier();
+    if (comm.is_root()) {
+      const auto info = read_checkpoint_info(straight);
+      EXPECT_GT(info.history_entries, 0) << "the case should carry tangential springs";
+      expect_same_checkpoint_state(straight, resumed);
+      expect_same_checkpoint_state(straight, resumed_serial);
+      std::filesystem::remove_all(dir);
+    }
+  }
+  MPI_Comm_free(&world);
+}
+
+}  // namespace
+}  // namespace ringdem

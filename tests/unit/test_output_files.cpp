@@ -1,0 +1,262 @@
+// Frame sidecar and checkpoint robustness (issue 5): the XDMF sidecar names datasets that exist
+// with the dimensions it states; a truncated, corrupted or incomplete checkpoint is refused
+// with a clear error, never a crash or a silent wrong restart.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "TestCases.hpp"
+#include "app/Checkpoint.hpp"
+#include "app/InfoCommand.hpp"
+#include "app/ModelBuilder.hpp"
+#include "app/Simulation.hpp"
+#include "io/FrameWriter.hpp"
+#include "io/Hdf5File.hpp"
+
+namespace ringdem {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string temp_dir(const std::string& tag) {
+  std::string templ = (fs::temp_directory_path() / ("ringdem_" + tag + "_XXXXXX")).string();
+  if (!mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
+  return templ;
+}
+
+/// One paper ring dropped onto a plane at 1 m/s: bonds, a body contact with history.
+CaseConfig ring_on_floor() {
+  CaseConfig c = testing::base_case();
+  c.simulation.dt = 1e-6;
+  c.materials[0].friction = 0.3;
+  // The lowest sphere 0.2 mm into the floor; it bounces off within about 15 us.
+  auto ring = testing::paper_ring({0, 0, 0.1545 + 0.0045 - 2e-4}, {0, 1, 0});
+  ring.velocity = {0.2, 0, -1.0};
+  c.rings.push_back(ring);
+  RigidBodyConfig floor;
+  floor.name = "floor";
+  c.rigid_bodies.push_back(floor);
+  return c;
+}
+
+std::vector<std::int64_t> parse_dims(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<std::int64_t> d;
+  std::int64_t v;
+  while (in >> v)
+    d.push_back(v);
+  return d;
+}
+
+TEST(FrameFile, XdmfSidecarMatchesTheHdf5File) {
+  const std::string dir = temp_dir("xdmf");
+  const Communicator self = testing::self_comm();
+  const CaseConfig c = ring_on_floor();
+  Simulation sim(build_model(c), self, settings_from_case(c));
+  FrameWriter frames(self, dir + "/frames_0000.h5", dir + "/frames_0000.xdmf");
+  for (int f = 0; f < 3; ++f) {
+    sim.refresh_bond_diagnostics();
+    frames.write(sim.model().particles, sim.model().bonds, sim.model().bodies, sim.time(),
+                 sim.steps());
+    sim.run_steps(50);
+  }
+  std::ifstream in(dir + "/frames_0000.xdmf");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string xml = text.str();
+  const Hdf5File h5 = Hdf5File::open_read(dir + "/frames_0000.h5");
+  const std::int64_t particles = h5.attribute_int("/", "particles");
+  const std::int64_t bonds = h5.attribute_int("/", "bonds");
+  EXPECT_EQ(particles, 100);
+  EXPECT_EQ(bonds, 100);
+
+  // Every HDF data item: the file and path exist, with the dimensions stated.
+  const std::regex hdf_item(
+      R"re(<DataItem Dimensions="([0-9 ]+)"[^>]*Format="HDF">([^:<]+):([^<]+)</DataItem>)re");
+  int items = 0;
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), hdf_item);
+       it != std::sregex_iterator(); ++it) {
+    const auto& m = *it;
+    EXPECT_EQ(m[2].str(), "frames_0000.h5");
+    ASSERT_TRUE(h5.exists(m[3].str())) << m[3].str();
+    EXPECT_EQ(parse_dims(m[1].str()), h5.dims(m[3].str())) << m[3].str();
+    ++items;
+  }
+  // 3 frames x (particles: geometry + their fields; bonds: connectivity, geometry, their
+  // fields; bodies: geometry + their fields).
+  const auto particle_fields = h5.list("/particles").size();
+  const auto bond_fields = h5.list("/bonds").size() - 1;  // connectivity is the topology
+  const auto body_fields = h5.list("/bodies").size();
+  EXPECT_EQ(body_fields, 4u);
+  EXPECT_EQ(items, static_cast<int>(3 * (1 + particle_fields + 2 + bond_fields + 1 + body_fields)));
+
+  // Each hyperslab selects one whole frame: start (f, 0, ...), count (1, rows, ...), and the
+  // outer dimensions are that count without the frame axis.
+  const std::regex slab(
+      R"re(<DataItem ItemType="HyperSlab" Dimensions="([0-9 ]+)" Type="HyperSlab">\s*<DataItem Dimensions="3 ([23])" Format="XML">([0-9 ]+)</DataItem>)re");
+  int slabs = 0;
+  for (auto it = std::sregex_iterator(xml.begin(), xml.end(), slab); it != std::sregex_iterator();
+       ++it) {
+    const auto outer = parse_dims((*it)[1].str());
+    const auto v = parse_dims((*it)[3].str());
+    const std::size_t rank = std::stoul((*it)[2].str());
+    ASSERT_EQ(v.size(), 3 * rank);
+    EXPECT_EQ(v[2 * rank], 1);  // one frame
+    EXPECT_TRUE(v[0] >= 0 && v[0] < 3);
+    const std::vector<std::int64_t> count(v.begin() + static_cast<long>(2 * rank) + 1, v.end());
+    EXPECT_EQ(count, outer);
+    EXPECT_TRUE(outer[0] == particles || outer[0] == bonds || outer[0] == 1);  // 1: the floor
+    ++slabs;
+  }
+  EXPECT_EQ(slabs, items - 3);  // all but the connectivity items
+  const std::regex vertex(R"re(TopologyType="Polyvertex" NumberOfElements="([0-9]+)")re");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(xml, m, vertex));
+  EXPECT_EQ(std::stoll(m[1].str()), particles);
+  const auto times = h5.read_rows<double>("/frames/time");
+  ASSERT_EQ(times.size(), 3u);
+  EXPECT_NEAR(times[2], 100 * sim.dt(), 1e-15);  // time is summed step by step
+  fs::remove_all(dir);
+}
+
+class CorruptCheckpoint : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = temp_dir("corrupt");
+    const Communicator self = testing::self_comm();
+    config_ = ring_on_floor();
+    Simulation sim(build_model(config_), self, settings_from_case(config_));
+    sim.run_steps(5);  // mid-contact
+    DriverState d;
+    d.set("next_record_time", 0.5);
+    good_ = CheckpointStore(dir_).write(sim, d, 0, config_.name);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// A copy of the good checkpoint.
+  std::string copy(const std::string& name) {
+    const std::string path = dir_ + "/" + name;
+    fs::copy_file(good_, path);
+    return path;
+  }
+  void expect_refused(const std::string& path, const std::string& words) {
+    Model model = build_model(config_);
+    DriverState d;
+    try {
+      read_checkpoint(path, model, d);
+      ADD_FAILURE() << path << " was accepted";
+    } catch (const Hdf5Error& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  }
+  std::string dir_, good_;
+  CaseConfig config_;
+};
+
+TEST_F(CorruptCheckpoint, GoodOneRestoresTheState) {
+  Model model = build_model(config_);
+  DriverState d;
+  CheckpointInfo info;
+  const RestartState s = read_checkpoint(good_, model, d, &info);
+  EXPECT_EQ(s.steps, 5);
+  EXPECT_EQ(s.time, info.time);
+  EXPECT_EQ(d.get("next_record_time"), 0.5);
+  EXPECT_GT(s.history.size(), 0u) << "the ring touches the floor";
+  // Every registry field flagged kCheckpoint, the 4 history columns, 7 body rows, the driver.
+  std::size_t fields = 0;
+  model.particles.for_each_field(
+      [&](const FieldInfo& i, auto&) { fields += i.has(field_flag::kCheckpoint); });
+  model.bonds.for_each_field(
+      [&](const FieldInfo& i, auto&) { fields += i.has(field_flag::kCheckpoint); });
+  EXPECT_EQ(verify_checkpoint(good_).size(), fields + 4u + 7u + 1u);
+}
+
+TEST_F(CorruptCheckpoint, TruncatedFileIsRefused) {
+  const std::string path = copy("truncated.h5");
+  fs::resize_file(path, fs::file_size(path) / 2);
+  Model model = build_model(config_);
+  DriverState d;
+  EXPECT_THROW(read_checkpoint(path, model, d), Hdf5Error);
+}
+
+TEST_F(CorruptCheckpoint, FlippedDataByteFailsTheChecksum) {
+  const std::string path = copy("flipped.h5");
+  // The byte offset of /particles/velocity's data, from HDF5 itself.
+  haddr_t offset = HADDR_UNDEF;
+  {
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const hid_t d = H5Dopen2(f, "/particles/velocity", H5P_DEFAULT);
+    offset = H5Dget_offset(d);
+    H5Dclose(d);
+    H5Fclose(f);
+  }
+  ASSERT_NE(offset, HADDR_UNDEF);
+  std::fstream io(path, std::ios::in | std::ios::out | std::ios::binary);
+  io.seekg(static_cast<std::streamoff>(offset + 8 * 3 * 50 + 5));  // particle 50, x, a middle byte
+  char byte = 0;
+  io.read(&byte, 1);
+  byte = static_cast<char>(byte ^ 0x10);
+  io.seekp(static_cast<std::streamoff>(offset + 8 * 3 * 50 + 5));
+  io.write(&byte, 1);
+  io.close();
+  expect_refused(path, "/particles/velocity fails its checksum");
+}
+
+TEST_F(CorruptCheckpoint, BrokenSignatureIsNotAnHdf5File) {
+  const std::string path = copy("signature.h5");
+  std::fstream io(path, std::ios::in | std::ios::out | std::ios::binary);
+  io.seekp(1);
+  io.write("X", 1);
+  io.close();
+  expect_refused(path, "not an HDF5 file");
+}
+
+TEST_F(CorruptCheckpoint, IncompleteCheckpointIsRefused) {
+  const std::string path = copy("incomplete.h5");
+  {
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(H5Adelete(f, "complete"), 0);
+    H5Fclose(f);
+  }
+  expect_refused(path, "incomplete checkpoint");
+}
+
+TEST_F(CorruptCheckpoint, CheckpointOfAnotherCaseIsRefused) {
+  config_.rings.push_back(testing::paper_ring({1.0, 0, 0.2}));
+  expect_refused(good_, "belongs to another case");
+}
+
+TEST_F(CorruptCheckpoint, InfoCommandReportsAndVerifies) {
+  std::ostringstream out;
+  EXPECT_EQ(print_file_info(good_, out), 0);
+  EXPECT_NE(out.str().find("100 particles, 100 bonds, 1 rigid bodies"), std::string::npos)
+      << out.str();
+  EXPECT_NE(out.str().find("datasets verified"), std::string::npos);
+  const std::string path = copy("for_info.h5");
+  fs::resize_file(path, 100);
+  std::ostringstream bad;
+  EXPECT_EQ(print_file_info(path, bad), 2);
+}
+
+TEST(Duration, ParsesTheUsualForms) {
+  EXPECT_EQ(parse_duration("3600"), 3600.0);
+  EXPECT_EQ(parse_duration("90m"), 5400.0);
+  EXPECT_EQ(parse_duration("1h30m"), 5400.0);
+  EXPECT_EQ(parse_duration("1:02:03"), 3723.0);
+  EXPECT_EQ(parse_duration("45s"), 45.0);
+  EXPECT_THROW(parse_duration("ten"), std::invalid_argument);
+  EXPECT_THROW(parse_duration("5x"), std::invalid_argument);
+  EXPECT_THROW(parse_duration(""), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ringdem
