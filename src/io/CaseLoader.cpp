@@ -440,8 +440,7 @@ const Table<RockfallConfig>& rockfall_table() {
                        "shackles)"),
           schema::number("sag_max_time", &R::sag_max_time, above(0), "s",
                          "Stop with an error when the net is not at rest by then"),
-          schema::number("sag_min_time", &R::sag_min_time, at_least(0), "s",
-                         "Shortest sag phase"),
+          schema::number("sag_min_time", &R::sag_min_time, at_least(0), "s", "Shortest sag phase"),
           schema::number("sag_kinetic_energy", &R::sag_kinetic_energy, above(0), "J",
                          "The net is at rest when the kinetic energy of all particles is below "
                          "this and below half its peak during the sag"),
@@ -450,9 +449,8 @@ const Table<RockfallConfig>& rockfall_table() {
           schema::optional_number("sag_damping", &R::sag_damping, interval(0, true, 1, false), "",
                                   "Cundall coefficient of the net group while it sags")
               .default_text("as the damping section sets it"),
-          schema::optional_number("impact_damping", &R::impact_damping,
-                                  interval(0, true, 1, false), "",
-                                  "Cundall coefficient of the net group from the release on")
+          schema::optional_number("impact_damping", &R::impact_damping, interval(0, true, 1, false),
+                                  "", "Cundall coefficient of the net group from the release on")
               .default_text("as the damping section sets it"),
           schema::boolean("integrate_free_fall", &R::integrate_free_fall,
                           "Step through the whole fall (false: advance it analytically, exact "
@@ -498,8 +496,8 @@ const Table<OutputConfig>& output_table() {
       {
           schema::number("frame_interval", &O::frame_interval, at_least(0), "s",
                          "Simulated time between frames (0: no frames by time)"),
-          schema::integer("frame_interval_steps", &O::frame_interval_steps,
-                          schema::at_least(0), "Steps between frames (0: no frames by steps)"),
+          schema::integer("frame_interval_steps", &O::frame_interval_steps, schema::at_least(0),
+                          "Steps between frames (0: no frames by steps)"),
           schema::integer("compression", &O::compression, schema::interval(0, true, 9, true),
                           "Deflate level of the frame datasets (0: none; 1-3 saves about a "
                           "third on positions at a few per cent of run time)"),
