@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 
@@ -123,12 +124,7 @@ int run_rockfall(const CaseConfig& input, const RunOptions& options, const std::
   }
   if (root) print_banner(config, out_dir, comm);
 
-  RunControlOptions control_options;
-  control_options.output_dir = out_dir;
-  control_options.restart = options.restart;
-  control_options.max_walltime = options.max_walltime;
-  control_options.verbose = !options.quiet;
-  RunControl control(config, control_options, comm);
+  RunControl control(config, run_control_options(options, out_dir), comm);
   const SimulationSettings settings = settings_from_case(config);
   std::unique_ptr<Simulation> sim_ptr = control.make_simulation(settings);
   Simulation& sim = *sim_ptr;
@@ -298,19 +294,27 @@ int run_rockfall(const CaseConfig& input, const RunOptions& options, const std::
   const auto loop_start = Clock::now();
   const std::int64_t first_step = sim.steps();
   double sag_wall = restored.get("sag_wall", 0.0), impact_wall = 0.0;
-  auto progress = [&](const char* what, const std::string& extra) {
+  // `extra` formats the end of the line: called only when a line is due, not every step.
+  auto progress = [&](const char* what, const auto& extra) {
     if (!root || seconds_since(last_progress) < config.simulation.progress_interval) return;
     last_progress = Clock::now();
     const double rate = static_cast<double>(sim.steps() - first_step) / seconds_since(loop_start);
     fmt::print("{} step {:>9} t = {:.5f} s  {:>7.0f} steps/s  {}\n", what, sim.steps(), sim.time(),
-               rate, extra);
+               rate, extra());
     std::fflush(stdout);
   };
+  // Built once: after_step takes them every step.
+  const std::function<DriverState()> impact_state = driver_state;
 
   // ---- phase 1: the net sags to rest ----
   if (phase == 0) {
     const auto sag_start = Clock::now();
     double kinetic = std::numeric_limits<double>::infinity();
+    const std::function<DriverState()> sag_state = [&] {
+      DriverState d = driver_state();
+      d.set("sag_wall", sag_wall + seconds_since(sag_start));
+      return d;
+    };
     while (true) {
       if (sim.time() + 0.5 * sim.dt() >= next_sag_check) {
         next_sag_check += rf.sag_check_interval;
@@ -333,14 +337,11 @@ int run_rockfall(const CaseConfig& input, const RunOptions& options, const std::
       }
       control.before_step(sim);
       sim.step();
-      if (control.after_step(sim, [&] {
-            DriverState d = driver_state();
-            d.set("sag_wall", sag_wall + seconds_since(sag_start));
-            return d;
-          }))
-        return kExitCheckpointed;
-      progress("sag   ", fmt::format("net kinetic energy {:.4g} J (rest below {:.3g} J)", kinetic,
-                                     rf.sag_kinetic_energy));
+      if (control.after_step(sim, sag_state)) return kExitCheckpointed;
+      progress("sag   ", [&] {
+        return fmt::format("net kinetic energy {:.4g} J (rest below {:.3g} J)", kinetic,
+                           rf.sag_kinetic_energy);
+      });
     }
     sag_wall += seconds_since(sag_start);
 
@@ -410,11 +411,12 @@ int run_rockfall(const CaseConfig& input, const RunOptions& options, const std::
       if (b.position.z < lowest_z) lowest_z = b.position.z;
       if (stopping_time < 0.0 && b.velocity.z >= 0.0) stopping_time = sim.time() - contact_time;
     }
-    if (control.after_step(sim, driver_state)) return kExitCheckpointed;
-    progress("impact", contact_time < 0
-                           ? std::string("falling")
-                           : fmt::format("{:.4f} s after contact, boulder vz {:.3f} m/s",
-                                         sim.time() - contact_time, b.velocity.z));
+    if (control.after_step(sim, impact_state)) return kExitCheckpointed;
+    progress("impact", [&] {
+      return contact_time < 0 ? std::string("falling")
+                              : fmt::format("{:.4f} s after contact, boulder vz {:.3f} m/s",
+                                            sim.time() - contact_time, b.velocity.z);
+    });
   }
   record();
   control.write_frame(sim);

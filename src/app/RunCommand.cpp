@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 
 #include "app/ModelBuilder.hpp"
 #include "app/RockfallTest.hpp"
@@ -93,6 +94,15 @@ void print_timing(const Simulation& sim, double loop_seconds, double particle_st
                sim.phase_seconds()[ph], sum > 0 ? 100.0 * sim.phase_seconds()[ph] / sum : 0.0);
 }
 
+RunControlOptions run_control_options(const RunOptions& options, const std::string& out_dir) {
+  RunControlOptions o;
+  o.output_dir = out_dir;
+  o.restart = options.restart;
+  o.max_walltime = options.max_walltime;
+  o.verbose = !options.quiet;
+  return o;
+}
+
 int run_case(const CaseConfig& config, const RunOptions& options, const Communicator& comm) {
   const bool root = comm.is_root() && !options.quiet;
   const auto wall_start = Clock::now();
@@ -114,12 +124,7 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
   if (config.scenario.type == "rockfall") return run_rockfall(config, options, out_dir, comm);
   if (root) print_banner(config, out_dir, comm);
 
-  RunControlOptions control_options;
-  control_options.output_dir = out_dir;
-  control_options.restart = options.restart;
-  control_options.max_walltime = options.max_walltime;
-  control_options.verbose = !options.quiet;
-  RunControl control(config, control_options, comm);
+  RunControl control(config, run_control_options(options, out_dir), comm);
   std::unique_ptr<Simulation> sim_ptr = control.make_simulation(settings_from_case(config));
   Simulation& sim = *sim_ptr;
   const Model& model = sim.model();
@@ -162,7 +167,7 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
     }
     series.row(row);
   };
-  auto driver_state = [&]() {
+  const std::function<DriverState()> driver_state = [&]() {
     DriverState d;
     d.set("max_kinetic_energy", max_kinetic);
     d.set("max_bond_utilisation", max_util);

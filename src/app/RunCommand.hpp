@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "app/RunControl.hpp"
 #include "comm/Communicator.hpp"
 #include "io/CaseConfig.hpp"
 
@@ -27,6 +28,9 @@ struct RunOptions {
 int run_case(const CaseConfig& config, const RunOptions& options, const Communicator& comm);
 
 // ---- pieces shared by the scenario drivers (rank 0 prints) ----
+
+/// The run-control options (restart, wall-time limit, output folder) of a `ringdem run`.
+RunControlOptions run_control_options(const RunOptions& options, const std::string& out_dir);
 
 /// "1h02m", "3m05s", "42s"; "--" for a negative or non-finite number.
 std::string format_duration(double seconds);
