@@ -3,10 +3,13 @@
 // their output (sweep.csv and each case's series.csv). Label "long": 15 tensile tests at
 // 0.5 m/s, about 30 s.
 //
-// Loading rate: the sweep files pull at 0.5 m/s. That is quasi-static for the stiff rings but
-// not quite for the softest one: at 40 GPa the elongation at failure is 90.7, 87.3 and 86.3 mm at
-// 0.5, 0.05 and 0.005 m/s (peak 460, 426, 416 kN), at 200 GPa 33.8 mm at every rate. The trends
-// below hold at every rate; the 40/200 GPa ratio is 2.68 at 0.5 m/s and 2.55 at the paper's rate.
+// Loading rate: the sweep files pull at 0.5 m/s; the response is quasi-static there. At 40 GPa
+// the elongation at failure is 114.1 mm at 0.5 m/s and 113.9 mm at the paper's 0.005 m/s, at
+// 200 GPa 34.7 and 34.6 mm (ratio 3.29 and 3.30).
+//
+// The rig (ring4_reference.yaml): 30 mm pins at +-45 degrees, ring-pin friction 0.3. The paper
+// gives neither the pin diameter nor the ring-pin friction, and two of the trends depend on
+// them; docs/tensile.md, "The studies of Table 2", has the map over both.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -112,22 +115,17 @@ double four_pin_taut_travel() {
 
 // Fig. 7, E_b from 40 to 200 GPa.
 // - The load at a given displacement rises with E_b: at 5, 10, 20 and 30 mm (every case is
-//   still intact at 30 mm; the first breaks at 33.8 mm), strictly increasing.
+//   still intact at 30 mm; the first breaks at 34.7 mm), strictly increasing.
 // - "At 200 GPa the ring breaks while it is still changing shape": its elongation at failure is
 //   below the travel at which an inextensible ring is taut around the 4 pins (42.3 mm); at
 //   40 GPa the ring is pulled taut and stretched before it breaks (above it).
-// - Elongation at failure, 40 vs 200 GPa: the paper finds more than 3 times; this rig gives
-//   2.68 (2.55 at the paper's 5 mm/s). Why the ratio is a property of the rig, not of E_b
-//   alone: the 200 GPa ring breaks in bending while it wraps a pin, as soon as its curvature
-//   radius reaches E_b r_b / sigma_T = 45 mm, which is larger than the wrap radius of any
-//   plausible pin; its elongation (33.8 mm) hardly depends on the pin (32.8-34.7 mm for pin
-//   diameters 20-50 mm). The 40 GPa ring wraps the pins fully (critical radius 9 mm) and breaks
-//   in tension, with the bending stress at the pin E_b r_b / (r_p + r_eq) taking part of the
-//   strength: its elongation grows with the pin diameter, 83, 91, 99 and 112 mm for 20, 30, 40
-//   and 50 mm pins (0.5 m/s), ratios 2.54, 2.68, 2.84 and 3.32. The paper does not give the
-//   diameter of its bolts and bushings; the case files take 30 mm (docs/tensile.md). So the
-//   check is the one that holds for every pin diameter tried: more than 2.5 times, and the
-//   softest ring is the one that elongates most.
+// - "Elongation at failure at 40 GPa more than three times that at 200 GPa": 114.1 / 34.7 mm =
+//   3.29 here. The 200 GPa ring breaks in bending as it wraps a pin, once its curvature radius
+//   reaches E_b r_b / sigma_T = 45 mm (32-37 mm of travel for any pin and friction tried). The
+//   40 GPa ring wraps the pins and breaks in tension; how far it stretches first depends on the
+//   rig: the bending stress at the pin, E_b r_b / (r_p + r_eq), takes part of the strength, and
+//   friction on the pins (a capstan) keeps the stretch out of the top and bottom of the ring.
+//   With the friction of Table 1 (1.0) on the pins the ratio is 2.5-2.8 for 20-40 mm pins.
 TEST(ParametricStudy, BondYoungsModulus) {
   const std::vector<SweepCaseResult> cases = run_study("table2_youngs_modulus");
   ASSERT_EQ(cases.size(), 5u);
@@ -148,7 +146,7 @@ TEST(ParametricStudy, BondYoungsModulus) {
   const double stiff = cases.back().number("elongation_at_failure_m");
   EXPECT_LT(stiff, taut);
   EXPECT_GT(soft, taut);
-  EXPECT_GT(soft / stiff, 2.5);
+  EXPECT_GT(soft / stiff, 3.0);
   for (std::size_t k = 1; k < cases.size(); ++k)
     EXPECT_LT(cases[k].number("elongation_at_failure_m"),
               cases[k - 1].number("elongation_at_failure_m"));
@@ -158,12 +156,13 @@ TEST(ParametricStudy, BondYoungsModulus) {
 // - The curves overlap until failure: the strength enters only the failure test, so every pair
 //   of cases runs the same steps until the weaker one's first bond breaks; their rows agree to
 //   round-off (1e-9 of the peak) up to one record interval before it.
-// - Breaking load and elongation at failure grow with the strength. The breaking load is close
-//   to linear in it (R^2 >= 0.99). The elongation is the travel at which the curve reaches the
-//   breaking load, and the curve stiffens with travel (bending stage, then tensile stage), so
-//   equal load steps buy less and less travel: the 4 GPa ring breaks early in the soft bending
-//   stage (18 mm, under half the 42 mm at which the ring is taut), the others between 31 and
-//   46 mm, where the elongation is close to linear in the strength (8-20 GPa, R^2 >= 0.95).
+// - Breaking load and elongation at failure grow with the strength (strictly).
+// - "Linear relations are observed after the ring is stretched into a rectangular shape" (the
+//   paper): the cases share one curve, whose tensile stage starts at the transition detected on
+//   the longest of them (the 20 GPa ring, 37.5 mm). The rings that break beyond it (12, 16 and
+//   20 GPa, 39-52 mm) have a breaking load linear in the strength (R^2 >= 0.99). The weaker
+//   ones break in the soft bending stage (the 4 GPa ring at 21 mm), below that line. The
+//   elongation is close to linear in the strength from 8 to 20 GPa (R^2 >= 0.95).
 TEST(ParametricStudy, BondTensileStrength) {
   const std::vector<SweepCaseResult> cases = run_study("table2_tensile_strength");
   ASSERT_EQ(cases.size(), 5u);
@@ -192,11 +191,19 @@ TEST(ParametricStudy, BondTensileStrength) {
     }
     EXPECT_GT(compared, 50u);
   }
-  EXPECT_GE(r_squared(strength, breaking), 0.99);
+  const double tensile_stage_start = cases.back().number("stage_transition_displacement_m");
+  std::vector<double> tensile_strength, tensile_breaking;
+  for (std::size_t k = 0; k < cases.size(); ++k)
+    if (elongation[k] > tensile_stage_start) {
+      tensile_strength.push_back(strength[k]);
+      tensile_breaking.push_back(breaking[k]);
+    }
+  ASSERT_GE(tensile_strength.size(), 3u) << "tensile stage from " << tensile_stage_start << " m";
+  EXPECT_GE(r_squared(tensile_strength, tensile_breaking), 0.99);
   EXPECT_GE(r_squared(std::vector<double>(strength.begin() + 1, strength.end()),
                       std::vector<double>(elongation.begin() + 1, elongation.end())),
             0.95);
-  EXPECT_LT(elongation.front(), 0.5 * four_pin_taut_travel());
+  EXPECT_LT(elongation.front(), tensile_stage_start);
 }
 
 // Fig. 9, bond radius multiplier from 0.5 to 0.9.
@@ -205,8 +212,8 @@ TEST(ParametricStudy, BondTensileStrength) {
 // - The elongation at failure grows slightly as lambda decreases: strictly decreasing with
 //   lambda, and "slightly" / "less significant than varying E_b": its relative spread
 //   (max/min - 1) is under a fifth of that of the breaking load and under a fifth of that of
-//   the elongation in the E_b study (the E_b study's spread, 1.68, is taken from its own run
-//   in BondYoungsModulus; here the bound uses the conservative 2.5 - 1 it asserts).
+//   the elongation in the E_b study (measured there: 2.29; the bound here uses the 3 - 1 that
+//   BondYoungsModulus asserts, so the two tests stay independent).
 TEST(ParametricStudy, BondRadiusMultiplier) {
   const std::vector<SweepCaseResult> cases = run_study("table2_radius_multiplier");
   ASSERT_EQ(cases.size(), 5u);
@@ -228,7 +235,7 @@ TEST(ParametricStudy, BondRadiusMultiplier) {
   const double elongation_spread = elongation.front() / elongation.back() - 1.0;
   const double breaking_spread = breaking.back() / breaking.front() - 1.0;
   EXPECT_LT(elongation_spread, breaking_spread / 5.0);
-  EXPECT_LT(elongation_spread, (2.5 - 1.0) / 5.0);
+  EXPECT_LT(elongation_spread, (3.0 - 1.0) / 5.0);
 }
 
 }  // namespace

@@ -1,11 +1,12 @@
 // Scenario checks of the ring tensile tests (validation.md §2-3), run on the case files of
-// inputs/tensile/. Label "long": each test runs one or two tensile tests (10-60 s each).
+// inputs/tensile/. Label "long": each test runs one or two tensile tests (4-90 s each).
 //
-// Loading rate. The paper's 5 mm/s takes 1.2e7 - 4.4e7 steps per test; these tests pull at
-// 0.5 m/s instead. With the global damping of Table 1 (0.95) the response stays quasi-static:
-// ring2 at 0.5 and 0.05 m/s gives the same peak load (238.34 vs 238.38 kN) and tensile-stage
-// start (docs/tensile.md, "Loading rate"), and RateDoesNotChangeTheCurve checks it for
-// ring4_calibrated.
+// Loading rate. The paper's 5 mm/s takes 1.2e7 - 4.4e7 steps per test. The 2-pin transition is
+// geometric and is checked at 0.5 m/s; the 4-pin checks, which involve the failure point, pull
+// at 0.05 m/s, which gives the paper's-rate curve and failure (RateDoesNotChangeTheCurve). At
+// 0.5 m/s the curve is the same but the calibrated ring breaks 1.4 mm early (peak 10 % low):
+// the ring sliding round the pins is not quite quasi-static there (docs/tensile.md, "Loading
+// rate").
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -77,7 +78,8 @@ TEST(TensileValidation, TwoPinTensileStageStartsWhereTheRingBecomesTaut) {
 //  (c) tensile stage: a steeper rise, the hinge fit's second slope at least 3 times the first;
 //  (d) failure: bonds break and the load falls below half of its peak.
 TEST(TensileValidation, CalibratedFourPinRingPassesTheFourStages) {
-  const CaseConfig c = tensile_case("ring4_calibrated", {"scenario.tensile_test.loading_rate=0.5"});
+  const CaseConfig c =
+      tensile_case("ring4_calibrated", {"scenario.tensile_test.loading_rate=0.05"});
   const TensileResult r = run_quietly(c);
   const TensileCurveAnalysis& a = r.analysis;
   ASSERT_GT(r.curve.size(), 10u);
@@ -103,14 +105,15 @@ TEST(TensileValidation, CalibratedFourPinRingPassesTheFourStages) {
   EXPECT_GT(a.peak_load, 0.0);
 }
 
-// The faster loading rate used above (and offered in docs/tensile.md) gives the same curve as
-// a ten times slower one: peak load within 3 %, stage transition within 5 %, displacement at
-// the peak within 2 %.
+// The faster loading rate used above (and offered in docs/tensile.md) gives the curve of the
+// paper's rate, ten times slower: peak load within 3 %, stage transition within 5 %,
+// displacement at the peak within 2 %.
 TEST(TensileValidation, RateDoesNotChangeTheCurve) {
   const TensileResult fast =
-      run_quietly(tensile_case("ring4_calibrated", {"scenario.tensile_test.loading_rate=0.5"}));
-  const TensileResult slow =
       run_quietly(tensile_case("ring4_calibrated", {"scenario.tensile_test.loading_rate=0.05"}));
+  const CaseConfig paper_rate = tensile_case("ring4_calibrated", {});
+  ASSERT_DOUBLE_EQ(paper_rate.scenario.tensile_test.loading_rate, 0.005);  // Table 1
+  const TensileResult slow = run_quietly(paper_rate);
   EXPECT_NEAR(fast.analysis.peak_load / slow.analysis.peak_load, 1.0, 0.03);
   ASSERT_TRUE(fast.analysis.stage_transition_displacement.has_value());
   ASSERT_TRUE(slow.analysis.stage_transition_displacement.has_value());
