@@ -758,6 +758,18 @@ void check_reference(const std::string& value, const std::vector<std::string>& n
   ctx.error(ctx.where(key_path, fallback), key_path, message);
 }
 
+/// Reports `group` at `key_path` if no particle generator uses it.
+void check_group(const std::string& group, const std::set<std::string>& groups,
+                 const std::string& key_path, const std::string& fallback, Context& ctx) {
+  if (ctx.failed(key_path) || groups.count(group) != 0) return;
+  const std::vector<std::string> names(groups.begin(), groups.end());
+  std::string message = fmt::format("particle group '{}'{} is not used by any particles", group,
+                                    ctx.given(key_path) ? "" : " (the default, key not given)");
+  const std::string hint = schema::did_you_mean(group, names);
+  message += hint.empty() ? " (groups: " + schema::join_names(names) + ")" : hint;
+  ctx.error(ctx.where(key_path, fallback), key_path, message);
+}
+
 /// Bonds with `derive_from`: E_b = eta E with eta = 1 / (5 gamma^2), gamma = lambda r_eq / R_eq
 /// (physics.md §2, Eq. 17), r_eq the particle radius of the rings that use the bond.
 void derive_bond_moduli(CaseConfig& c, Context& ctx) {
@@ -992,6 +1004,27 @@ void validate_scenario(CaseConfig& c, Context& ctx, bool bodies_ok) {
   }
 }
 
+/// The rockfall driver's references (groups, boulder material) and its gravity, checked here
+/// so that a wrong name is an input error with its line, not a failure after the build.
+void validate_rockfall(const CaseConfig& c, Context& ctx, const std::set<std::string>& groups,
+                       const std::vector<std::string>& materials, bool materials_ok) {
+  if (c.scenario.type != "rockfall" || ctx.failed("scenario.type")) return;
+  const std::string p = "scenario.rockfall";
+  const std::string fallback = ctx.given(p) ? p : "scenario.type";
+  const RockfallConfig& rf = c.scenario.rockfall;
+  check_group(rf.net_group, groups, p + ".net_group", fallback, ctx);
+  check_group(rf.frame_group, groups, p + ".frame_group", fallback, ctx);
+  check_reference(rf.boulder_material, materials, materials_ok, p + ".boulder_material", fallback,
+                  "material", "materials", ctx);
+  const Vec3 g = c.simulation.gravity;
+  if (!ctx.failed("simulation.gravity") && !(g.z < 0.0 && g.x == 0.0 && g.y == 0.0)) {
+    ctx.error(
+        ctx.where("simulation.gravity", "simulation"), "simulation.gravity",
+        fmt::format("a rockfall test needs gravity along -z, got {}{}", schema::format_vec3(g),
+                    ctx.given("simulation.gravity") ? "" : " (the default, key not given)"));
+  }
+}
+
 void validate(CaseConfig& c, Context& ctx) {
   // Names and references.
   bool materials_ok = true, bonds_ok = true, bodies_ok = true;
@@ -1090,15 +1123,8 @@ void validate(CaseConfig& c, Context& ctx) {
               "no particles: add at least one entry to rings, nets, lattices or spheres");
   }
 
-  for (const DampingGroupConfig& g : c.damping.groups) {
-    const std::string p = "damping.groups." + g.group;
-    if (groups.count(g.group) != 0) continue;
-    const std::vector<std::string> names(groups.begin(), groups.end());
-    std::string message = "particle group '" + g.group + "' is not used by any particles";
-    const std::string hint = schema::did_you_mean(g.group, names);
-    message += hint.empty() ? " (groups: " + schema::join_names(names) + ")" : hint;
-    ctx.error(ctx.where(p, "damping.groups"), p, message);
-  }
+  for (const DampingGroupConfig& g : c.damping.groups)
+    check_group(g.group, groups, "damping.groups." + g.group, "damping.groups", ctx);
 
   for (std::size_t i = 0; i < c.rigid_bodies.size(); ++i) {
     RigidBodyConfig& b = c.rigid_bodies[i];
@@ -1143,6 +1169,7 @@ void validate(CaseConfig& c, Context& ctx) {
     b.axis = normalized(b.axis);
   }
   validate_scenario(c, ctx, bodies_ok);
+  validate_rockfall(c, ctx, groups, materials, materials_ok);
 }
 
 std::string default_name(const std::string& display_name) {

@@ -398,6 +398,41 @@ TEST(CaseLoader, CrossChecks) {
   EXPECT_EQ(d->line, line_of(text, "  - name: pin"));
 }
 
+// The rockfall driver's group and material names and its gravity are input errors with a
+// line, found before any particle is built (they used to surface as a runtime error, exit 1).
+TEST(CaseLoader, RockfallReferencesAndGravityAreChecked) {
+  std::string text = replaced(kValidCase, "gravity: [0, 0, -9.81]", "gravity: [0, -9.81, 0]");
+  text +=
+      "scenario:\n  type: rockfall\n  rockfall:\n    net_group: ring\n"
+      "    boulder_material: rok\n";
+  const auto diags = errors_of(text);
+  EXPECT_EQ(diags.size(), 4u) << all(diags);
+  const Diagnostic* d = find_path(diags, "scenario.rockfall.net_group");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "net_group: ring"));
+  EXPECT_EQ(d->message,
+            "particle group 'ring' is not used by any particles; did you mean 'rings'?");
+  d = find_path(diags, "scenario.rockfall.frame_group");  // default 'shackles', not given
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "net_group: ring"));  // first line of the rockfall map
+  EXPECT_NE(d->message.find("'shackles' (the default, key not given)"), std::string::npos);
+  d = find_path(diags, "scenario.rockfall.boulder_material");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "boulder_material: rok"));
+  EXPECT_EQ(d->message, "material 'rok' is not defined in 'materials'; did you mean 'rock'?");
+  d = find_path(diags, "simulation.gravity");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "gravity: [0, -9.81, 0]"));
+  EXPECT_NE(d->message.find("needs gravity along -z"), std::string::npos);
+
+  // The same names, spelled right, load.
+  std::string good = kValidCase;
+  good +=
+      "scenario:\n  type: rockfall\n  rockfall:\n    net_group: rings\n"
+      "    frame_group: debris\n    boulder_material: rock\n";
+  EXPECT_NO_THROW(load_case_from_string(good, "case.yaml", {}));
+}
+
 TEST(CaseLoader, DuplicateKeyAndNonVectorNormal) {
   std::string text = replaced(kValidCase, "  end_time: 0.5\n", "  end_time: 0.5\n  end_time: 1\n");
   text = replaced(text, "normal: [0, 2, 0]", "normal: [0, 0, 0]");
