@@ -108,6 +108,44 @@ TEST(EnergyLedger, BouncingSphereContactDamping) {
   EXPECT_LT(std::abs(b.last.friction), 1e-9 * b.drop);
 }
 
+// The friction of a particle on a rigid body is the pair's, from an `interactions` entry when
+// the case has one (the tensile rigs set ring-pin friction this way). Sphere and floor
+// materials both have friction 1.0, the pair 0.3: while the sphere slides it decelerates at
+// 0.3 g, so at half the time it takes to roll at mu = 0.3 its speed is v0 (1 - 1/7) = 6/7 v0.
+// With the mean of the materials (1.0) it would roll by then, at 5/7 v0.
+TEST(BodyContact, PairFrictionActsOnRigidBodyContacts) {
+  CaseConfig c = testing::base_case();
+  c.simulation.gravity = {0, 0, -kG};
+  c.materials[0].restitution = 1.0;
+  c.materials[0].friction = 1.0;
+  MaterialConfig floor_steel = c.materials[0];
+  floor_steel.name = "floor_steel";
+  c.materials.push_back(floor_steel);
+  InteractionConfig pair;
+  pair.material_a = "steel";
+  pair.material_b = "floor_steel";
+  pair.friction = 0.3;
+  c.interactions = {pair};
+  const double r = 0.0045, v0 = 0.1;
+  SphereConfig s;
+  s.velocity = {v0, 0, 0};
+  c.spheres = {s};
+  RigidBodyConfig floor = floor_plane();
+  floor.material = "floor_steel";
+  c.rigid_bodies = {floor};
+  Model model = build_model(c);
+  ASSERT_EQ(model.materials.pair(0, 1).friction, 0.3);
+  ASSERT_EQ(model.materials.pair(1, 0).friction, 0.3);
+  ASSERT_EQ(model.materials.pair(0, 0).friction, 1.0);
+  model.particles.position[0] = {0, 0, r - resting_overlap(model.particles.mass[0], r)};
+  const Communicator comm = self_comm();
+  Simulation sim(std::move(model), comm, settings(c, 0.0));
+  const double t_roll = 2.0 * v0 / (7.0 * 0.3 * kG);
+  sim.run_steps(static_cast<std::int64_t>(0.5 * t_roll / sim.dt()));
+  // Sliding starts within a step and the tangential spring is stiff: 1e-3 covers both.
+  EXPECT_NEAR(sim.model().particles.velocity[0].x / v0, 6.0 / 7.0, 1e-3);
+}
+
 // A sphere sliding on a plane (friction 0.3, no damping: restitution 1) slows and spins up
 // until it rolls at 5/7 of its speed: friction takes m v0^2 / 7 (rigid-body analytic value),
 // which is also the mechanical energy lost.
