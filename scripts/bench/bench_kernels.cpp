@@ -6,11 +6,12 @@
 #include <random>
 
 #include "../../tests/support/TestCases.hpp"
-#include "app/ModelBuilder.hpp"
-#include "app/Simulation.hpp"
+#include "engine/ForceTerm.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
+#include "engine/TimoshenkoBondTerm.hpp"
 #include "physics/BondTimoshenko.hpp"
 #include "physics/HertzMindlin.hpp"
-#include "physics/Interactions.hpp"
 
 namespace ringdem {
 namespace {
@@ -63,11 +64,22 @@ void BM_BondLoop(benchmark::State& state) {
   std::uniform_real_distribution<double> u(-1e-5, 1e-5);
   for (auto& x : model.particles.position)
     x += Vec3{u(rng), u(rng), u(rng)};
-  Interactions interactions;
   model.particles.rebuild_index();
-  interactions.rebuild(model.particles, model.bonds, model.bodies, 0.001, {});
+  TimoshenkoBondTerm bonds(model.bonds, model.bond_types);
+  std::vector<ExcludedPair> excluded;
+  const ContactHistory history;
+  SlotAllocator allocator;
+  GatherMap gather;
+  gather.begin(model.particles.n_local());
+  RebuildContext rebuild{model.particles, model.bodies, 0.001,  excluded,
+                         history,         allocator,    gather, 0};
+  bonds.rebuild(rebuild);
+  ForceSlots slots;
+  slots.assign(allocator.size());
+  EnergyLedger ledger;
+  ComputeContext ctx{model.particles, model.bodies, model.materials, slots, ledger, 0.0, 0.0};
   for (auto _ : state)
-    interactions.compute_bonds(model.particles, model.bonds, 0.0);
+    bonds.compute(ctx);
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * model.bonds.size()));
 }
 BENCHMARK(BM_BondLoop)->Unit(benchmark::kMicrosecond);

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "app/Checkpoint.hpp"
+#include "io/Checkpoint.hpp"
 #include "io/Hdf5File.hpp"
 
 namespace ringdem {

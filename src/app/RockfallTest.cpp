@@ -10,10 +10,10 @@
 #include <limits>
 #include <stdexcept>
 
-#include "app/ModelBuilder.hpp"
 #include "app/RunControl.hpp"
-#include "app/Simulation.hpp"
 #include "core/Version.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
 #include "io/ResultsWriter.hpp"
 
 namespace ringdem {
@@ -364,7 +364,7 @@ int run_rockfall(const CaseConfig& input, const RunOptions& options, const std::
       free_fall_time = -vz / g;
     }
     const Energies before = sim.energies();
-    sim.place_body(boulder, {drop_x, drop_y, z_centre}, {0, 0, vz}, RigidMotion::kFree);
+    sim.place_body(boulder, {drop_x, drop_y, z_centre}, {0, 0, vz}, Motion::kFree);
     energy_added = sim.energies().ledger() - before.ledger();
     phase = 1;
     next_record = sim.time();

@@ -7,13 +7,13 @@
 #include <filesystem>
 #include <functional>
 
-#include "app/ModelBuilder.hpp"
 #include "app/RockfallTest.hpp"
 #include "app/RunControl.hpp"
-#include "app/Simulation.hpp"
 #include "app/TensileTest.hpp"
 #include "core/Version.hpp"
 #include "domain/RingGenerator.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
 #include "io/ResultsWriter.hpp"
 
@@ -55,8 +55,7 @@ void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64
                  ranks[r].ghosts, ranks[r].bonds, ranks[r].cut_bonds, ranks[r].blocks);
   }
   fmt::print("pre-flight: {} particles, {} bonds, {} rigid bodies, {} contact candidates\n",
-             particles, bonds, sim.model().bodies.size(),
-             sim.interactions().n_contact_candidates());
+             particles, bonds, sim.model().bodies.size(), sim.n_contact_candidates());
   for (const BondConfig& b : config.bonds) {
     if (!b.derive_from || b.derived_particle_radius <= 0.0) continue;
     const RingReductionFactors f = ring_reduction_factors(

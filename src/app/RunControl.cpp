@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "app/ModelBuilder.hpp"
+#include "engine/ModelBuilder.hpp"
 #include "io/Hdf5File.hpp"
 
 namespace ringdem {
@@ -128,7 +128,8 @@ std::string RunControl::write_checkpoint(Simulation& sim,
   state.set("run.next_frame_time", next_frame_time_);
   state.set("run.next_frame_step", static_cast<double>(next_frame_step_));
   state.set("run.next_checkpoint_time", next_checkpoint_time_);
-  const std::string path = checkpoints_.write(sim, state, segment_, config_.name);
+  const std::string path = checkpoints_.write(sim.comm(), sim.model(), sim.restart_state(), state,
+                                              segment_, config_.name);
   last_checkpoint_wall_ = std::chrono::steady_clock::now();
   return path;
 }

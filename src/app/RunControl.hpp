@@ -6,9 +6,9 @@
 #include <memory>
 #include <string>
 
-#include "app/Checkpoint.hpp"
-#include "app/Simulation.hpp"
+#include "engine/Simulation.hpp"
 #include "io/CaseConfig.hpp"
+#include "io/Checkpoint.hpp"
 #include "io/FrameWriter.hpp"
 
 namespace ringdem {

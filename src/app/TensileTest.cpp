@@ -9,10 +9,10 @@
 #include <limits>
 #include <stdexcept>
 
-#include "app/ModelBuilder.hpp"
 #include "app/RunCommand.hpp"
-#include "app/Simulation.hpp"
 #include "core/Version.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
 #include "io/ResultsWriter.hpp"
 
 namespace ringdem {

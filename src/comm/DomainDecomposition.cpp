@@ -118,9 +118,8 @@ std::vector<DomainDecomposition::BlockLoad> DomainDecomposition::global_blocks(
   }
   // A bond counts in the block of its end a (when this rank owns that end).
   for (std::size_t b = 0; b < bonds.size(); ++b) {
-    const std::int64_t ia = p.index_of(bonds.gid_a[b]);
-    if (ia < 0 || static_cast<std::size_t>(ia) >= p.n_local()) continue;
-    ++local[block_of(p.position[static_cast<std::size_t>(ia)])].bonds;
+    if (!bonds.counted_here(p, b)) continue;
+    ++local[block_of(p.position[static_cast<std::size_t>(p.index_of(bonds.gid_a[b]))])].bonds;
   }
   std::vector<BlockLoad> mine;
   for (const auto& [key, load] : local)

@@ -4,38 +4,41 @@
 #include <string_view>
 #include <vector>
 
+#include "core/BondFailure.hpp"
 #include "domain/ParticleStore.hpp"
-#include "physics/BondTimoshenko.hpp"
 
 namespace ringdem {
 
-/// All bonds a rank holds, structure of arrays (one array per scalar or vector member, so the
-/// bond loop loads them contiguously and vectorises), keyed by the ordered gid pair
-/// (gid_a < gid_b). Bonds reference particles by gid; local indices are resolved after every
-/// rebuild of the particle index. for_each_field() is the bond field registry, with the same
-/// flags as the particle one.
+/// The bonds of one bond term (one bond model), structure of arrays (one array per scalar or
+/// vector member, so the bond loop loads them contiguously and vectorises), keyed by the
+/// ordered gid pair (gid_a < gid_b). Bonds reference particles by gid; local indices are
+/// resolved after every rebuild of the particle index. for_each_field() is the bond field
+/// registry, with the same flags as the particle one: migration, checkpoints and frames read it.
+///
+/// The columns are those of the co-rotational beam laws (physics.md §1): the stiffness
+/// coefficients the kernel reads, the reference frames and the strengths. A law with more
+/// per-bond state adds it in its own term's store.
 class BondStore {
  public:
   // --- identity ---
-  std::vector<std::int64_t> id;  ///< global bond id, 0..N_b-1 in creation order (file row)
+  std::vector<std::int64_t> id;  ///< global bond id in creation order (file row)
   std::vector<std::int64_t> gid_a, gid_b;
   std::vector<std::int32_t> type;  ///< bond type (case-file table)
-  // --- section and stiffness (BondTimoshenko::Section, member by member) ---
-  std::vector<double> r_b, area, inertia, length0;
-  std::vector<double> k_axial, k_torsion, k_shear, k_couple, k_bend_self, k_bend_cross;
+  // --- stiffness coefficients the kernel reads (BondTimoshenko::Section, physics.md §1) ---
+  std::vector<double> length0, k_axial, k_torsion, k_shear, k_bend_self, k_bend_cross;
   std::vector<double> inv_area, bend_factor;
-  // --- reference frame in each end's body frame (BondTimoshenko::Reference) ---
+  // --- reference frame in each end's body frame ---
   std::vector<Quat> frame_a, frame_b;
-  // --- strengths (BondTimoshenko::Strength) ---
+  // --- strengths (Eq. 3–5) ---
   std::vector<double> tensile_strength, compressive_strength, shear_strength;
   // --- state ---
   std::vector<std::uint8_t> broken;  ///< 0 intact, 1 broken
-  std::vector<BondTimoshenko::Failure> failure;
+  std::vector<BondFailure> failure;
   std::vector<double> break_time;  ///< simulated time of failure, -1 while intact
   /// Elastic energy the bond held when it broke (energy ledger: mean of its energy at the
   /// start and the end of the step in which it broke), 0 while intact.
   std::vector<double> break_energy;
-  // --- output quantities, refreshed by Interactions::update_bond_diagnostics ---
+  // --- output quantities, refreshed by the bond term's diagnostics ---
   std::vector<double> axial_force, bending_moment, utilisation, energy;
 
   template <class F>
@@ -46,14 +49,10 @@ class BondStore {
     f(FieldInfo{"gid_a", kState | kOutput}, gid_a);
     f(FieldInfo{"gid_b", kState | kOutput}, gid_b);
     f(FieldInfo{"type", kState}, type);
-    f(FieldInfo{"r_b", kState}, r_b);
-    f(FieldInfo{"area", kState}, area);
-    f(FieldInfo{"inertia", kState}, inertia);
     f(FieldInfo{"length0", kState}, length0);
     f(FieldInfo{"k_axial", kState}, k_axial);
     f(FieldInfo{"k_torsion", kState}, k_torsion);
     f(FieldInfo{"k_shear", kState}, k_shear);
-    f(FieldInfo{"k_couple", kState}, k_couple);
     f(FieldInfo{"k_bend_self", kState}, k_bend_self);
     f(FieldInfo{"k_bend_cross", kState}, k_bend_cross);
     f(FieldInfo{"inv_area", kState}, inv_area);
@@ -78,19 +77,15 @@ class BondStore {
 
   std::size_t size() const { return gid_a.size(); }
 
-  /// Adds an intact bond with id = its index; expects gid_first < gid_second (the canonical
-  /// order). Generators add every bond of the model on every rank, so ids are global.
-  void add(std::int64_t gid_first, std::int64_t gid_second, std::int32_t bond_type,
-           const BondTimoshenko::Section& s, const BondTimoshenko::Reference& ref,
-           const BondTimoshenko::Strength& st);
+  /// Appends an intact bond with id = its index (expects gid_first < gid_second, the canonical
+  /// order) and every other column zero; returns its index for the caller to fill.
+  std::size_t append(std::int64_t gid_first, std::int64_t gid_second, std::int32_t bond_type);
 
-  BondTimoshenko::Section section(std::size_t k) const {
-    return {r_b[k],     area[k],     inertia[k],     length0[k],      k_axial[k],  k_torsion[k],
-            k_shear[k], k_couple[k], k_bend_self[k], k_bend_cross[k], inv_area[k], bend_factor[k]};
-  }
-  BondTimoshenko::Reference reference(std::size_t k) const { return {frame_a[k], frame_b[k]}; }
-  BondTimoshenko::Strength strength(std::size_t k) const {
-    return {tensile_strength[k], compressive_strength[k], shear_strength[k]};
+  /// Whether this rank counts bond k: a bond whose ends live on two ranks is held by both, and
+  /// counts (in sums, frames, checkpoints) on the rank that owns end a. The one place of this rule.
+  bool counted_here(const ParticleStore& p, std::size_t k) const {
+    const std::int64_t a = p.index_of(gid_a[k]);
+    return a >= 0 && static_cast<std::size_t>(a) < p.n_local();
   }
 
   std::size_t count_broken() const;

@@ -26,7 +26,6 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   torque[i] = {};
   external_force[i] = {};
   radius[i] = p.radius;
-  contact_radius[i] = p.contact_radius > 0.0 ? p.contact_radius : p.radius;
   mass[i] = p.density * 4.0 / 3.0 * M_PI * p.radius * p.radius * p.radius;
   inertia[i] = 0.4 * mass[i] * p.radius * p.radius;
   damping[i] = p.damping;

@@ -5,17 +5,11 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/Motion.hpp"
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
 
 namespace ringdem {
-
-/// How a particle's motion is determined.
-enum class Motion : std::uint8_t {
-  kFree = 0,        ///< integrated from forces
-  kFixed = 1,       ///< never moves
-  kPrescribed = 2,  ///< moves with its stored (constant) velocity and angular velocity
-};
 
 /// What the comm layer, output and checkpoints do with a particle field. Every loop over
 /// fields (resize, permutation, migration, ghost exchange, HDF5, checkpoints) reads these.
@@ -47,7 +41,6 @@ class ParticleStore {
   std::vector<Vec3> torque;
   std::vector<Vec3> external_force;  ///< applied load (point loads, tests), constant in time
   std::vector<double> radius;
-  std::vector<double> contact_radius;  ///< EDEM-style bond-detection radius (generators)
   std::vector<double> mass;
   std::vector<double> inertia;  ///< isotropic moment of inertia (2/5 m r^2 for a sphere)
   std::vector<double> damping;  ///< Cundall global damping coefficient of this particle
@@ -92,7 +85,6 @@ class ParticleStore {
     f(FieldInfo{"torque", kState}, torque);
     f(FieldInfo{"external_force", kState}, external_force);
     f(FieldInfo{"radius", kState | kGhostOnce | kOutput}, radius);
-    f(FieldInfo{"contact_radius", kState | kGhostOnce}, contact_radius);
     f(FieldInfo{"mass", kState | kGhostOnce}, mass);
     f(FieldInfo{"inertia", kState | kGhostOnce}, inertia);
     f(FieldInfo{"damping", kState}, damping);
@@ -124,7 +116,6 @@ class ParticleStore {
     Vec3 omega;
     Quat orientation;
     double radius = 0.0;
-    double contact_radius = 0.0;  ///< 0 means: same as radius
     double density = 0.0;
     double damping = 0.0;
     std::int32_t material = 0;

@@ -3,20 +3,20 @@
 #include <cstdint>
 #include <string>
 
+#include "core/Motion.hpp"
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
 
 namespace ringdem {
 
 enum class RigidShape : std::uint8_t { kPlane, kCylinder, kSphere };
-enum class RigidMotion : std::uint8_t { kFixed, kPrescribed, kFree };
 
 /// A large rigid body in contact with particles (plane, finite capped cylinder, sphere).
 /// Rigid bodies are few and replicated on every rank; they are not in the particle grid.
 struct RigidBody {
   std::string name;
   RigidShape shape = RigidShape::kPlane;
-  RigidMotion motion = RigidMotion::kFixed;
+  Motion motion = Motion::kFixed;
   std::int32_t material = 0;
 
   // Geometry in the body frame: plane normal and cylinder axis are the body z axis.
@@ -39,7 +39,7 @@ struct RigidBody {
   /// Effective contact radius for Hertz (infinite for plane and cylinder: physics.md §3).
   double contact_radius() const;
   /// Whether the body has finite mass in contacts.
-  bool has_finite_mass() const { return motion == RigidMotion::kFree; }
+  bool has_finite_mass() const { return motion == Motion::kFree; }
 
   /// Signed distance from point p to the surface and the outward unit normal there.
   struct SurfacePoint {

@@ -199,8 +199,7 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
   std::vector<std::size_t> bond_local;
   std::vector<std::int64_t> bond_rows;
   for (std::size_t k = 0; k < bonds.size(); ++k) {
-    const std::int64_t a = p.index_of(bonds.gid_a[k]);
-    if (a < 0 || static_cast<std::size_t>(a) >= n_local) continue;
+    if (!bonds.counted_here(p, k)) continue;
     bond_local.push_back(k);
     bond_rows.push_back(bonds.id[k]);
   }

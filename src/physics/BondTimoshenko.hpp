@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/BondFailure.hpp"
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
 
@@ -99,7 +100,7 @@ struct BondTimoshenko {
   };
   static Stresses stresses(const Section& s, const Result& r);
 
-  enum class Failure : std::uint8_t { kNone = 0, kTensile = 1, kCompressive = 2, kShear = 3 };
+  using Failure = BondFailure;
   /// Which criterion broke the bond (first of tensile, compressive, shear), or kNone.
   static Failure check_failure(const Stresses& st, const Strength& strength);
   /// Largest stress-to-strength ratio (1 = at failure).

@@ -109,8 +109,8 @@ void Integrator::second_half(ParticleStore& p, double dt) {
 void Integrator::first_half(std::vector<RigidBody>& bodies, double dt, const Vec3& gravity) {
   const double half = 0.5 * dt;
   for (auto& b : bodies) {
-    if (b.motion == RigidMotion::kFixed) continue;
-    if (b.motion == RigidMotion::kFree) {
+    if (b.motion == Motion::kFixed) continue;
+    if (b.motion == Motion::kFree) {
       const Vec3 f = b.force + (b.gravity ? gravity * b.mass : Vec3{});
       b.velocity += f * (half / b.mass);
       kick_rotation(b, half);
@@ -123,7 +123,7 @@ void Integrator::first_half(std::vector<RigidBody>& bodies, double dt, const Vec
 void Integrator::second_half(std::vector<RigidBody>& bodies, double dt, const Vec3& gravity) {
   const double half = 0.5 * dt;
   for (auto& b : bodies) {
-    if (b.motion != RigidMotion::kFree) continue;
+    if (b.motion != Motion::kFree) continue;
     const Vec3 f = b.force + (b.gravity ? gravity * b.mass : Vec3{});
     b.velocity += f * (half / b.mass);
     kick_rotation(b, half);

@@ -33,11 +33,10 @@ StabilityLimits stability_limits(const ParticleStore& p, const BondStore& bonds,
     if (a < 0 || b < 0) continue;
     const double mass = std::min(p.mass[a], p.mass[b]);
     const double inertia = std::min(p.inertia[a], p.inertia[b]);
-    const auto sec = bonds.section(k);
-    s.bond_axial = std::min(s.bond_axial, std::sqrt(mass / sec.k_axial));
-    s.bond_shear = std::min(s.bond_shear, std::sqrt(mass / sec.k_shear));
-    s.bond_rotation =
-        std::min(s.bond_rotation, std::sqrt(inertia / std::max(sec.k_bend_self, sec.k_torsion)));
+    s.bond_axial = std::min(s.bond_axial, std::sqrt(mass / bonds.k_axial[k]));
+    s.bond_shear = std::min(s.bond_shear, std::sqrt(mass / bonds.k_shear[k]));
+    s.bond_rotation = std::min(
+        s.bond_rotation, std::sqrt(inertia / std::max(bonds.k_bend_self[k], bonds.k_torsion[k])));
   }
   return s;
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "comm/DomainDecomposition.hpp"
+#include "engine/TimoshenkoBondTerm.hpp"
 
 namespace ringdem {
 namespace {
@@ -41,7 +42,8 @@ void make_lattice(ParticleStore& p, BondStore& bonds) {
   BondTimoshenko::Section s;
   BondTimoshenko::Reference ref;
   for (std::int64_t g = 0; g + 1 < gid; ++g)
-    if ((g + 1) % 12 != 0) bonds.add(g, g + 1, 0, s, ref, {1, 1, 1});
+    if ((g + 1) % 12 != 0)
+      TimoshenkoBondTerm::store(bonds, bonds.append(g, g + 1, 0), s, ref, {1, 1, 1});
   p.rebuild_index();
 }
 

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "TestCases.hpp"
-#include "app/ModelBuilder.hpp"
-#include "app/Simulation.hpp"
 #include "app/TensileTest.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
 
 namespace ringdem {

@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "TestCases.hpp"
-#include "app/Checkpoint.hpp"
-#include "app/ModelBuilder.hpp"
-#include "app/Simulation.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
+#include "io/Checkpoint.hpp"
 #include "io/FrameWriter.hpp"
 #include "io/Hdf5File.hpp"
 
@@ -172,7 +172,8 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
     {
       Simulation sim(build_model(c), comm, s);
       sim.run_steps(2 * kHalf);
-      straight = CheckpointStore(dir + "/straight").write(sim, driver, 0, c.name);
+      straight = CheckpointStore(dir + "/straight")
+                     .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c.name);
       EXPECT_GT(sim.owned_contact_history().size() + comm.size(), 0u);
     }
     // N steps, checkpoint, restart here, N steps.
@@ -180,13 +181,15 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
     {
       Simulation sim(build_model(c), comm, s);
       sim.run_steps(kHalf);
-      middle = CheckpointStore(dir + "/middle").write(sim, driver, 0, c.name);
+      middle = CheckpointStore(dir + "/middle")
+                   .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c.name);
     }
     {
       auto sim = restart(c, middle, comm);
       EXPECT_EQ(sim->steps(), kHalf);
       sim->run_steps(kHalf);
-      resumed = CheckpointStore(dir + "/resumed").write(*sim, driver, 0, c.name);
+      resumed = CheckpointStore(dir + "/resumed")
+                    .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c.name);
     }
     // And on one rank (another rank count whenever this run has more than one).
     std::string resumed_serial;
@@ -194,7 +197,9 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
       const Communicator self = Communicator::self();
       auto sim = restart(c, middle, self);
       sim->run_steps(kHalf);
-      resumed_serial = CheckpointStore(dir + "/serial").write(*sim, driver, 0, c.name);
+      resumed_serial =
+          CheckpointStore(dir + "/serial")
+              .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c.name);
     }
     comm.barrier();
     if (comm.is_root()) {

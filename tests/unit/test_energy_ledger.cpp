@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "TestCases.hpp"
-#include "app/ModelBuilder.hpp"
-#include "app/Simulation.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
 
 namespace ringdem {

@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "TestCases.hpp"
-#include "app/Checkpoint.hpp"
 #include "app/InfoCommand.hpp"
-#include "app/ModelBuilder.hpp"
-#include "app/Simulation.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
+#include "io/Checkpoint.hpp"
 #include "io/FrameWriter.hpp"
 #include "io/Hdf5File.hpp"
 
@@ -137,7 +137,8 @@ class CorruptCheckpoint : public ::testing::Test {
     sim.run_steps(5);  // mid-contact
     DriverState d;
     d.set("next_record_time", 0.5);
-    good_ = CheckpointStore(dir_).write(sim, d, 0, config_.name);
+    good_ = CheckpointStore(dir_).write(sim.comm(), sim.model(), sim.restart_state(), d, 0,
+                                        config_.name);
   }
   void TearDown() override { fs::remove_all(dir_); }
 

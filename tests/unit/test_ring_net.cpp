@@ -13,9 +13,9 @@
 #include <utility>
 #include <vector>
 
-#include "app/ModelBuilder.hpp"
 #include "domain/LinkingNumber.hpp"
 #include "domain/RingNet.hpp"
+#include "engine/ModelBuilder.hpp"
 #include "io/CaseLoader.hpp"
 
 namespace ringdem {
@@ -385,7 +385,6 @@ TEST(RingNetCase, NetEntryLoadsAndBuilds) {
     EXPECT_EQ(p.group[k], is_shackle ? shackle_group : net_group) << k;
     EXPECT_EQ(p.motion[k] == Motion::kFixed, is_shackle) << k;
     EXPECT_EQ(p.material[k], is_shackle ? 1 : 0) << k;
-    EXPECT_DOUBLE_EQ(p.contact_radius[k], is_shackle ? 0.008 : 0.009) << k;
     EXPECT_DOUBLE_EQ(p.damping[k], is_shackle ? 0.0 : 0.2) << k;
     fixed += is_shackle;
     if (p.body[k] == 0) ring_mass += p.mass[k];

@@ -6,8 +6,8 @@
 #include <random>
 
 #include "TestCases.hpp"
-#include "app/ModelBuilder.hpp"
-#include "app/Simulation.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
 
 namespace ringdem {
 namespace {

@@ -9,10 +9,10 @@
 #include <sstream>
 
 #include "TestCases.hpp"
-#include "app/ModelBuilder.hpp"
-#include "app/Simulation.hpp"
 #include "app/TensileTest.hpp"
 #include "domain/RingGenerator.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
 
 namespace ringdem {

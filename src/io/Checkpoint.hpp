@@ -4,7 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "app/Simulation.hpp"
+#include "comm/Communicator.hpp"
+#include "engine/Model.hpp"
+#include "engine/RestartState.hpp"
 
 namespace ringdem {
 
@@ -43,8 +45,10 @@ class CheckpointStore {
   /// `dir` is created by rank 0 if missing; `keep` newest checkpoints are kept.
   CheckpointStore(std::string dir, int keep = 2);
 
-  /// Collective. Returns the final path.
-  std::string write(Simulation& sim, const DriverState& driver, std::int64_t segment,
+  /// Collective: writes `model`'s fields and `state` (Simulation::restart_state(), whose
+  /// history holds each rank's owned contacts). Returns the final path.
+  std::string write(const Communicator& comm, Model& model, const RestartState& state,
+                    const DriverState& driver, std::int64_t segment,
                     const std::string& case_name) const;
 
   /// Checkpoints in `dir`, oldest first.

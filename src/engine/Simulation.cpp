@@ -1,10 +1,12 @@
-#include "app/Simulation.hpp"
+#include "engine/Simulation.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/ModelTable.hpp"
+#include "engine/PairContactTerm.hpp"
 #include "physics/Integrator.hpp"
 
 namespace ringdem {
@@ -42,23 +44,26 @@ const char* Simulation::phase_name(int phase) {
   return names[phase];
 }
 
-namespace {
-
-/// Block width of the decomposition: a bond partner or a contact partner of a particle, up
-/// to the next rebuild, must lie in a neighbouring block. Bonds may stretch 25 % before the
-/// block is too small (steel bonds break at a few per cent).
-double block_size_for(const Model& m, double skin) {
-  double r_max = 0.0;
-  for (double r : m.particles.radius)
-    r_max = std::max(r_max, r);
-  double bond_max = 0.0;
-  for (double l : m.bonds.length0)
-    bond_max = std::max(bond_max, l);
-  const double reach = std::max(2.0 * r_max, 1.25 * bond_max) + skin;
-  return reach > 0.0 ? reach : 1.0;
+std::vector<std::unique_ptr<ForceTerm>> Simulation::make_terms(Model& m) {
+  const BondModelEntry* bond_model = find_bond_model(m.bond_model);
+  const ContactModelEntry* contact_model = find_contact_model(m.contact_model);
+  if (bond_model == nullptr) throw std::runtime_error("unknown bond model '" + m.bond_model + "'");
+  if (contact_model == nullptr)
+    throw std::runtime_error("unknown contact model '" + m.contact_model + "'");
+  std::vector<std::unique_ptr<ForceTerm>> terms;
+  terms.push_back(bond_model->make(m.bonds, m.bond_types));
+  for (auto& t : contact_model->make())
+    terms.push_back(std::move(t));
+  return terms;
 }
 
-}  // namespace
+double Simulation::block_size() const {
+  double width = 0.0;
+  for (const auto& t : terms_)
+    width = std::max(width, t->ghost_width(model_.particles));
+  const double reach = comm_.max(width) + settings_.skin;
+  return reach > 0.0 ? reach : 1.0;
+}
 
 void Simulation::init_limits() {
   model_.particles.rebuild_index();
@@ -73,7 +78,11 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
     : model_(std::move(model)),
       comm_(comm),
       settings_(settings),
-      decomposition_(comm, block_size_for(model_, settings.skin), settings.imbalance_threshold) {
+      terms_(make_terms(model_)),
+      decomposition_(comm, block_size(), settings.imbalance_threshold) {
+  bond_term_ = static_cast<BondTerm*>(terms_.front().get());
+  for (auto& t : terms_)
+    if (auto* b = dynamic_cast<BodyContactTerm*>(t.get())) body_term_ = b;
   ParticleStore& p = model_.particles;
   init_limits();
   dt_ = settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
@@ -84,7 +93,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   rebuild();
   compute_forces();  // loads of the initial state, for the first half kick
   apply_global_damping(model_.particles, dt_);
-  interactions_.accumulate_ledger(model_.particles, model_.bodies, dt_, /*initial=*/true);
+  ledger_.accumulate(model_.particles, model_.bodies, slots_, gather_, dt_, /*initial=*/true);
 }
 
 Simulation::Simulation(Model model, const Communicator& comm, const SimulationSettings& settings,
@@ -92,7 +101,11 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
     : model_(std::move(model)),
       comm_(comm),
       settings_(settings),
-      decomposition_(comm, block_size_for(model_, settings.skin), settings.imbalance_threshold) {
+      terms_(make_terms(model_)),
+      decomposition_(comm, block_size(), settings.imbalance_threshold) {
+  bond_term_ = static_cast<BondTerm*>(terms_.front().get());
+  for (auto& t : terms_)
+    if (auto* b = dynamic_cast<BodyContactTerm*>(t.get())) body_term_ = b;
   ParticleStore& p = model_.particles;
   init_limits();
   // The checkpoint's dt, whatever the case now says: a different dt would not continue the
@@ -121,7 +134,10 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
 ContactHistory Simulation::owned_contact_history() const {
   const ParticleStore& p = model_.particles;
   ContactHistory out;
-  for (const auto& h : interactions_.export_history()) {
+  ContactHistory all;
+  for (const auto& t : terms_)
+    t->export_history(all);
+  for (const auto& h : all) {
     const std::int64_t i = p.index_of(h.gid);
     // A pair across ranks is evaluated on both: keep it where its first particle is owned.
     if (i >= 0 && static_cast<std::size_t>(i) < p.n_local()) out.push_back(h);
@@ -130,13 +146,35 @@ ContactHistory Simulation::owned_contact_history() const {
 }
 
 void Simulation::rebuild() {
-  rebuild(interactions_.export_history());
+  ContactHistory history;
+  for (const auto& t : terms_)
+    t->export_history(history);
+  rebuild(std::move(history));
+}
+
+std::size_t Simulation::n_contact_candidates() const {
+  for (const auto& t : terms_)
+    if (const auto* pairs = dynamic_cast<const PairContactTerm*>(t.get()))
+      return pairs->n_candidates();
+  return 0;
 }
 
 void Simulation::rebuild(ContactHistory history) {
   ParticleStore& p = model_.particles;
   decomposition_.redistribute(p, model_.bonds, history);
-  interactions_.rebuild(p, model_.bonds, model_.bodies, settings_.skin, history);
+  // Each term takes its slots and registers them with the gather map, in term order; bonded
+  // terms first, so the contact terms see their exclusions.
+  allocator_.reset();
+  gather_.begin(p.n_local());
+  excluded_.clear();
+  RebuildContext ctx{p, model_.bodies, settings_.skin, excluded_, history, allocator_, gather_, 0};
+  for (auto& t : terms_) {
+    t->rebuild(ctx);
+    ++ctx.term_number;
+  }
+  slots_.assign(allocator_.size());
+  gather_.finish(p);
+  ledger_.rebuild(gather_, allocator_.size());
   position_at_rebuild_.assign(p.position.begin(),
                               p.position.begin() + static_cast<std::ptrdiff_t>(p.n_local()));
   body_position_at_rebuild_.clear();
@@ -150,11 +188,14 @@ void Simulation::rebuild(ContactHistory history) {
 }
 
 bool Simulation::needs_rebuild() {
+  bool topology_changed = false;
+  for (const auto& t : terms_)
+    topology_changed |= t->topology_changed();
   // How far any rigid surface point moved: translation plus rotation angle times extent.
   double body_move = 0.0;
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
     const RigidBody& body = model_.bodies[b];
-    if (body.motion == RigidMotion::kFixed) continue;
+    if (body.motion == Motion::kFixed) continue;
     const double angle =
         norm(rotation_vector(body.orientation * conjugate(body_orientation_at_rebuild_[b])));
     const double turn = angle > 0.0 ? angle * body.extent() : 0.0;
@@ -163,7 +204,7 @@ bool Simulation::needs_rebuild() {
   // One reduction per step for both triggers — the largest move, and whether a bond broke
   // anywhere in the last force evaluation (its pair may now touch) — and for stop requests.
   const auto global = comm_.max(std::array<double, 3>{
-      std::sqrt(max_move2_), interactions_.bonds_broke() ? 1.0 : 0.0, stop_local_ ? 1.0 : 0.0});
+      std::sqrt(max_move2_), topology_changed ? 1.0 : 0.0, stop_local_ ? 1.0 : 0.0});
   const double particle_move = global[0];
   const bool bond_broke = global[1] > 0.0;
   stop_agreed_ = global[2] > 0.0;
@@ -175,26 +216,28 @@ bool Simulation::needs_rebuild() {
 }
 
 void Simulation::compute_forces() {
-  ParticleStore& p = model_.particles;
+  ComputeContext ctx{
+      model_.particles, model_.bodies, model_.materials, slots_, ledger_, time_, dt_};
   {
     PhaseTimer t(phase_seconds_[kBonds]);
-    interactions_.compute_bonds(p, model_.bonds, time_, dt_);
+    bond_term_->compute(ctx);
   }
   {
     PhaseTimer t(phase_seconds_[kContacts]);
-    interactions_.compute_contacts(p, model_.bodies, model_.materials, dt_);
+    for (std::size_t k = 1; k < terms_.size(); ++k)
+      terms_[k]->compute(ctx);
     reduce_body_loads();
   }
   {
     PhaseTimer t(phase_seconds_[kGather]);
-    interactions_.gather(p, settings_.gravity);
+    gather_.gather(model_.particles, slots_, settings_.gravity);
   }
 }
 
 void Simulation::reduce_body_loads() {
   if (model_.bodies.empty()) return;
   // Every rank sums all contributions in (body, gid) order: the same bits for any rank count.
-  auto loads = comm_.allgather(interactions_.body_loads());
+  auto loads = comm_.allgather(body_term_->body_loads());
   std::sort(loads.begin(), loads.end(), [](const auto& x, const auto& y) {
     return x.body < y.body || (x.body == y.body && x.gid < y.gid);
   });
@@ -227,7 +270,7 @@ void Simulation::step() {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     Integrator::second_half(p, dt_);
     Integrator::second_half(model_.bodies, dt_, settings_.gravity);
-    interactions_.accumulate_ledger(p, model_.bodies, dt_);  // needs both at v^{n+1}
+    ledger_.accumulate(p, model_.bodies, slots_, gather_, dt_);  // needs both at v^{n+1}
   }
   ++steps_;
 }
@@ -238,7 +281,7 @@ void Simulation::run_steps(std::int64_t n) {
 }
 
 void Simulation::place_body(std::size_t index, const Vec3& position, const Vec3& velocity,
-                            RigidMotion motion) {
+                            Motion motion) {
   RigidBody& b = model_.bodies.at(index);
   b.position = position;
   b.velocity = velocity;
@@ -254,41 +297,29 @@ void Simulation::set_group_damping(int group, double coefficient) {
 }
 
 void Simulation::refresh_bond_diagnostics() {
-  interactions_.update_bond_diagnostics(model_.particles, model_.bonds);
+  bond_term_->update_diagnostics(model_.particles);
 }
 
 std::int64_t Simulation::global_particles() const {
   return comm_.sum(static_cast<std::int64_t>(model_.particles.n_local()));
 }
 
-namespace {
-
-/// A bond whose ends live on two ranks is held by both: count it where end a is owned.
-template <class Pred>
-std::int64_t count_owned_bonds(const ParticleStore& p, const BondStore& bonds, Pred pred) {
-  std::int64_t n = 0;
-  for (std::size_t k = 0; k < bonds.size(); ++k) {
-    const std::int64_t a = p.index_of(bonds.gid_a[k]);
-    if (a >= 0 && static_cast<std::size_t>(a) < p.n_local() && pred(k)) ++n;
-  }
-  return n;
-}
-
-}  // namespace
-
 std::int64_t Simulation::global_bonds() const {
-  return comm_.sum(
-      count_owned_bonds(model_.particles, model_.bonds, [](std::size_t) { return true; }));
+  std::int64_t n = 0;
+  for (std::size_t k = 0; k < model_.bonds.size(); ++k)
+    n += model_.bonds.counted_here(model_.particles, k);
+  return comm_.sum(n);
 }
 
 std::int64_t Simulation::global_broken_bonds() const {
-  const BondStore& b = model_.bonds;
-  return comm_.sum(
-      count_owned_bonds(model_.particles, b, [&b](std::size_t k) { return b.broken[k] != 0; }));
+  std::int64_t n = 0;
+  for (std::size_t k = 0; k < model_.bonds.size(); ++k)
+    n += model_.bonds.counted_here(model_.particles, k) && model_.bonds.broken[k] != 0;
+  return comm_.sum(n);
 }
 
 Energies Simulation::energies() {
-  interactions_.update_bond_diagnostics(model_.particles, model_.bonds);
+  bond_term_->update_diagnostics(model_.particles);
   const ParticleStore& p = model_.particles;
   std::vector<std::int64_t> keys;
   std::vector<double> kin, pot, damping, friction, global, boundary, contact;
@@ -330,8 +361,7 @@ Energies Simulation::energies() {
   std::vector<double> bond_energy, break_energy;
   const BondStore& bonds = model_.bonds;
   for (std::size_t k = 0; k < bonds.size(); ++k) {
-    const std::int64_t a = p.index_of(bonds.gid_a[k]);
-    if (a < 0 || static_cast<std::size_t>(a) >= p.n_local()) continue;  // once: owner of end a
+    if (!bonds.counted_here(p, k)) continue;
     bond_rows.push_back(bonds.id[k]);
     bond_energy.push_back(bonds.energy[k]);
     break_energy.push_back(bonds.break_energy[k]);
@@ -341,7 +371,7 @@ Energies Simulation::energies() {
   e.bond_elastic = bond_sums[0];
   e.broken_bonds = bond_sums[1];
   for (const auto& b : model_.bodies) {
-    if (b.motion != RigidMotion::kFree) continue;
+    if (b.motion != Motion::kFree) continue;
     const Mat3 r = rotation_matrix(b.orientation);
     const Vec3 wb = r.transpose_times(b.omega);
     e.kinetic += 0.5 * b.mass * norm2(b.velocity) +

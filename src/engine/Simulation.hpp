@@ -2,12 +2,19 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <vector>
 
-#include "app/ModelBuilder.hpp"
 #include "comm/Communicator.hpp"
 #include "comm/DomainDecomposition.hpp"
+#include "engine/BodyContactTerm.hpp"
+#include "engine/BondTerm.hpp"
+#include "engine/EnergyLedger.hpp"
+#include "engine/ForceSlots.hpp"
+#include "engine/GatherMap.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/RestartState.hpp"
 #include "io/CaseConfig.hpp"
-#include "physics/Interactions.hpp"
 #include "physics/TimeStep.hpp"
 
 namespace ringdem {
@@ -49,15 +56,6 @@ struct Energies {
   double balance_error(const Energies& initial) const { return ledger() - initial.ledger(); }
 };
 
-/// What a checkpoint restores besides the particle, bond and body fields (app/Checkpoint).
-struct RestartState {
-  double time = 0.0;
-  std::int64_t steps = 0;
-  double dt = 0.0;
-  std::int64_t rebuilds = 0;
-  ContactHistory history;  ///< every tangential spring once (any rank may hold any entry)
-};
-
 /// The time-step loop of DESIGN §3 over one Model.
 class Simulation {
  public:
@@ -70,6 +68,11 @@ class Simulation {
   /// Tangential springs of the contacts of owned particles (each contact once over the ranks),
   /// for checkpoints.
   ContactHistory owned_contact_history() const;
+  /// Everything a checkpoint needs besides the model's fields: time, step, dt, rebuilds and
+  /// the owned contact history.
+  RestartState restart_state() const {
+    return {time_, steps_, dt_, rebuilds_, owned_contact_history()};
+  }
 
   /// Advances one step of dt.
   void step();
@@ -84,7 +87,8 @@ class Simulation {
   const SimulationSettings& settings() const { return settings_; }
   Model& model() { return model_; }
   const Model& model() const { return model_; }
-  const Interactions& interactions() const { return interactions_; }
+  /// Contact candidates of the particle-pair term at the last rebuild (this rank).
+  std::size_t n_contact_candidates() const;
   const Communicator& comm() const { return comm_; }
   const DomainDecomposition& decomposition() const { return decomposition_; }
 
@@ -94,8 +98,7 @@ class Simulation {
 
   /// Moves rigid body `index` (every rank calls it alike: bodies are replicated) and sets its
   /// motion; the neighbour lists are rebuilt at the next step.
-  void place_body(std::size_t index, const Vec3& position, const Vec3& velocity,
-                  RigidMotion motion);
+  void place_body(std::size_t index, const Vec3& position, const Vec3& velocity, Motion motion);
   /// Sets the Cundall coefficient of every particle of a group (physics.md §4).
   void set_group_damping(int group, double coefficient);
 
@@ -127,12 +130,26 @@ class Simulation {
   void compute_forces();
   void reduce_body_loads();
   bool needs_rebuild();
+  /// The force terms of the model's bond and contact models (engine/ModelTable).
+  static std::vector<std::unique_ptr<ForceTerm>> make_terms(Model& m);
+  /// Block width of the decomposition: the widest term's partner distance plus the skin (the
+  /// same on every rank).
+  double block_size() const;
 
   Model model_;
   const Communicator& comm_;
   SimulationSettings settings_;
+  /// The force terms in gather order: bonds, particle pairs, particle–rigid-body contacts
+  /// (declared before the decomposition, whose block width they set).
+  std::vector<std::unique_ptr<ForceTerm>> terms_;
   DomainDecomposition decomposition_;
-  Interactions interactions_;
+  BondTerm* bond_term_ = nullptr;
+  BodyContactTerm* body_term_ = nullptr;
+  SlotAllocator allocator_;
+  ForceSlots slots_;
+  GatherMap gather_;
+  EnergyLedger ledger_;
+  std::vector<ExcludedPair> excluded_;  ///< rebuild scratch
   StabilityLimits limits_{};
   double dt_ = 0.0;
   double time_ = 0.0;

@@ -6,7 +6,6 @@
 #include "domain/BondStore.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
-#include "io/CaseConfig.hpp"
 #include "physics/BondTimoshenko.hpp"
 #include "physics/MaterialTable.hpp"
 
@@ -20,17 +19,11 @@ struct Model {
   MaterialTable materials;
   std::vector<std::string> bond_type_names;
   std::vector<BondTimoshenko::Params> bond_types;
+  std::string bond_model = "timoshenko";        ///< name in the bond model table
+  std::string contact_model = "hertz_mindlin";  ///< name in the contact model table
   std::vector<std::string> group_names;
 
   int group_id(const std::string& name) const;
 };
-
-/// Generates particles, bonds and rigid bodies of a case, gids 0..N-1 in generator order.
-Model build_model(const CaseConfig& config);
-
-/// Adds a bond between two existing particles (by index) with the given type, its reference
-/// frame from the current orientations and its strengths drawn by (seed, gid pair).
-void add_bond(Model& model, std::size_t index_a, std::size_t index_b, int bond_type,
-              std::uint64_t seed);
 
 }  // namespace ringdem

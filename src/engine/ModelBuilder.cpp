@@ -1,4 +1,4 @@
-#include "app/ModelBuilder.hpp"
+#include "engine/ModelBuilder.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,6 +7,7 @@
 
 #include "domain/RingGenerator.hpp"
 #include "domain/RingNet.hpp"
+#include "engine/TimoshenkoBondTerm.hpp"
 
 namespace ringdem {
 
@@ -82,7 +83,6 @@ void add_ring(Model& model, const CaseConfig& c, const RingConfig& ring, int bon
     np.position = x;
     np.velocity = ring.velocity;
     np.radius = ring.particle_radius;
-    np.contact_radius = std::max(ring.contact_radius, ring.particle_radius);
     np.density = density;
     np.damping = damping_of(c, ring.group);
     np.material = mat;
@@ -120,16 +120,8 @@ RingNetParameters net_parameters(const RingNetConfig& net) {
 
 void add_bond(Model& model, std::size_t index_a, std::size_t index_b, int bond_type,
               std::uint64_t seed) {
-  ParticleStore& p = model.particles;
-  std::size_t a = index_a, b = index_b;
-  if (p.gid[a] > p.gid[b]) std::swap(a, b);
-  const auto& params = model.bond_types[static_cast<std::size_t>(bond_type)];
-  const double length0 = norm(p.position[b] - p.position[a]);
-  const auto section = BondTimoshenko::Section::make(params, p.radius[a], p.radius[b], length0);
-  const auto ref = BondTimoshenko::Reference::make(p.position[a], p.orientation[a], p.position[b],
-                                                   p.orientation[b]);
-  const auto strength = BondTimoshenko::draw_strength(params, seed, p.gid[a], p.gid[b]);
-  model.bonds.add(p.gid[a], p.gid[b], bond_type, section, ref, strength);
+  TimoshenkoBondTerm::create(model.bonds, model.bond_types[static_cast<std::size_t>(bond_type)],
+                             bond_type, model.particles, index_a, index_b, seed);
 }
 
 Model build_model(const CaseConfig& c) {
@@ -166,7 +158,10 @@ Model build_model(const CaseConfig& c) {
     model.bond_type_names.push_back(b.name);
     model.bond_types.push_back(p);
     bond_seeds.push_back(b.seed);
+    // One bond model per case (the loader checks that all types agree).
+    model.bond_model = b.model;
   }
+  model.contact_model = c.simulation.contact_model;
 
   ParticleStore& p = model.particles;
   std::int64_t next_gid = 0;
@@ -296,17 +291,17 @@ Model build_model(const CaseConfig& c) {
     }
     switch (rb.motion) {
       case MotionKind::kFixed:
-        b.motion = RigidMotion::kFixed;
+        b.motion = Motion::kFixed;
         b.velocity = {};
         b.omega = {};
         break;
       case MotionKind::kPrescribed:
-        b.motion = RigidMotion::kPrescribed;
+        b.motion = Motion::kPrescribed;
         break;
       case MotionKind::kFree:
         if (b.shape == RigidShape::kPlane)
           throw std::invalid_argument("rigid body '" + b.name + "': a plane cannot be free");
-        b.motion = RigidMotion::kFree;
+        b.motion = Motion::kFree;
         break;
     }
     model.bodies.push_back(b);
@@ -318,7 +313,7 @@ Model build_model(const CaseConfig& c) {
     for (const std::string& name : t.moving_bodies) {
       const auto it = std::find_if(model.bodies.begin(), model.bodies.end(),
                                    [&](const RigidBody& b) { return b.name == name; });
-      if (it == model.bodies.end() || it->motion != RigidMotion::kPrescribed)
+      if (it == model.bodies.end() || it->motion != Motion::kPrescribed)
         throw std::invalid_argument("tensile test: '" + name + "' is not a prescribed rigid body");
       it->velocity = t.loading_rate * normalized(t.pull_direction);
     }

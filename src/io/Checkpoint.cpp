@@ -1,4 +1,4 @@
-#include "app/Checkpoint.hpp"
+#include "io/Checkpoint.hpp"
 
 #include <fmt/format.h>
 
@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kFormat = "ringdem-checkpoint";
-constexpr std::int64_t kFormatVersion = 1;
+constexpr std::int64_t kFormatVersion = 2;  // 2: bond columns of unread section values dropped
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
 /// global row index, so partial sums of blocks written by any number of ranks add up to the
@@ -122,7 +122,7 @@ std::vector<std::string> split(const std::string& s) {
 struct BodyRows {
   std::vector<Vec3> position, velocity, omega, force, torque;
   std::vector<Quat> orientation;
-  std::vector<RigidMotion> motion;  ///< drivers change it (a boulder released)
+  std::vector<Motion> motion;  ///< drivers change it (a boulder released)
   template <class F>
   void for_each(F&& f) {
     f("motion", motion);
@@ -174,28 +174,30 @@ std::vector<std::string> CheckpointStore::list() const {
   return out;
 }
 
-std::string CheckpointStore::write(Simulation& sim, const DriverState& driver, std::int64_t segment,
-                                   const std::string& case_name) const {
-  const Communicator& comm = sim.comm();
-  const std::string final_path = fmt::format("{}/checkpoint_{:012d}.h5", dir_, sim.steps());
+std::string CheckpointStore::write(const Communicator& comm, Model& model,
+                                   const RestartState& state, const DriverState& driver,
+                                   std::int64_t segment, const std::string& case_name) const {
+  const std::string final_path = fmt::format("{}/checkpoint_{:012d}.h5", dir_, state.steps);
   const std::string tmp_path = final_path + ".tmp";
   if (comm.is_root()) fs::create_directories(dir_);
   comm.barrier();
-  Model& model = sim.model();
   ParticleStore& p = model.particles;
   BondStore& bonds = model.bonds;
-  const std::int64_t n_particles = sim.global_particles();
-  const std::int64_t n_bonds = sim.global_bonds();
+  std::int64_t my_bonds = 0;
+  for (std::size_t k = 0; k < bonds.size(); ++k)
+    my_bonds += bonds.counted_here(p, k);
+  const std::int64_t n_particles = comm.sum(static_cast<std::int64_t>(p.n_local()));
+  const std::int64_t n_bonds = comm.sum(my_bonds);
   {
     Hdf5File f = Hdf5File::create(tmp_path, comm);
     f.set_attribute("/", "format", std::string(kFormat));
     f.set_attribute("/", "format_version", kFormatVersion);
     f.set_attribute("/", "ringdem_version", std::string(kVersion));
     f.set_attribute("/", "case", case_name);
-    f.set_attribute("/", "time", sim.time());
-    f.set_attribute("/", "dt", sim.dt());
-    f.set_attribute("/", "step", sim.steps());
-    f.set_attribute("/", "rebuilds", sim.rebuilds());
+    f.set_attribute("/", "time", state.time);
+    f.set_attribute("/", "dt", state.dt);
+    f.set_attribute("/", "step", state.steps);
+    f.set_attribute("/", "rebuilds", state.rebuilds);
     f.set_attribute("/", "segment", segment);
     f.set_attribute("/", "ranks", static_cast<std::int64_t>(comm.size()));
     f.set_attribute("/", "particles", n_particles);
@@ -211,13 +213,12 @@ std::string CheckpointStore::write(Simulation& sim, const DriverState& driver, s
         write_field(f, comm, particle_rows, "/particles/" + std::string(info.name), v);
     });
 
-    // Bonds: each written by the owner of its end a.
+    // Bonds: each written once (BondStore::counted_here).
     f.create_group("/bonds");
     std::vector<std::int64_t> bond_rows;
     std::vector<std::size_t> bond_local;
     for (std::size_t k = 0; k < bonds.size(); ++k) {
-      const std::int64_t a = p.index_of(bonds.gid_a[k]);
-      if (a < 0 || static_cast<std::size_t>(a) >= p.n_local()) continue;
+      if (!bonds.counted_here(p, k)) continue;
       bond_rows.push_back(bonds.id[k]);
       bond_local.push_back(k);
     }
@@ -232,7 +233,7 @@ std::string CheckpointStore::write(Simulation& sim, const DriverState& driver, s
     });
 
     f.create_group("/history");
-    const ContactHistory history = sim.owned_contact_history();
+    const ContactHistory& history = state.history;
     std::vector<std::uint8_t> kind;
     std::vector<std::int64_t> gid, partner;
     std::vector<Vec3> spring;
@@ -382,7 +383,7 @@ RestartState read_checkpoint(const std::string& path, Model& model, DriverState&
     body.omega = rows.omega[b];
     body.force = rows.force[b];
     body.torque = rows.torque[b];
-    if (static_cast<int>(rows.motion[b]) > static_cast<int>(RigidMotion::kFree))
+    if (static_cast<int>(rows.motion[b]) > static_cast<int>(Motion::kPrescribed))
       throw Hdf5Error(path + ": invalid rigid-body motion");
     body.motion = rows.motion[b];
   }

@@ -1,0 +1,11 @@
+#pragma once
+
+#include <cstdint>
+
+namespace ringdem {
+
+/// Which criterion broke a bond (Eq. 3–5, first of tensile, compressive, shear), or kNone.
+/// Data of the bond store and the frames, decided by the bond laws.
+enum class BondFailure : std::uint8_t { kNone = 0, kTensile = 1, kCompressive = 2, kShear = 3 };
+
+}  // namespace ringdem

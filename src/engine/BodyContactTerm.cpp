@@ -1,0 +1,91 @@
+#include "engine/BodyContactTerm.hpp"
+
+#include <cmath>
+
+#include "engine/ContactKeys.hpp"
+#include "physics/HertzMindlin.hpp"
+
+namespace ringdem {
+
+void BodyContactTerm::export_history(ContactHistory& out) const {
+  for (std::size_t w = 0; w < particle_.size(); ++w)
+    if (norm2(spring_[w]) > 0.0)
+      out.push_back({ContactHistoryEntry::Partner::kRigidBody, gid_[w], body_[w], spring_[w]});
+}
+
+void BodyContactTerm::rebuild(RebuildContext& ctx) {
+  const ParticleStore& p = ctx.particles;
+  // Candidates: owned particles within the skin of a body's surface (a body is on every rank,
+  // so each particle's contacts are evaluated once, where it is owned).
+  particle_.clear();
+  body_.clear();
+  gid_.clear();
+  for (std::size_t b = 0; b < ctx.bodies.size(); ++b)
+    for (std::size_t k = 0; k < p.n_local(); ++k)
+      if (ctx.bodies[b].closest(p.position[k]).distance < p.radius[k] + ctx.skin) {
+        particle_.push_back(static_cast<std::uint32_t>(k));
+        body_.push_back(static_cast<std::uint32_t>(b));
+        gid_.push_back(p.gid[k]);
+      }
+  const auto old_springs = springs_by_key(ctx.history, ContactHistoryEntry::Partner::kRigidBody);
+  spring_.assign(particle_.size(), Vec3{});
+  for (std::size_t w = 0; w < particle_.size(); ++w) {
+    const auto it = old_springs.find(PairKey{gid_[w], body_[w]});
+    if (it != old_springs.end()) spring_[w] = it->second;
+  }
+  slots_ = ctx.allocator.take(particle_.size());
+  for (std::size_t w = 0; w < particle_.size(); ++w)
+    ctx.gather.add(particle_[w], GatherMap::kBodyKeyBase + body_[w], ctx.term_number,
+                   slots_.begin + static_cast<std::uint32_t>(w), true);
+}
+
+void BodyContactTerm::compute(ComputeContext& ctx) {
+  const ParticleStore& p = ctx.particles;
+  ForceSlots& slots = ctx.slots;
+  EnergyLedger& ledger = ctx.ledger;
+  body_loads_.clear();
+  for (std::size_t w = 0; w < particle_.size(); ++w) {
+    const std::uint32_t k = particle_[w];
+    const std::uint32_t slot = slots_.begin + static_cast<std::uint32_t>(w);
+    const RigidBody& body = ctx.bodies[body_[w]];
+    const auto sp = body.closest(p.position[k]);
+    const double overlap = p.radius[k] - sp.distance;
+    if (overlap <= 0.0) {
+      spring_[w] = {};
+      slots.set(slot, {}, {});
+      ledger.record(slot) = {};
+      continue;
+    }
+    const Vec3 n = -sp.normal;  // from the particle to the body
+    const double arm = p.radius[k] - 0.5 * overlap;
+    const Vec3 contact = p.position[k] + n * arm;
+    const double r_body = body.contact_radius();
+    HertzMindlin::Input in;
+    in.normal = n;
+    in.overlap = overlap;
+    in.r_star = std::isinf(r_body) ? p.radius[k] : p.radius[k] * r_body / (p.radius[k] + r_body);
+    in.m_star =
+        body.has_finite_mass() ? p.mass[k] * body.mass / (p.mass[k] + body.mass) : p.mass[k];
+    in.v_rel = body.velocity_at(contact) - (p.velocity[k] + cross(p.omega[k], n * arm));
+    in.dt = ctx.dt;
+    in.arm_i = arm;
+    in.arm_j = 0.0;
+    in.omega_i = p.omega[k];
+    in.omega_j = body.omega;
+    const auto r =
+        HertzMindlin::compute(ctx.materials.pair(p.material[k], body.material), in, spring_[w]);
+    slots.set(slot, r.force_i, cross(n * arm, r.force_i) + r.rolling_torque_i);
+    ledger.record(slot) = {r.damping_force_i,
+                           spring_[w],
+                           n * arm,
+                           r.rolling_torque_i,
+                           r.tangential_energy,
+                           r.elastic_energy,
+                           static_cast<std::int32_t>(body_[w])};
+    const Vec3 torque_on_body = cross(contact - body.position, -r.force_i);
+    body_loads_.push_back(
+        {p.gid[k], static_cast<std::int32_t>(body_[w]), -r.force_i, torque_on_body});
+  }
+}
+
+}  // namespace ringdem

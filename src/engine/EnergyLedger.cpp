@@ -1,0 +1,103 @@
+#include "engine/EnergyLedger.hpp"
+
+namespace ringdem {
+
+void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
+  const auto& ledger_slots = gather.ledger_slots();
+  records_.assign(ledger_slots.size() + 1, DissipationRecord{});
+  record_of_slot_.assign(n_slots, static_cast<std::uint32_t>(ledger_slots.size()));
+  for (std::size_t e = 0; e < ledger_slots.size(); ++e)
+    record_of_slot_[ledger_slots[e]] = static_cast<std::uint32_t>(e);
+  list_changed_ = true;
+}
+
+void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bodies,
+                              const ForceSlots& slots, const GatherMap& gather, double dt,
+                              bool initial) {
+  // The tallies (docs/physics.md "Energy ledger"; physics.md §3 for the contact loads, §4
+  // for the integrator). Velocity Verlet applies a load F^n, computed at t_n, in two half
+  // kicks v^{n-1/2} -> v^n -> v^{n+1/2}; the kinetic energy they change is exactly
+  // dt F^n . v^n with v^n the synchronised velocity (the mean of the two half-step
+  // velocities), i.e. the load's power at the end of this step's second half kick, which is
+  // where this runs. Summing dt P^n is the trapezoidal rule in time for the work: the same
+  // as the mid-step form dt (F^n + F^{n+1})/2 . v^{n+1/2} summed over steps. The current
+  // step's second kick is only half done, so the reported tally is accumulated - dt/2 P^n
+  // (ParticleStore::ledger_value), and the ledger closes to O(dt^2) at every step, the order
+  // of velocity Verlet's own energy error. (The work of F^n with the half-step velocity the
+  // contact law saw, F^n . v^{n-1/2} dt, would be only first order.)
+  const auto& particles = gather.ledger_particles();
+  const auto& offsets = gather.ledger_offsets();
+  const auto& ledger_slots = gather.ledger_slots();
+  auto add = [&](double& accumulated, double& last_power, double power) {
+    accumulated = initial
+                      ? ParticleStore::ledger_value(accumulated, last_power, dt) + 0.5 * dt * power
+                      : accumulated + dt * power;
+    last_power = power;
+  };
+  if (list_changed_) {
+    // Particles off the list have no contact and are not driven: zero power from now on. A
+    // tangential spring energy still booked to one (its contact gone) is released as friction.
+    for (std::size_t i = 0, k = 0; k < p.n_local(); ++k) {
+      if (i < particles.size() && particles[i] == k) {
+        ++i;
+        continue;
+      }
+      p.power_damping[k] = p.power_friction[k] = p.power_boundary[k] = 0.0;
+      if (!initial) p.dissipated_friction[k] += p.tangential_energy[k];
+      p.tangential_energy[k] = 0.0;
+      p.contact_energy[k] = 0.0;
+    }
+    list_changed_ = false;
+  }
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const std::uint32_t k = particles[i];
+    const Vec3 v = p.velocity[k];
+    const Vec3 w = p.omega[k];
+    double damping = 0.0, friction = 0.0, boundary = 0.0, tangential = 0.0, elastic = 0.0;
+    // Contacts, in gather order (the same sum on any rank count). Each particle books the
+    // work its own contact loads do; over both ends of a pair this is the pair's dissipation.
+    // A rigid body's end is booked to the particle: against a driven body its surface
+    // velocity enters the relative velocity and the total contact load's power on the body
+    // is boundary work; a free body's own kinetic energy is in the ledger.
+    for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+      const DissipationRecord& c = records_[e];
+      if (c.arm.x == 0.0 && c.arm.y == 0.0 && c.arm.z == 0.0) continue;  // not touching
+      Vec3 rel = v + cross(w, c.arm);  // velocity of the particle's contact point
+      if (c.body >= 0) {
+        const RigidBody& body = bodies[static_cast<std::size_t>(c.body)];
+        if (body.motion != Motion::kFixed) {
+          const Vec3 vb = body.velocity_at(p.position[k] + c.arm);
+          rel -= vb;
+          if (body.motion == Motion::kPrescribed) boundary += dot(slots.force(ledger_slots[e]), vb);
+        }
+      }
+      damping -= dot(c.damping, rel);
+      friction -= dot(c.friction, rel) + dot(c.rolling, w);
+      tangential += c.tangential_energy;
+      elastic += c.elastic_energy;
+    }
+    if (p.motion[k] != Motion::kFree) {
+      // A driven particle: whatever its interactions push against, the driver supplies.
+      Vec3 f, t;
+      for (std::uint32_t e = gather.offset(k); e < gather.offset(k + 1); ++e) {
+        const std::uint32_t s = gather.slot(e);
+        f += slots.force(s);
+        t += slots.torque(s);
+      }
+      boundary -= dot(f, v) + dot(t, w);
+    }
+    add(p.dissipated_damping[k], p.power_damping[k], damping);
+    add(p.dissipated_friction[k], p.power_friction[k], friction);
+    add(p.boundary_work[k], p.power_boundary[k], boundary);
+    // Friction is what the tangential springs took in and do not hold any more.
+    if (!initial) p.dissipated_friction[k] -= tangential - p.tangential_energy[k];
+    p.tangential_energy[k] = tangential;
+    p.contact_energy[k] = elastic;  // summed in gather order: the same bits on any rank count
+  }
+  // External forces: F_ext . (x^{n+1} - x^n), exact for a constant force.
+  if (!initial)
+    for (const auto& x : gather.external_powers())
+      p.boundary_work[x.particle] += dt * x.power;
+}
+
+}  // namespace ringdem

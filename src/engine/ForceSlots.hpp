@@ -1,0 +1,56 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/Vec3.hpp"
+
+namespace ringdem {
+
+/// A contiguous range of force slots (or of a term's own items).
+struct SlotRange {
+  std::uint32_t begin = 0;
+  std::uint32_t count = 0;
+  std::uint32_t end() const { return begin + count; }
+};
+
+/// Per-interaction force and torque contributions, one slot per interaction end, structure
+/// of arrays so the kernels store contiguously. Each force term writes only the slots of its
+/// own ranges; GatherMap then sums each owned particle's slots in a fixed order (DESIGN §3).
+struct ForceSlots {
+  std::vector<double> fx, fy, fz, tx, ty, tz;
+
+  std::size_t size() const { return fx.size(); }
+  void assign(std::size_t n) {
+    for (auto* v : {&fx, &fy, &fz, &tx, &ty, &tz})
+      v->assign(n, 0.0);
+  }
+  void set(std::size_t i, const Vec3& f, const Vec3& t) {
+    fx[i] = f.x;
+    fy[i] = f.y;
+    fz[i] = f.z;
+    tx[i] = t.x;
+    ty[i] = t.y;
+    tz[i] = t.z;
+  }
+  Vec3 force(std::size_t i) const { return {fx[i], fy[i], fz[i]}; }
+  Vec3 torque(std::size_t i) const { return {tx[i], ty[i], tz[i]}; }
+};
+
+/// Hands out slot ranges to the force terms at a rebuild, in term order; the total sizes the
+/// ForceSlots once.
+class SlotAllocator {
+ public:
+  void reset() { next_ = 0; }
+  SlotRange take(std::size_t n) {
+    const SlotRange r{next_, static_cast<std::uint32_t>(n)};
+    next_ += static_cast<std::uint32_t>(n);
+    return r;
+  }
+  std::size_t size() const { return next_; }
+
+ private:
+  std::uint32_t next_ = 0;
+};
+
+}  // namespace ringdem

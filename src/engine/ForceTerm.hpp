@@ -1,0 +1,74 @@
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "domain/ContactHistory.hpp"
+#include "domain/NeighbourSearch.hpp"
+#include "domain/ParticleStore.hpp"
+#include "domain/RigidBody.hpp"
+#include "engine/EnergyLedger.hpp"
+#include "engine/ForceSlots.hpp"
+#include "engine/GatherMap.hpp"
+#include "physics/MaterialTable.hpp"
+
+namespace ringdem {
+
+/// A pair that must get no contact: particle index and the partner's gid.
+struct ExcludedPair {
+  std::uint32_t particle;
+  std::int64_t partner_gid;
+};
+
+/// What a force term reads at a neighbour-list rebuild (the particle index is current).
+struct RebuildContext {
+  const ParticleStore& particles;
+  const std::vector<RigidBody>& bodies;
+  double skin;
+  /// Pairs that must not touch (intact bonds): bonded terms append both ends' entries in
+  /// their rebuild, which runs before that of the contact terms (term order, Simulation).
+  std::vector<ExcludedPair>& excluded;
+  /// Contact history carried across the rebuild (tangential springs, by gid pair).
+  const ContactHistory& history;
+  SlotAllocator& allocator;
+  GatherMap& gather;
+  std::uint32_t term_number;  ///< position in the term list: the gather order's tie-break
+};
+
+/// What a force term reads and writes in one force evaluation.
+struct ComputeContext {
+  const ParticleStore& particles;
+  std::vector<RigidBody>& bodies;
+  const MaterialTable& materials;
+  ForceSlots& slots;
+  EnergyLedger& ledger;
+  double time;
+  double dt;
+};
+
+/// One kind of interaction (DESIGN §2): bonds of one model, particle pairs, particle–rigid-
+/// body contacts; later ropes and brakes. A term owns its parameters and state, takes its
+/// slot ranges from the allocator at every rebuild, registers each slot with the gather map
+/// (and with the ledger when it dissipates), and evaluates its kernel through the loop
+/// helper (engine/Loop.hpp). It never calls MPI and never asks whether a particle is a ghost:
+/// the gather map keeps only owned particles' slots.
+class ForceTerm {
+ public:
+  virtual ~ForceTerm() = default;
+
+  virtual std::string_view name() const = 0;
+  /// Largest centre distance of two particles this term couples (before the skin): every
+  /// partner of an owned particle within it must be present as a ghost.
+  virtual double ghost_width(const ParticleStore& p) const = 0;
+  /// Resolves particle indices, builds candidate lists, takes slots, fills the gather map.
+  virtual void rebuild(RebuildContext& ctx) = 0;
+  /// Writes this term's slots for the current state.
+  virtual void compute(ComputeContext& ctx) = 0;
+  /// Appends the history (tangential springs) of touching pairs, for migration and checkpoints.
+  virtual void export_history(ContactHistory& /*out*/) const {}
+  /// Set when the last compute() changed the topology (a bond broke): forces a rebuild.
+  virtual bool topology_changed() const { return false; }
+};
+
+}  // namespace ringdem

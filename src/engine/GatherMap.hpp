@@ -1,0 +1,67 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/Vec3.hpp"
+#include "domain/ParticleStore.hpp"
+#include "engine/ForceSlots.hpp"
+
+namespace ringdem {
+
+/// For every owned particle, its force slots in a fixed order: by partner key (the partner's
+/// gid, or a rigid body's key after every gid), then by term. The sum is then the same whatever
+/// the storage order or the rank count (DESIGN §4). Written once for all force terms.
+class GatherMap {
+ public:
+  /// Rigid bodies sort after every particle partner: key = kBodyKeyBase + body index.
+  static constexpr std::int64_t kBodyKeyBase = std::int64_t{1} << 62;
+
+  /// Starts a rebuild over `n_local` owned particles.
+  void begin(std::size_t n_local);
+  /// One slot of particle `particle` (ignored unless owned), from term number `term`;
+  /// `ledger`: the slot carries a dissipation record for the energy ledger.
+  void add(std::uint32_t particle, std::int64_t partner_key, std::uint32_t term, std::uint32_t slot,
+           bool ledger) {
+    if (particle < n_local_) entries_.push_back({particle, partner_key, term, slot, ledger});
+  }
+  /// Sorts the entries into the gather order and builds the ledger's particle list: owned
+  /// particles with ledger slots, and driven ones (`p.motion`).
+  void finish(const ParticleStore& p);
+
+  /// force = gravity * mass + external force + sum of the slots, torque = sum of the slots
+  /// (owned particles). Notes the power F_ext . v of external forces on free particles at the
+  /// mid-step velocity, for the ledger.
+  void gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity);
+
+  /// Slots of owned particle k in gather order: slot(e) for e in [offset(k), offset(k + 1)).
+  std::uint32_t offset(std::size_t k) const { return gather_offset_[k]; }
+  std::uint32_t slot(std::size_t e) const { return gather_slot_[e]; }
+
+  /// The owned particles the ledger visits every step, with their ledger slots in gather order.
+  const std::vector<std::uint32_t>& ledger_particles() const { return ledger_particle_; }
+  const std::vector<std::uint32_t>& ledger_offsets() const { return ledger_offset_; }
+  const std::vector<std::uint32_t>& ledger_slots() const { return ledger_slot_; }
+
+  struct ExternalPower {
+    std::uint32_t particle;
+    double power;  ///< F_ext . v at the mid-step velocity
+  };
+  const std::vector<ExternalPower>& external_powers() const { return external_; }
+
+ private:
+  struct Entry {
+    std::uint32_t particle;
+    std::int64_t key;
+    std::uint32_t term;
+    std::uint32_t slot;
+    bool ledger;
+  };
+  std::size_t n_local_ = 0;
+  std::vector<Entry> entries_;
+  std::vector<std::uint32_t> gather_offset_, gather_slot_;
+  std::vector<std::uint32_t> ledger_particle_, ledger_offset_, ledger_slot_;
+  std::vector<ExternalPower> external_;
+};
+
+}  // namespace ringdem

@@ -1,0 +1,41 @@
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "domain/BondStore.hpp"
+#include "engine/BondTerm.hpp"
+#include "physics/BondTimoshenko.hpp"
+
+namespace ringdem {
+
+/// The one table of bond models selectable by name (`bonds[].model`). Adding a model is one
+/// line here plus its evaluator (physics/) and its term (engine/).
+struct BondModelEntry {
+  std::string_view name;
+  std::string_view description;
+  std::unique_ptr<BondTerm> (*make)(BondStore& bonds, std::vector<BondTimoshenko::Params> types);
+};
+
+/// The one table of contact laws selectable by name (`simulation.contact_model`): each makes
+/// the particle–particle and the particle–rigid-body term of its law.
+struct ContactModelEntry {
+  std::string_view name;
+  std::string_view description;
+  std::vector<std::unique_ptr<ForceTerm>> (*make)();
+};
+
+const std::vector<BondModelEntry>& bond_models();
+const std::vector<ContactModelEntry>& contact_models();
+
+/// The entry of that name, or nullptr.
+const BondModelEntry* find_bond_model(std::string_view name);
+const ContactModelEntry* find_contact_model(std::string_view name);
+
+/// The names of a table, for the case loader's "allowed values" and did-you-mean hints.
+std::vector<std::string> bond_model_names();
+std::vector<std::string> contact_model_names();
+
+}  // namespace ringdem

@@ -1,0 +1,261 @@
+#include "engine/TimoshenkoBondTerm.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "engine/Loop.hpp"
+
+namespace ringdem {
+
+namespace {
+
+/// The orientation a particle had one step earlier: the inverse of the integrator's Cayley
+/// update q <- dq(omega dt) q (Integrator.cpp), which dq(-omega dt) undoes.
+inline Quat rotated_back(const Quat& q, const Vec3& omega, double dt) {
+  const Vec3 h = omega * (-0.5 * dt);
+  const double s = 1.0 / std::sqrt(1.0 + norm2(h));
+  return renormalized(Quat{s, h.x * s, h.y * s, h.z * s} * q);
+}
+
+}  // namespace
+
+TimoshenkoBondTerm::TimoshenkoBondTerm(BondStore& bonds, std::vector<BondTimoshenko::Params> types)
+    : bonds_(bonds), types_(std::move(types)) {}
+
+std::size_t TimoshenkoBondTerm::create(BondStore& bonds, const BondTimoshenko::Params& params,
+                                       std::int32_t type, const ParticleStore& p, std::size_t a,
+                                       std::size_t b, std::uint64_t seed) {
+  if (p.gid[a] > p.gid[b]) std::swap(a, b);
+  const double length0 = norm(p.position[b] - p.position[a]);
+  const auto section = BondTimoshenko::Section::make(params, p.radius[a], p.radius[b], length0);
+  const auto ref = BondTimoshenko::Reference::make(p.position[a], p.orientation[a], p.position[b],
+                                                   p.orientation[b]);
+  const auto strength = BondTimoshenko::draw_strength(params, seed, p.gid[a], p.gid[b]);
+  const std::size_t k = bonds.append(p.gid[a], p.gid[b], type);
+  store(bonds, k, section, ref, strength);
+  return k;
+}
+
+void TimoshenkoBondTerm::store(BondStore& bonds, std::size_t k, const BondTimoshenko::Section& s,
+                               const BondTimoshenko::Reference& ref,
+                               const BondTimoshenko::Strength& st) {
+  bonds.length0[k] = s.length0;
+  bonds.k_axial[k] = s.k_axial;
+  bonds.k_torsion[k] = s.k_torsion;
+  bonds.k_shear[k] = s.k_shear;
+  bonds.k_bend_self[k] = s.k_bend_self;
+  bonds.k_bend_cross[k] = s.k_bend_cross;
+  bonds.inv_area[k] = s.inv_area;
+  bonds.bend_factor[k] = s.bend_factor;
+  bonds.frame_a[k] = ref.frame_a;
+  bonds.frame_b[k] = ref.frame_b;
+  bonds.tensile_strength[k] = st.tensile;
+  bonds.compressive_strength[k] = st.compressive;
+  bonds.shear_strength[k] = st.shear;
+}
+
+BondTimoshenko::Section TimoshenkoBondTerm::section(const BondStore& bonds, std::size_t k) {
+  BondTimoshenko::Section s;
+  s.length0 = bonds.length0[k];
+  s.k_axial = bonds.k_axial[k];
+  s.k_torsion = bonds.k_torsion[k];
+  s.k_shear = bonds.k_shear[k];
+  s.k_bend_self = bonds.k_bend_self[k];
+  s.k_bend_cross = bonds.k_bend_cross[k];
+  s.inv_area = bonds.inv_area[k];
+  s.bend_factor = bonds.bend_factor[k];
+  return s;
+}
+
+double TimoshenkoBondTerm::ghost_width(const ParticleStore&) const {
+  // Bonds may stretch 25 % before a partner leaves the ghost layer (steel bonds break at a
+  // few per cent).
+  double bond_max = 0.0;
+  for (double l : bonds_.length0)
+    bond_max = std::max(bond_max, l);
+  return 1.25 * bond_max;
+}
+
+void TimoshenkoBondTerm::rebuild(RebuildContext& ctx) {
+  const ParticleStore& p = ctx.particles;
+  BondStore& bonds = bonds_;
+  const std::size_t nb = bonds.size();
+  bonds.index_a.resize(nb);
+  bonds.index_b.resize(nb);
+  for (std::size_t k = 0; k < nb; ++k) {
+    const std::int64_t ia = p.index_of(bonds.gid_a[k]);
+    const std::int64_t ib = p.index_of(bonds.gid_b[k]);
+    // An intact bond has both ends here (block width >= bond length). The ends of a broken
+    // bond drift apart: a missing end borrows the other's index, which the bond loop only
+    // reads and then masks.
+    if ((ia < 0 || ib < 0) && (!bonds.broken[k] || (ia < 0 && ib < 0)))
+      throw std::runtime_error("bond " + std::to_string(bonds.gid_a[k]) + "-" +
+                               std::to_string(bonds.gid_b[k]) + " has an end this rank lacks");
+    bonds.index_a[k] = static_cast<std::uint32_t>(ia >= 0 ? ia : ib);
+    bonds.index_b[k] = static_cast<std::uint32_t>(ib >= 0 ? ib : ia);
+    if (!bonds.broken[k]) {  // intact bonds only: a broken pair may touch
+      ctx.excluded.push_back({bonds.index_a[k], bonds.gid_b[k]});
+      ctx.excluded.push_back({bonds.index_b[k], bonds.gid_a[k]});
+    }
+  }
+  slots_a_ = ctx.allocator.take(nb);
+  slots_b_ = ctx.allocator.take(nb);
+  const auto term = ctx.term_number;
+  for (std::size_t k = 0; k < nb; ++k) {
+    if (bonds.broken[k]) continue;  // exerts nothing; a bond breaking later forces a rebuild
+    ctx.gather.add(bonds.index_a[k], bonds.gid_b[k], term,
+                   slots_a_.begin + static_cast<std::uint32_t>(k), false);
+    ctx.gather.add(bonds.index_b[k], bonds.gid_a[k], term,
+                   slots_b_.begin + static_cast<std::uint32_t>(k), false);
+  }
+}
+
+void TimoshenkoBondTerm::compute(ComputeContext& ctx) {
+  broke_ = false;
+  const ParticleStore& p = ctx.particles;
+  BondStore& bonds = bonds_;
+  const std::size_t nb = bonds.size();
+  failed_.resize(nb);
+  // Bonds (physics.md §1): forces and the failure test of Eq. 3–5 every step, written so the
+  // loop vectorises: bond data in contiguous arrays, particle data gathered by index, no
+  // branches (broken or failing bonds are masked to zero force). Output quantities are
+  // recomputed on demand by update_diagnostics().
+  const Vec3* const pos = p.position.data();
+  const Quat* const rot = p.orientation.data();
+  const std::uint32_t* const ia = bonds.index_a.data();
+  const std::uint32_t* const ib = bonds.index_b.data();
+  const std::uint8_t* const broken = bonds.broken.data();
+  std::uint8_t* __restrict__ const failed = failed_.data();
+  ForceSlots& slots = ctx.slots;
+  double* __restrict__ const fxa = slots.fx.data() + slots_a_.begin;
+  double* __restrict__ const fya = slots.fy.data() + slots_a_.begin;
+  double* __restrict__ const fza = slots.fz.data() + slots_a_.begin;
+  double* __restrict__ const txa = slots.tx.data() + slots_a_.begin;
+  double* __restrict__ const tya = slots.ty.data() + slots_a_.begin;
+  double* __restrict__ const tza = slots.tz.data() + slots_a_.begin;
+  double* __restrict__ const fxb = slots.fx.data() + slots_b_.begin;
+  double* __restrict__ const fyb = slots.fy.data() + slots_b_.begin;
+  double* __restrict__ const fzb = slots.fz.data() + slots_b_.begin;
+  double* __restrict__ const txb = slots.tx.data() + slots_b_.begin;
+  double* __restrict__ const tyb = slots.ty.data() + slots_b_.begin;
+  double* __restrict__ const tzb = slots.tz.data() + slots_b_.begin;
+  // Raw pointers, read once: the vectoriser needs loop-invariant bases it can prove.
+  const double* const l0 = bonds.length0.data();
+  const double* const k_ax = bonds.k_axial.data();
+  const double* const k_tor = bonds.k_torsion.data();
+  const double* const k_self = bonds.k_bend_self.data();
+  const double* const k_cross = bonds.k_bend_cross.data();
+  const double* const inv_area = bonds.inv_area.data();
+  const double* const bend_factor = bonds.bend_factor.data();
+  const Quat* const frame_a = bonds.frame_a.data();
+  const Quat* const frame_b = bonds.frame_b.data();
+  const double* const sigma_t = bonds.tensile_strength.data();
+  const double* const sigma_c = bonds.compressive_strength.data();
+  const double* const tau = bonds.shear_strength.data();
+  Scratch& g = scratch_;
+  // Bonds in chunks: a scalar pass copies the end particles' positions and orientations
+  // into contiguous scratch arrays, so the vector loop that follows loads everything
+  // contiguously instead of gathering it element by element.
+  for_each_chunk(IndexRange{0, nb}, kChunk, [&](IndexRange chunk) {
+    const std::size_t start = chunk.begin;
+    for (std::size_t c = 0; c < chunk.size(); ++c) {
+      const Vec3& xa = pos[ia[start + c]];
+      const Vec3& xb = pos[ib[start + c]];
+      const Quat& qa = rot[ia[start + c]];
+      const Quat& qb = rot[ib[start + c]];
+      g.xa[0][c] = xa.x, g.xa[1][c] = xa.y, g.xa[2][c] = xa.z;
+      g.xb[0][c] = xb.x, g.xb[1][c] = xb.y, g.xb[2][c] = xb.z;
+      g.qa[0][c] = qa.w, g.qa[1][c] = qa.x, g.qa[2][c] = qa.y, g.qa[3][c] = qa.z;
+      g.qb[0][c] = qb.w, g.qb[1][c] = qb.x, g.qb[2][c] = qb.y, g.qb[3][c] = qb.z;
+    }
+    for_each(chunk, [&](std::size_t k) {
+      const std::size_t c = k - start;
+      BondTimoshenko::Section sec;
+      sec.length0 = l0[k];
+      sec.k_axial = k_ax[k];
+      sec.k_torsion = k_tor[k];
+      sec.k_bend_self = k_self[k];
+      sec.k_bend_cross = k_cross[k];
+      sec.inv_area = inv_area[k];
+      sec.bend_factor = bend_factor[k];
+      const BondTimoshenko::Reference ref{frame_a[k], frame_b[k]};
+      const auto r = BondTimoshenko::compute(sec, ref, Vec3{g.xa[0][c], g.xa[1][c], g.xa[2][c]},
+                                             Quat{g.qa[0][c], g.qa[1][c], g.qa[2][c], g.qa[3][c]},
+                                             Vec3{g.xb[0][c], g.xb[1][c], g.xb[2][c]},
+                                             Quat{g.qb[0][c], g.qb[1][c], g.qb[2][c], g.qb[3][c]});
+      const auto st = BondTimoshenko::stresses(sec, r);
+      const int fails =
+          (st.tensile > sigma_t[k]) | (st.compressive > sigma_c[k]) | (st.shear > tau[k]);
+      failed[k] = static_cast<std::uint8_t>(fails & (broken[k] == 0));
+      // A select, not a product: a broken bond's state may be NaN (ends far apart or borrowed).
+      const bool keep = !(fails | broken[k]);
+      fxa[k] = keep ? r.force_a.x : 0.0;
+      fya[k] = keep ? r.force_a.y : 0.0;
+      fza[k] = keep ? r.force_a.z : 0.0;
+      txa[k] = keep ? r.torque_a.x : 0.0;
+      tya[k] = keep ? r.torque_a.y : 0.0;
+      tza[k] = keep ? r.torque_a.z : 0.0;
+      fxb[k] = keep ? r.force_b.x : 0.0;
+      fyb[k] = keep ? r.force_b.y : 0.0;
+      fzb[k] = keep ? r.force_b.z : 0.0;
+      txb[k] = keep ? r.torque_b.x : 0.0;
+      tyb[k] = keep ? r.torque_b.y : 0.0;
+      tzb[k] = keep ? r.torque_b.z : 0.0;
+    });
+  });
+  if (std::find(failed_.begin(), failed_.end(), 1) != failed_.end())
+    book_failures(p, ctx.time, ctx.dt);
+}
+
+void TimoshenkoBondTerm::book_failures(const ParticleStore& p, double time, double dt) {
+  BondStore& bonds = bonds_;
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    if (!failed_[k]) continue;
+    const std::uint32_t a = bonds.index_a[k], b = bonds.index_b[k];
+    const auto sec = section(bonds, k);
+    const auto ref = reference(bonds, k);
+    const auto r = BondTimoshenko::compute(sec, ref, p.position[a], p.orientation[a], p.position[b],
+                                           p.orientation[b]);
+    bonds.broken[k] = 1;
+    bonds.failure[k] =
+        BondTimoshenko::check_failure(BondTimoshenko::stresses(sec, r), strength(bonds, k));
+    bonds.break_time[k] = time;
+    // Energy ledger: the bond's force acted through the first half of this step and is zero
+    // from this evaluation on, so the energy it takes out of the books is its mean over the
+    // step (trapezoid; second order, docs/physics.md "Energy ledger"). The start of the step
+    // is x - v dt, q rotated back by omega dt (the mid-step velocities the drift used).
+    const auto r0 = BondTimoshenko::compute(sec, ref, p.position[a] - p.velocity[a] * dt,
+                                            rotated_back(p.orientation[a], p.omega[a], dt),
+                                            p.position[b] - p.velocity[b] * dt,
+                                            rotated_back(p.orientation[b], p.omega[b], dt));
+    bonds.break_energy[k] = 0.5 * (r0.energy + r.energy);
+    broke_ = true;
+  }
+}
+
+double TimoshenkoBondTerm::update_diagnostics(const ParticleStore& p) const {
+  BondStore& bonds = bonds_;
+  double total = 0.0;
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    if (bonds.broken[k]) {
+      bonds.axial_force[k] = bonds.bending_moment[k] = bonds.utilisation[k] = 0.0;
+      bonds.energy[k] = 0.0;
+      continue;
+    }
+    const std::uint32_t a = bonds.index_a[k];
+    const std::uint32_t b = bonds.index_b[k];
+    const auto sec = section(bonds, k);
+    const auto r = BondTimoshenko::compute(sec, reference(bonds, k), p.position[a],
+                                           p.orientation[a], p.position[b], p.orientation[b]);
+    bonds.axial_force[k] = r.axial_force;
+    bonds.bending_moment[k] = std::max(r.bending_a, r.bending_b);
+    bonds.utilisation[k] =
+        BondTimoshenko::utilisation(BondTimoshenko::stresses(sec, r), strength(bonds, k));
+    bonds.energy[k] = r.energy;
+    total += r.energy;
+  }
+  return total;
+}
+
+}  // namespace ringdem
