@@ -5,7 +5,8 @@ RINGDEM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 RINGDEM_PACKAGES=(
   cmake make g++ pkg-config
   libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libmetis-dev libeigen3-dev
-  libyaml-cpp-dev libcli11-dev libfmt-dev libgtest-dev libbenchmark-dev
+  libyaml-cpp-dev libcli11-dev libfmt-dev libnlopt-dev nlohmann-json3-dev libgtest-dev
+  libbenchmark-dev
   python3-numpy python3-h5py python3-matplotlib
 )
 

@@ -1,15 +1,20 @@
 #include "app/Calibration.hpp"
 
 #include <fmt/format.h>
+#include <nlopt.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
 
 #include "app/RunCommand.hpp"
 #include "app/TensileTest.hpp"
@@ -133,185 +138,179 @@ CurveMisfit compare_curves(const LoadCurve& reference, const LoadCurve& simulate
 
 // ---- optimisers -------------------------------------------------------------------------------
 
-MinimumFound minimise_scan_then_brent(const BatchObjective& objective, double lower, double upper,
-                                      int scan_points, double tolerance, int max_evaluations) {
+namespace {
+
+/// Every point an optimiser has evaluated, so that none is evaluated twice: NLopt asks for one
+/// point at a time, and for points already known (the scanned or first-simplex points the batch
+/// ran beforehand, or a point it revisits) up to its own round-off, since it rescales internally.
+/// Each evaluation is a whole simulation, so the distinct points are what counts.
+class EvaluationMemo {
+ public:
+  /// `width`: the extent of the search box along each coordinate (the scale of round-off).
+  EvaluationMemo(const BatchObjective& objective, std::vector<double> width, int max_evaluations)
+      : objective_(objective), width_(std::move(width)), max_evaluations_(max_evaluations) {}
+
+  /// Values of the points, the new ones evaluated in one batch (those beyond the budget are not
+  /// evaluated: their value is infinite).
+  std::vector<double> evaluate(const std::vector<std::vector<double>>& batch) {
+    std::vector<double> values(batch.size(), std::numeric_limits<double>::infinity());
+    std::vector<std::vector<double>> fresh;
+    std::vector<std::size_t> fresh_slot;
+    for (std::size_t j = 0; j < batch.size(); ++j) {
+      if (const auto known = find(batch[j])) {
+        values[j] = values_[*known];
+      } else if (evaluations() + static_cast<int>(fresh.size()) < max_evaluations_) {
+        fresh.push_back(batch[j]);
+        fresh_slot.push_back(j);
+      }
+    }
+    if (fresh.empty()) return values;
+    const std::vector<double> fresh_values = objective_(fresh);
+    for (std::size_t k = 0; k < fresh.size(); ++k) {
+      points_.push_back(fresh[k]);
+      values_.push_back(fresh_values[k]);
+      values[fresh_slot[k]] = fresh_values[k];
+    }
+    return values;
+  }
+
+  std::optional<std::size_t> find(const std::vector<double>& point) const {
+    for (std::size_t k = 0; k < points_.size(); ++k) {
+      bool same = true;
+      for (std::size_t i = 0; i < point.size(); ++i)
+        same = same && std::abs(point[i] - points_[k][i]) <= 1e-12 * width_[i];
+      if (same) return k;
+    }
+    return std::nullopt;
+  }
+
+  int evaluations() const { return static_cast<int>(points_.size()); }
+  bool budget_spent() const { return evaluations() >= max_evaluations_; }
+
+  /// What the optimiser sees: a failed trial (infinite misfit) becomes a large finite value, so
+  /// that BOBYQA's quadratic model stays finite and the optimiser moves away from it.
+  double penalised(double value) const {
+    if (std::isfinite(value)) return value;
+    double largest = 1.0;
+    for (double v : values_)
+      if (std::isfinite(v)) largest = std::max(largest, std::abs(v));
+    return 10.0 * largest;
+  }
+
+  MinimumFound best() const {
+    MinimumFound found;
+    found.evaluations = evaluations();
+    if (values_.empty()) return found;
+    const auto k = static_cast<std::size_t>(std::min_element(values_.begin(), values_.end()) -
+                                            values_.begin());
+    found.point = points_[k];
+    found.value = values_[k];
+    return found;
+  }
+
+ private:
+  const BatchObjective& objective_;
+  std::vector<double> width_;
+  int max_evaluations_;
+  std::vector<std::vector<double>> points_;
+  std::vector<double> values_;
+};
+
+struct NloptCall {
+  nlopt_opt opt;
+  EvaluationMemo& memo;
+  std::exception_ptr error;  ///< an exception of the objective, rethrown after nlopt_optimize
+};
+
+double nlopt_objective(unsigned n, const double* x, double* /*gradient: none*/, void* data) {
+  auto& call = *static_cast<NloptCall*>(data);
+  const std::vector<double> point(x, x + n);
+  if (!call.memo.find(point) && call.memo.budget_spent()) {
+    nlopt_force_stop(call.opt);
+    return HUGE_VAL;
+  }
+  try {
+    return call.memo.penalised(call.memo.evaluate({point})[0]);
+  } catch (...) {  // no exception may cross NLopt's C code
+    call.error = std::current_exception();
+    nlopt_force_stop(call.opt);
+    return HUGE_VAL;
+  }
+}
+
+/// Runs NLopt's derivative-free `algorithm` in the box [lower, upper] from `start` with the first
+/// steps `step`, until the points move less than `x_tolerance` in every coordinate, the values
+/// differ by less than `value_tolerance` (0: not used), or the memo's budget is spent.
+MinimumFound run_nlopt(nlopt_algorithm algorithm, EvaluationMemo& memo,
+                       const std::vector<double>& lower, const std::vector<double>& upper,
+                       std::vector<double> start, const std::vector<double>& step,
+                       double x_tolerance, double value_tolerance) {
+  const auto n = static_cast<unsigned>(start.size());
+  const std::unique_ptr<nlopt_opt_s, decltype(&nlopt_destroy)> opt(nlopt_create(algorithm, n),
+                                                                   &nlopt_destroy);
+  if (!opt) throw std::runtime_error("NLopt: cannot create the optimiser");
+  NloptCall call{opt.get(), memo, nullptr};
+  const bool set_up = nlopt_set_lower_bounds(opt.get(), lower.data()) == NLOPT_SUCCESS &&
+                      nlopt_set_upper_bounds(opt.get(), upper.data()) == NLOPT_SUCCESS &&
+                      nlopt_set_min_objective(opt.get(), nlopt_objective, &call) == NLOPT_SUCCESS &&
+                      nlopt_set_initial_step(opt.get(), step.data()) == NLOPT_SUCCESS &&
+                      nlopt_set_xtol_abs1(opt.get(), x_tolerance) == NLOPT_SUCCESS &&
+                      nlopt_set_ftol_abs(opt.get(), value_tolerance) == NLOPT_SUCCESS;
+  if (!set_up) throw std::logic_error(std::string("NLopt: ") + nlopt_get_errmsg(opt.get()));
+  double value = 0.0;
+  const nlopt_result outcome = nlopt_optimize(opt.get(), start.data(), &value);
+  if (call.error) std::rethrow_exception(call.error);
+  if (outcome == NLOPT_INVALID_ARGS || outcome == NLOPT_OUT_OF_MEMORY) {
+    const char* message = nlopt_get_errmsg(opt.get());
+    throw std::logic_error(std::string("NLopt: ") + (message ? message : "invalid arguments"));
+  }
+  MinimumFound found = memo.best();
+  // Success, or stopped by a tolerance; not by the budget (a forced stop) or a failure.
+  found.converged = outcome > 0 && outcome != NLOPT_MAXEVAL_REACHED;
+  return found;
+}
+
+}  // namespace
+
+MinimumFound minimise_scan_then_bobyqa(const BatchObjective& objective, double lower, double upper,
+                                       int scan_points, double tolerance, int max_evaluations) {
   scan_points = std::max(scan_points, 3);
   std::vector<std::vector<double>> grid;
   for (int i = 0; i < scan_points; ++i)
     grid.push_back({lower + (upper - lower) * i / (scan_points - 1)});
-  const std::vector<double> scanned = objective(grid);
-  MinimumFound found;
-  found.evaluations = scan_points;
+  EvaluationMemo memo(objective, {upper - lower}, max_evaluations);
+  const std::vector<double> scanned = memo.evaluate(grid);
   const auto best =
       static_cast<std::size_t>(std::min_element(scanned.begin(), scanned.end()) - scanned.begin());
-  // Brent's method (Brent 1973, "fmin") on the bracket around the best scanned point, started
-  // from it: x the best point so far, w the second best, v the previous w.
-  double a = grid[best == 0 ? 0 : best - 1][0];
-  double b = grid[std::min(best + 1, grid.size() - 1)][0];
-  double x = grid[best][0], w = x, v = x;
-  double fx = scanned[best], fw = fx, fv = fx;
-  const double golden = 0.5 * (3.0 - std::sqrt(5.0));
-  const double eps = std::sqrt(std::numeric_limits<double>::epsilon());
-  double d = 0.0, e = 0.0;
-  while (true) {
-    const double middle = 0.5 * (a + b);
-    const double tol1 = eps * std::abs(x) + tolerance / 3.0, tol2 = 2.0 * tol1;
-    if (std::abs(x - middle) <= tol2 - 0.5 * (b - a)) {
-      found.converged = true;
-      break;
-    }
-    if (found.evaluations >= max_evaluations) break;
-    bool golden_step = true;
-    if (std::abs(e) > tol1) {  // try a parabola through x, w, v
-      double r = (x - w) * (fx - fv);
-      double q = (x - v) * (fx - fw);
-      double p = (x - v) * q - (x - w) * r;
-      q = 2.0 * (q - r);
-      if (q > 0.0) p = -p;
-      q = std::abs(q);
-      r = e;
-      e = d;
-      if (std::abs(p) < std::abs(0.5 * q * r) && p > q * (a - x) && p < q * (b - x)) {
-        d = p / q;
-        const double u = x + d;
-        if (u - a < tol2 || b - u < tol2) d = middle > x ? tol1 : -tol1;
-        golden_step = false;
-      }
-    }
-    if (golden_step) {
-      e = (x < middle ? b : a) - x;
-      d = golden * e;
-    }
-    const double u = x + (std::abs(d) >= tol1 ? d : (d > 0.0 ? tol1 : -tol1));
-    const double fu = objective({{u}})[0];
-    ++found.evaluations;
-    if (fu <= fx) {
-      (u < x ? b : a) = x;
-      v = w;
-      fv = fw;
-      w = x;
-      fw = fx;
-      x = u;
-      fx = fu;
-    } else {
-      (u < x ? a : b) = u;
-      if (fu <= fw || w == x) {
-        v = w;
-        fv = fw;
-        w = u;
-        fw = fu;
-      } else if (fu <= fv || v == x || v == w) {
-        v = u;
-        fv = fu;
-      }
-    }
-  }
-  found.point = {x};
-  found.value = fx;
-  return found;
+  // BOBYQA (Powell 2009) between the neighbours of the best scanned point, started from it with
+  // a first trust-region radius of half that bracket: its first interpolation points are then
+  // scanned points (reused), and its quadratic model does what Brent's parabola did.
+  const double a = grid[best == 0 ? 0 : best - 1][0];
+  const double b = grid[std::min(best + 1, grid.size() - 1)][0];
+  return run_nlopt(NLOPT_LN_BOBYQA, memo, {a}, {b}, grid[best], {0.5 * (b - a)}, tolerance, 0.0);
 }
 
 MinimumFound minimise_nelder_mead(const BatchObjective& objective, std::vector<double> start,
                                   double initial_step, double tolerance, double value_tolerance,
                                   int max_evaluations) {
   const std::size_t n = start.size();
-  auto clamp_to_box = [](std::vector<double> p) {
-    for (double& c : p)
-      c = std::clamp(c, 0.0, 1.0);
-    return p;
-  };
-  start = clamp_to_box(start);
+  const std::vector<double> lower(n, 0.0), upper(n, 1.0);
+  for (double& c : start)
+    c = std::clamp(c, 0.0, 1.0);
+  // The first simplex, the start and one step along each axis into the box (NLopt's own rule for
+  // it, nldrmd.c, when the step stays inside), runs as one batch; NLopt then finds its values.
+  std::vector<double> step(n);
   std::vector<std::vector<double>> simplex{start};
   for (std::size_t i = 0; i < n; ++i) {
+    step[i] = start[i] > 0.5 ? -initial_step : initial_step;
     std::vector<double> vertex = start;
-    vertex[i] += vertex[i] > 0.5 ? -initial_step : initial_step;  // step into the box
-    simplex.push_back(clamp_to_box(vertex));
+    vertex[i] += step[i];
+    simplex.push_back(vertex);
   }
-  std::vector<double> values = objective(simplex);
-  MinimumFound found;
-  found.evaluations = static_cast<int>(simplex.size());
-  auto combine = [&](const std::vector<double>& from, const std::vector<double>& to, double t) {
-    std::vector<double> p(n);
-    for (std::size_t i = 0; i < n; ++i)
-      p[i] = from[i] + t * (to[i] - from[i]);
-    return clamp_to_box(p);
-  };
-  while (true) {
-    std::vector<std::size_t> order(simplex.size());
-    for (std::size_t i = 0; i < order.size(); ++i)
-      order[i] = i;
-    std::sort(order.begin(), order.end(),
-              [&](std::size_t i, std::size_t j) { return values[i] < values[j]; });
-    std::vector<std::vector<double>> sorted_simplex;
-    std::vector<double> sorted_values;
-    for (std::size_t i : order) {
-      sorted_simplex.push_back(simplex[i]);
-      sorted_values.push_back(values[i]);
-    }
-    simplex = std::move(sorted_simplex);
-    values = std::move(sorted_values);
-    double size = 0.0;
-    for (std::size_t k = 1; k < simplex.size(); ++k)
-      for (std::size_t i = 0; i < n; ++i)
-        size = std::max(size, std::abs(simplex[k][i] - simplex[0][i]));
-    if (size <= tolerance || values[n] - values[0] <= value_tolerance) {
-      found.converged = true;
-      break;
-    }
-    if (found.evaluations >= max_evaluations) break;
-    std::vector<double> centroid(n, 0.0);
-    for (std::size_t k = 0; k < n; ++k)
-      for (std::size_t i = 0; i < n; ++i)
-        centroid[i] += simplex[k][i] / static_cast<double>(n);
-    const std::vector<double>& worst = simplex[n];
-    const std::vector<double> reflected = combine(centroid, worst, -1.0);
-    const double f_reflected = objective({reflected})[0];
-    ++found.evaluations;
-    if (f_reflected < values[0]) {
-      const std::vector<double> expanded = combine(centroid, worst, -2.0);
-      const double f_expanded = objective({expanded})[0];
-      ++found.evaluations;
-      if (f_expanded < f_reflected) {
-        simplex[n] = expanded;
-        values[n] = f_expanded;
-      } else {
-        simplex[n] = reflected;
-        values[n] = f_reflected;
-      }
-      continue;
-    }
-    if (f_reflected < values[n - 1]) {
-      simplex[n] = reflected;
-      values[n] = f_reflected;
-      continue;
-    }
-    // Contract towards the better of the worst and the reflected point.
-    const bool outside = f_reflected < values[n];
-    const std::vector<double> contracted =
-        outside ? combine(centroid, reflected, 0.5) : combine(centroid, worst, 0.5);
-    const double f_contracted = objective({contracted})[0];
-    ++found.evaluations;
-    if (f_contracted < std::min(f_reflected, values[n])) {
-      simplex[n] = contracted;
-      values[n] = f_contracted;
-      continue;
-    }
-    // Shrink every vertex towards the best one (one batch).
-    std::vector<std::vector<double>> shrunk;
-    for (std::size_t k = 1; k <= n; ++k)
-      shrunk.push_back(combine(simplex[0], simplex[k], 0.5));
-    const std::vector<double> shrunk_values = objective(shrunk);
-    found.evaluations += static_cast<int>(n);
-    for (std::size_t k = 1; k <= n; ++k) {
-      simplex[k] = shrunk[k - 1];
-      values[k] = shrunk_values[k - 1];
-    }
-  }
-  const auto best =
-      static_cast<std::size_t>(std::min_element(values.begin(), values.end()) - values.begin());
-  found.point = simplex[best];
-  found.value = values[best];
-  return found;
+  EvaluationMemo memo(objective, std::vector<double>(n, 1.0), max_evaluations);
+  memo.evaluate(simplex);
+  return run_nlopt(NLOPT_LN_NELDERMEAD, memo, lower, upper, start, step, tolerance,
+                   value_tolerance);
 }
 
 // ---- the command ------------------------------------------------------------------------------
@@ -545,7 +544,7 @@ CalibrationResult run_calibration(const CalibrationOptions& options, const Commu
         trials.emplace_back(p[0], modulus_for(p[0], 0.0));
       return run_trials(trials);
     };
-    const MinimumFound found = minimise_scan_then_brent(
+    const MinimumFound found = minimise_scan_then_bobyqa(
         objective, options.lambda_lower, options.lambda_upper, options.scan_points,
         options.lambda_tolerance, options.max_evaluations);
     result.converged = found.converged;

@@ -56,16 +56,17 @@ struct MinimumFound {
 };
 
 /// One variable on [lower, upper]: the objective at `scan_points` evenly spaced points (one
-/// batch), then Brent's method (golden section with parabolic steps) between the neighbours of
-/// the best of them, until the bracket is narrower than about 2 * tolerance or
-/// `max_evaluations` is spent.
-MinimumFound minimise_scan_then_brent(const BatchObjective& objective, double lower, double upper,
-                                      int scan_points, double tolerance, int max_evaluations);
+/// batch), then NLopt's BOBYQA (a bounded quadratic-model method) between the neighbours of the
+/// best of them, until the steps are below `tolerance` or `max_evaluations` points are spent.
+/// No point is evaluated twice (within round-off); after the scan, one point per batch.
+MinimumFound minimise_scan_then_bobyqa(const BatchObjective& objective, double lower, double upper,
+                                       int scan_points, double tolerance, int max_evaluations);
 
-/// Nelder-Mead simplex in the unit box [0, 1]^n (points outside are clamped onto it), from
-/// `start` with initial steps `initial_step` along each axis; stops when every vertex is within
-/// `tolerance` (max norm) of the best one, when the objective differs by at most
-/// `value_tolerance` over the vertices, or after `max_evaluations`.
+/// NLopt's Nelder-Mead simplex in the unit box [0, 1]^n (reflections pinned onto its faces),
+/// from `start` with initial steps `initial_step` along each axis, into the box (the first
+/// simplex is one batch); stops when every vertex is within `tolerance` of the simplex's centroid
+/// in each coordinate, when the objective differs by less than `value_tolerance` over the
+/// vertices, or after `max_evaluations` points. No point is evaluated twice (within round-off).
 MinimumFound minimise_nelder_mead(const BatchObjective& objective, std::vector<double> start,
                                   double initial_step, double tolerance, double value_tolerance,
                                   int max_evaluations);

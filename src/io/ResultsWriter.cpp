@@ -17,82 +17,34 @@ std::string number(double v) {
 }
 }  // namespace
 
-std::string json_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20)
-          out += fmt::format("\\u{:04x}", static_cast<int>(c));
-        else
-          out += c;
-    }
-  }
-  return out;
-}
-
 JsonObject& JsonObject::set(const std::string& key, double v) {
-  items_.emplace_back(key, number(v));
+  json_[key] = v;  // NaN and infinities are written as null
   return *this;
 }
 JsonObject& JsonObject::set(const std::string& key, long long v) {
-  items_.emplace_back(key, std::to_string(v));
+  json_[key] = v;
   return *this;
 }
 JsonObject& JsonObject::set(const std::string& key, const std::string& v) {
-  items_.emplace_back(key, fmt::format("\"{}\"", json_escape(v)));
+  json_[key] = v;
   return *this;
 }
 JsonObject& JsonObject::set(const std::string& key, bool v) {
-  items_.emplace_back(key, v ? "true" : "false");
+  json_[key] = v;
   return *this;
 }
 JsonObject& JsonObject::set(const std::string& key, const JsonObject& v) {
-  items_.emplace_back(
-      key, fmt::format("\x01{}", v.str(0)));  // marker: nested object, re-indented in str()
+  json_[key] = v.json_;
   return *this;
 }
 JsonObject& JsonObject::set(const std::string& key, const std::vector<double>& v) {
-  std::string s = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    if (i) s += ", ";
-    s += number(v[i]);
-  }
-  items_.emplace_back(key, s + "]");
+  json_[key] = v;
   return *this;
 }
 
-std::string JsonObject::str(int indent) const {
-  const std::string pad(static_cast<std::size_t>(indent + 2), ' ');
-  std::string out = "{\n";
-  for (std::size_t i = 0; i < items_.size(); ++i) {
-    std::string value = items_[i].second;
-    if (!value.empty() && value[0] == '\x01') {
-      // Nested object: indent its lines by our depth.
-      std::string nested;
-      for (std::size_t c = 1; c < value.size(); ++c) {
-        nested += value[c];
-        if (value[c] == '\n') nested += std::string(static_cast<std::size_t>(indent + 2), ' ');
-      }
-      value = nested;
-    }
-    out += fmt::format("{}\"{}\": {}", pad, json_escape(items_[i].first), value);
-    out += i + 1 < items_.size() ? ",\n" : "\n";
-  }
-  out += std::string(static_cast<std::size_t>(indent), ' ') + "}";
-  return out;
+std::string JsonObject::str() const {
+  // A case name or path that is not valid UTF-8 is written with U+FFFD, not thrown on.
+  return json_.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
 void JsonObject::write(const std::string& path) const {
@@ -100,7 +52,7 @@ void JsonObject::write(const std::string& path) const {
   {
     std::ofstream f(tmp);
     if (!f) throw std::runtime_error("cannot write " + path);
-    f << str(0) << "\n";
+    f << str() << "\n";
   }
   std::filesystem::rename(tmp, path);
 }

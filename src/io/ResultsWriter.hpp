@@ -1,15 +1,16 @@
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <fstream>
 #include <string>
-#include <utility>
-#include <variant>
 #include <vector>
 
 namespace ringdem {
 
-/// A flat JSON object written in insertion order (summary.json). Values are numbers,
-/// integers, strings, booleans or nested objects.
+/// A JSON object written in insertion order (summary.json), held by nlohmann::ordered_json.
+/// Values are numbers (non-finite ones written as null), integers, strings, booleans, arrays of
+/// numbers or nested objects; numbers are written in the shortest form that reads back exactly.
 class JsonObject {
  public:
   JsonObject& set(const std::string& key, double v);
@@ -21,11 +22,13 @@ class JsonObject {
   JsonObject& set(const std::string& key, const JsonObject& v);
   JsonObject& set(const std::string& key, const std::vector<double>& v);
 
-  std::string str(int indent = 0) const;
+  /// The object as text, indented by 2 per level.
+  std::string str() const;
+  /// Writes str() to a temporary file beside `path`, then renames it.
   void write(const std::string& path) const;
 
  private:
-  std::vector<std::pair<std::string, std::string>> items_;  // key, serialised value
+  nlohmann::ordered_json json_ = nlohmann::ordered_json::object();
 };
 
 /// series.csv: a header line then one row per record, numbers in full precision.
@@ -46,8 +49,5 @@ class SeriesWriter {
   std::ofstream out_;
   std::size_t n_columns_ = 0;
 };
-
-/// Escapes a string for JSON.
-std::string json_escape(const std::string& s);
 
 }  // namespace ringdem

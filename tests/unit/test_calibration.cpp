@@ -96,15 +96,21 @@ BatchObjective counted(std::function<double(const std::vector<double>&)> f,
   };
 }
 
-// Brent on a parabola with its minimum off the centre of the bracket: the minimum within the
-// tolerance, the scan in one batch, then one point at a time; parabolic steps need far fewer
+// BOBYQA on a parabola with its minimum off the centre of the bracket: the minimum within the
+// tolerance, the scan in one batch, then one point at a time; a quadratic model needs far fewer
 // evaluations than golden section alone (log(0.6 / 2e-4) / log(1.618) = 17 after the scan).
-TEST(Optimiser, ScanThenBrentFindsTheMinimumOfAParabola) {
+TEST(Optimiser, ScanThenBobyqaFindsTheMinimumOfAParabola) {
   std::vector<std::size_t> batches;
+  std::vector<double> evaluated;
   const double minimum = 0.4317;
-  const MinimumFound found = minimise_scan_then_brent(
-      counted([&](const auto& x) { return 3.0 + std::pow(x[0] - minimum, 2); }, batches), 0.3, 0.9,
-      5, 1e-4, 40);
+  const MinimumFound found =
+      minimise_scan_then_bobyqa(counted(
+                                    [&](const auto& x) {
+                                      evaluated.push_back(x[0]);
+                                      return 3.0 + std::pow(x[0] - minimum, 2);
+                                    },
+                                    batches),
+                                0.3, 0.9, 5, 1e-4, 40);
   EXPECT_TRUE(found.converged);
   EXPECT_NEAR(found.point[0], minimum, 2e-4);
   EXPECT_NEAR(found.value, 3.0, 1e-7);
@@ -114,22 +120,27 @@ TEST(Optimiser, ScanThenBrentFindsTheMinimumOfAParabola) {
     EXPECT_EQ(batches[k], 1u);
   EXPECT_EQ(found.evaluations, 5 + static_cast<int>(batches.size()) - 1);
   EXPECT_LT(found.evaluations, 5 + 17);
+  // Each evaluation is a simulation: none is repeated, not even one round-off away (BOBYQA's
+  // first interpolation points are scanned points, met again after its internal rescaling).
+  for (std::size_t i = 0; i < evaluated.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_GT(std::abs(evaluated[i] - evaluated[j]), 1e-9) << i << " repeats " << j;
 }
 
-// A kink (|x - c|) has no parabola to exploit: Brent falls back to golden section and still
-// converges; a minimum at the bound is found too.
-TEST(Optimiser, ScanThenBrentOnAKinkAndAtTheBound) {
+// A kink (|x - c|) has no parabola to exploit, yet the trust region shrinks onto it; a minimum
+// at the bound is found too.
+TEST(Optimiser, ScanThenBobyqaOnAKinkAndAtTheBound) {
   std::vector<std::size_t> batches;
-  const MinimumFound kink = minimise_scan_then_brent(
+  const MinimumFound kink = minimise_scan_then_bobyqa(
       counted([](const auto& x) { return std::abs(x[0] - 0.7123); }, batches), 0.2, 1.0, 5, 1e-4,
       60);
   EXPECT_TRUE(kink.converged);
   EXPECT_NEAR(kink.point[0], 0.7123, 2e-4);
-  const MinimumFound bound = minimise_scan_then_brent(
+  const MinimumFound bound = minimise_scan_then_bobyqa(
       counted([](const auto& x) { return x[0]; }, batches), 0.2, 1.0, 5, 1e-4, 60);
   EXPECT_NEAR(bound.point[0], 0.2, 2e-4);
   // The budget is respected and reported.
-  const MinimumFound budget = minimise_scan_then_brent(
+  const MinimumFound budget = minimise_scan_then_bobyqa(
       counted([](const auto& x) { return std::abs(x[0] - 0.7123); }, batches), 0.2, 1.0, 5, 1e-9,
       8);
   EXPECT_FALSE(budget.converged);
