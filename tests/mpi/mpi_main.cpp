@@ -8,6 +8,7 @@
 #include <mpi.h>
 
 #include <cstdio>
+#include <string>
 
 namespace {
 
@@ -32,18 +33,23 @@ class RankFailurePrinter : public ::testing::EmptyTestEventListener {
 class AbortOnFatalFailure : public ::testing::EmptyTestEventListener {
  public:
   explicit AbortOnFatalFailure(int rank) : rank_(rank) {}
+  // The test's name is kept here: UnitTest::current_test_info() would take the lock that
+  // gtest holds while it reports a result, and deadlock.
+  void OnTestStart(const ::testing::TestInfo& test) override {
+    test_ = std::string(test.test_suite_name()) + "." + test.name();
+  }
   void OnTestPartResult(const ::testing::TestPartResult& r) override {
     if (!r.fatally_failed()) return;
-    const ::testing::TestInfo* test = ::testing::UnitTest::GetInstance()->current_test_info();
     std::fflush(stdout);
-    std::fprintf(stderr, "[rank %d] fatal failure in %s.%s: aborting all ranks\n", rank_,
-                 test ? test->test_suite_name() : "?", test ? test->name() : "?");
+    std::fprintf(stderr, "[rank %d] fatal failure in %s: aborting all ranks\n", rank_,
+                 test_.empty() ? "?" : test_.c_str());
     std::fflush(stderr);
     MPI_Abort(MPI_COMM_WORLD, 1);
   }
 
  private:
   int rank_;
+  std::string test_;
 };
 
 }  // namespace
