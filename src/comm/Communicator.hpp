@@ -41,7 +41,6 @@ class Communicator {
   /// rank's values are gathered and added in one fixed order on every rank. Each rank passes
   /// its terms keyed by a global id; terms are summed in key order.
   double sum_by_key(const std::vector<std::int64_t>& keys, const std::vector<double>& values) const;
-  /// Every rank's items, concatenated in rank order, on every rank (trivially copyable T).
   /// Column sums of a table whose rows are spread over the ranks, each row held by exactly one
   /// rank: rows[i] in 0..n_rows-1 is the row of local item i, columns[c][i] its value in
   /// column c. Every rank gets each column summed in row order, so the sums do not depend on
@@ -51,6 +50,7 @@ class Communicator {
       const std::vector<std::int64_t>& rows, std::int64_t n_rows,
       const std::vector<const std::vector<double>*>& columns) const;
 
+  /// Every rank's items, concatenated in rank order, on every rank (trivially copyable T).
   template <class T>
   std::vector<T> allgather(const std::vector<T>& local) const {
     static_assert(std::is_trivially_copyable_v<T>);
@@ -60,7 +60,8 @@ class Communicator {
     std::memcpy(out.data(), bytes.data(), bytes.size());
     return out;
   }
-  /// Rank r's items of `from_root` on every rank (trivially copyable T).
+  /// Rank `root`'s `items` on every rank: the other ranks' `items` are replaced (resized to
+  /// the root's count first), trivially copyable T.
   template <class T>
   void broadcast(std::vector<T>& items, int root) const {
     static_assert(std::is_trivially_copyable_v<T>);
@@ -71,8 +72,9 @@ class Communicator {
   }
   /// Point-to-point exchange with a fixed set of partners: send[r] goes to rank r when not
   /// empty, and recv_counts[r] bytes (known in advance) arrive from rank r. No collective:
-  /// only the partners synchronise. Returns the arrivals in source-rank order.
-  /// `out` is resized (its capacity kept) and filled.
+  /// only the partners synchronise. The arrivals are written to `out`, concatenated in
+  /// source-rank order; `out` is resized (its capacity kept), so a caller that reuses it does
+  /// not allocate every step.
   void exchange_bytes(const std::vector<std::vector<char>>& send,
                       const std::vector<int>& recv_counts, std::vector<char>& out) const;
   /// Personalised all-to-all of byte buffers: send[r] goes to rank r. Returns what arrived,

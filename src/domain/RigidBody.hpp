@@ -32,7 +32,9 @@ struct RigidBody {
   Vec3 principal_inertia;  ///< free bodies, body frame
   bool gravity = true;
 
-  // Contact load of the current step (about position), and its accumulated impulse.
+  // Contact load of the current step, torque about position: the loads the particle contacts
+  // put on the body, summed over every rank once the step reduces them. Set anew each step
+  // (nothing is accumulated over steps) and without gravity, which the integrator adds.
   Vec3 force;
   Vec3 torque;
 

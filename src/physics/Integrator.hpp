@@ -9,7 +9,9 @@ namespace ringdem {
 
 /// Velocity Verlet for translation and rotation (physics.md §4). Spheres have isotropic
 /// inertia, so the world-frame angular velocity is integrated directly and the orientation
-/// follows by the exact exponential map q <- exp(omega dt) q.
+/// follows by a Cayley update q <- cay(omega dt) q, not the exact exponential map: a unit
+/// quaternion turning by 2 atan(|omega dt|/2) = |omega dt| (1 - |omega dt|^2/12 + ...) about
+/// omega, inverted exactly by cay(-omega dt), so the update stays time-reversible.
 struct Integrator {
   /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles. Returns the
   /// largest squared distance of a particle from its position in `reference` (the
