@@ -5,6 +5,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "app/ScenarioDriver.hpp"
 #include "domain/RingGenerator.hpp"
 #include "domain/RingNet.hpp"
 
@@ -313,7 +314,7 @@ Model build_model(const CaseConfig& c) {
   }
 
   // Tensile test: the pins of the moving plate travel at the loading rate.
-  if (c.scenario.type == "tensile_test") {
+  if (scenario_kind(c) == ScenarioKind::kTensileTest) {
     const TensileTestConfig& t = c.scenario.tensile_test;
     for (const std::string& name : t.moving_bodies) {
       const auto it = std::find_if(model.bodies.begin(), model.bodies.end(),
