@@ -17,6 +17,7 @@
 #include <stdexcept>
 
 #include "app/RunCommand.hpp"
+#include "app/ScenarioDriver.hpp"
 #include "app/TensileTest.hpp"
 #include "core/Version.hpp"
 #include "domain/RingGenerator.hpp"
@@ -387,7 +388,7 @@ CalibrationResult run_calibration(const CalibrationOptions& options, const Commu
   const auto wall_start = Clock::now();
   check_options(options);
   CaseConfig base = load_case(options.case_path, options.overrides);
-  if (base.scenario.type != "tensile_test")
+  if (scenario_kind(base) != ScenarioKind::kTensileTest)
     throw InputError({Diagnostic{options.case_path, 0, 0, "scenario.type",
                                  "ringdem calibrate fits a tensile test; the case's scenario.type "
                                  "is " +

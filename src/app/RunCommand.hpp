@@ -21,16 +21,13 @@ struct RunOptions {
   double max_walltime = 0.0;  ///< seconds; checkpoint and exit 3 when reached (0: no limit)
 };
 
-/// `ringdem run`: builds the case, prints the banner, configuration and pre-flight numbers,
-/// steps to the end time with progress lines, and writes series.csv and summary.json.
-/// Scenario `tensile_test` goes to run_tensile_test (app/TensileTest.hpp).
+/// `ringdem run`: the case's scenario driver (app/ScenarioDriver.hpp) run by the one scenario
+/// loop (app/ScenarioRunner.hpp): banner, configuration, pre-flight numbers, progress lines,
+/// series.csv and summary.json; frames, checkpoints and restarts for every scenario.
 /// Returns the process exit code.
 int run_case(const CaseConfig& config, const RunOptions& options, const Communicator& comm);
 
 // ---- pieces shared by the scenario drivers (rank 0 prints) ----
-
-/// The run-control options (restart, wall-time limit, output folder) of a `ringdem run`.
-RunControlOptions run_control_options(const RunOptions& options, const std::string& out_dir);
 
 /// "1h02m", "3m05s", "42s"; "--" for a negative or non-finite number.
 std::string format_duration(double seconds);

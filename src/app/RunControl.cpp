@@ -44,7 +44,15 @@ RunControl::RunControl(const CaseConfig& config, RunControlOptions options,
       options_(std::move(options)),
       comm_(comm),
       checkpoints_(options_.output_dir + "/checkpoints", config.output.checkpoints_kept) {
-  install_stop_signal_handler();
+  if (stops_enabled()) install_stop_signal_handler();
+}
+
+bool RunControl::writes_files() const {
+  return !options_.output_dir.empty();
+}
+
+bool RunControl::stops_enabled() const {
+  return options_.handle_stop_requests && writes_files();
 }
 
 std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings& settings) {
@@ -100,6 +108,7 @@ std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings
 }
 
 void RunControl::before_step(Simulation& sim) const {
+  if (!stops_enabled()) return;
   bool stop = stop_signal_received();
   if (options_.max_walltime > 0.0)
     stop =
@@ -109,6 +118,7 @@ void RunControl::before_step(Simulation& sim) const {
 }
 
 void RunControl::write_frame(Simulation& sim) {
+  if (!writes_files()) return;
   if (config_.output.frame_interval <= 0.0 && config_.output.frame_interval_steps <= 0) return;
   if (sim.time() == last_frame_time_) return;
   if (!frames_) {
@@ -135,6 +145,7 @@ std::string RunControl::write_checkpoint(Simulation& sim,
 }
 
 bool RunControl::after_step(Simulation& sim, const std::function<DriverState()>& driver) {
+  if (!writes_files()) return false;
   const OutputConfig& out = config_.output;
   // Frames due, by simulated time (with a tolerance of a hundredth of a step against rounding)
   // or by steps.

@@ -29,12 +29,14 @@ struct RunControlOptions {
   std::string restart;        ///< "", "auto" or a checkpoint path
   double max_walltime = 0.0;  ///< seconds; 0: no limit
   bool verbose = true;
+  /// SIGUSR1 and max_walltime checkpoint and stop the run (never without an output folder).
+  bool handle_stop_requests = true;
 };
 
 /// Frames, checkpoints and stop requests of one run, shared by the scenario drivers: builds the
 /// simulation fresh or from a checkpoint, writes frames and periodic checkpoints when due, and on
 /// a stop request agreed by all ranks writes a checkpoint so the driver can exit with
-/// kExitCheckpointed.
+/// kExitCheckpointed. Without an output folder it writes no files and ignores stop requests.
 class RunControl {
  public:
   RunControl(const CaseConfig& config, RunControlOptions options, const Communicator& comm);
@@ -58,6 +60,11 @@ class RunControl {
   void write_frame(Simulation& sim);
   /// A checkpoint now. Collective.
   std::string write_checkpoint(Simulation& sim, const std::function<DriverState()>& driver);
+
+  /// Whether frames and checkpoints are written (an output folder was given).
+  bool writes_files() const;
+  /// Whether SIGUSR1 and the wall-time limit stop the run.
+  bool stops_enabled() const;
 
   const FrameWriter* frames() const { return frames_.get(); }
   const std::string& checkpoint_dir() const { return checkpoints_.dir(); }

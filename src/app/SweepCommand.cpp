@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/RunCommand.hpp"
+#include "app/ScenarioDriver.hpp"
 #include "app/TensileTest.hpp"
 #include "io/CaseLoader.hpp"
 #include "io/ResultsWriter.hpp"
@@ -233,7 +234,7 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
   std::vector<CaseConfig> configs;
   for (const SweepCase& c : cases) {
     configs.push_back(load_case(sweep.case_path, c.overrides));
-    if (configs.back().scenario.type != "tensile_test")
+    if (scenario_kind(configs.back()) != ScenarioKind::kTensileTest)
       throw InputError({Diagnostic{sweep.case_path, 0, 0, "scenario.type",
                                    "ringdem sweep runs tensile tests; the case's scenario.type "
                                    "is " +

@@ -3,17 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <limits>
+#include <memory>
 #include <stdexcept>
 
-#include "app/RunCommand.hpp"
-#include "core/Version.hpp"
-#include "engine/ModelBuilder.hpp"
-#include "engine/Simulation.hpp"
-#include "io/ResultsWriter.hpp"
+#include "app/ScenarioRunner.hpp"
+#include "app/TensileDriver.hpp"
 
 namespace ringdem {
 
@@ -39,6 +34,12 @@ double TensileMeter::load(const std::vector<RigidBody>& bodies) const {
   for (std::size_t b : moving_)
     sum -= dot(bodies[b].force, direction_);
   return sum;
+}
+
+void TensileMeter::restore_start_positions(const std::vector<Vec3>& start) {
+  if (start.size() != start_.size())
+    throw std::invalid_argument("tensile test: the checkpoint has another number of moving bodies");
+  start_ = start;
 }
 
 double TensileMeter::displacement(const std::vector<RigidBody>& bodies) const {
@@ -146,183 +147,18 @@ TensileCurveAnalysis analyse_tensile_curve(const std::vector<double>& u,
 
 // ---- the run ----------------------------------------------------------------------------------
 
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-/// Earliest break time of any bond, or nothing if none broke.
-std::optional<double> first_break_time(const Simulation& sim) {
-  const BondStore& bonds = sim.model().bonds;
-  double t = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < bonds.size(); ++k)
-    if (bonds.broken[k] != 0) t = std::min(t, bonds.break_time[k]);
-  t = sim.comm().min(t);
-  if (!std::isfinite(t)) return std::nullopt;
-  return t;
-}
-
-double or_nan(const std::optional<double>& v) {
-  return v ? *v : std::numeric_limits<double>::quiet_NaN();
-}
-
-}  // namespace
-
 TensileResult run_tensile_test(const CaseConfig& config, const TensileRunOptions& options,
                                const Communicator& comm) {
-  if (config.scenario.type != "tensile_test")
-    throw std::invalid_argument("case '" + config.name + "' is not a tensile test");
-  const TensileTestConfig& test = config.scenario.tensile_test;
-  const bool print = comm.is_root() && options.verbose;
-  const bool write = comm.is_root() && !options.output_dir.empty();
-  const auto wall_start = Clock::now();
-  if (write) std::filesystem::create_directories(options.output_dir);
-  if (print) print_banner(config, options.output_dir, comm);
-
-  Simulation sim(build_model(config), comm, settings_from_case(config));
-  const TensileMeter meter(sim.model().bodies, test.moving_bodies, test.pull_direction);
-  TensileStopRule stop(test.failure_load_fraction, test.max_displacement);
-  const double travel_time = test.max_displacement / test.loading_rate;
-  const double end_time = std::min(config.simulation.end_time, travel_time * (1.0 + 1e-9));
-  const auto planned_steps = static_cast<std::int64_t>(std::ceil(end_time / sim.dt() - 1e-9));
-  print_preflight(sim, config, planned_steps, print);
-  if (print) {
-    fmt::print(
-        "tensile test: {} moving bod{} at {:.4g} m/s along [{:.3g}, {:.3g}, {:.3g}], "
-        "stop at failure (load < {:.3g} x peak after a bond broke) or {:.4g} m travel\n",
-        test.moving_bodies.size(), test.moving_bodies.size() == 1 ? "y" : "ies", test.loading_rate,
-        test.pull_direction.x, test.pull_direction.y, test.pull_direction.z,
-        test.failure_load_fraction, test.max_displacement);
-    std::fflush(stdout);
-  }
-
-  SeriesWriter series;
-  if (write)
-    series = SeriesWriter(options.output_dir + "/series.csv",
-                          {"time_s", "displacement_m", "load_N", "broken_bonds", "kinetic_energy_J",
-                           "bond_energy_J"});
-
-  TensileResult result;
-  result.dt = sim.dt();
-  std::int64_t broken = 0;
-  auto record = [&](double displacement, double load) {
-    const Energies e = sim.energies();
-    result.max_kinetic_energy = std::max(result.max_kinetic_energy, e.kinetic);
-    result.curve.push_back({sim.time(), displacement, load, broken});
-    if (write)
-      series.row(
-          {sim.time(), displacement, load, static_cast<double>(broken), e.kinetic, e.bond_elastic});
-  };
-
-  record(meter.displacement(sim.model().bodies), meter.load(sim.model().bodies));
-  // Each row holds the mean displacement and load over the steps since the previous row, so
-  // single-step spikes (a snapping bond's particles hitting a pin) do not count as load.
-  double next_record = test.record_interval;
-  double sum_displacement = 0.0, sum_load = 0.0;
-  std::int64_t n_summed = 0;
-  TensileStopRule::Reason reason = TensileStopRule::Reason::kRunning;
-  auto last_progress = Clock::now();
-  const auto loop_start = Clock::now();
-  while (sim.time() < end_time * (1.0 - 1e-12)) {
-    sim.step();
-    const double displacement = meter.displacement(sim.model().bodies);
-    const double load = meter.load(sim.model().bodies);
-    // A collective call: the condition must be the same on every rank.
-    if (sim.bonds_broke_anywhere() || broken > 0) {
-      const std::int64_t now_broken = sim.global_broken_bonds();
-      if (now_broken > 0 && broken == 0) result.elongation_at_failure = displacement;
-      broken = now_broken;
-    }
-    sum_displacement += displacement;
-    sum_load += load;
-    ++n_summed;
-    const bool last_step = sim.time() >= end_time * (1.0 - 1e-12);
-    if (displacement >= next_record || last_step) {
-      const double mean_displacement = sum_displacement / static_cast<double>(n_summed);
-      const double mean_load = sum_load / static_cast<double>(n_summed);
-      sum_displacement = sum_load = 0.0;
-      n_summed = 0;
-      record(mean_displacement, mean_load);
-      while (next_record <= displacement)
-        next_record += test.record_interval;
-      reason = stop.update(mean_displacement, mean_load, broken);
-      if (reason == TensileStopRule::Reason::kRunning && displacement >= test.max_displacement)
-        reason = TensileStopRule::Reason::kMaxDisplacement;
-      if (reason != TensileStopRule::Reason::kRunning) break;
-    }
-    if (print && seconds_since(last_progress) >= config.simulation.progress_interval) {
-      last_progress = Clock::now();
-      const double rate = sim.steps() / seconds_since(loop_start);
-      fmt::print(
-          "step {:>10} t = {:.4f} s  u = {:7.2f} mm  load = {:9.3f} kN  peak {:9.3f} kN  "
-          "broken {}  {:>7.0f} steps/s  ETA {:>7}\n",
-          sim.steps(), sim.time(), 1e3 * displacement, 1e-3 * load, 1e-3 * stop.peak_load(), broken,
-          rate, format_duration((planned_steps - sim.steps()) / rate));
-      std::fflush(stdout);
-    }
-  }
-  const double loop_seconds = seconds_since(loop_start);
-
-  std::vector<double> u, p;
-  for (const TensileSample& s : result.curve) {
-    u.push_back(s.displacement);
-    p.push_back(s.load);
-  }
-  result.analysis = analyse_tensile_curve(u, p);
-  result.stop_reason = reason;
-  result.first_bond_break_time = first_break_time(sim);
-  result.broken_bonds = sim.global_broken_bonds();
-  result.particles = sim.global_particles();
-  const std::int64_t n_bonds = sim.global_bonds();  // collective: on every rank, before `write`
-  result.steps = sim.steps();
-  result.final_displacement = meter.displacement(sim.model().bodies);
-  result.particle_steps_per_s =
-      loop_seconds > 0 ? static_cast<double>(result.particles) * sim.steps() / loop_seconds : 0.0;
-  result.wall_time = seconds_since(wall_start);
-
-  if (write) {
-    JsonObject summary;
-    summary.set("ringdem_version", kVersion)
-        .set("case", config.name)
-        .set("scenario", "tensile_test")
-        .set("ranks", comm.size())
-        .set("particles", static_cast<long long>(result.particles))
-        .set("bonds", static_cast<long long>(n_bonds))
-        .set("loading_rate_m_per_s", test.loading_rate)
-        .set("dt_s", sim.dt())
-        .set("stop_reason", stop_reason_name(reason))
-        .set("peak_load_N", result.analysis.peak_load)
-        .set("displacement_at_peak_m", result.analysis.displacement_at_peak)
-        .set("elongation_at_failure_m", or_nan(result.elongation_at_failure))
-        .set("first_bond_break_time_s", or_nan(result.first_bond_break_time))
-        .set("broken_bonds", static_cast<long long>(result.broken_bonds))
-        .set("stage_transition_displacement_m",
-             or_nan(result.analysis.stage_transition_displacement))
-        .set("bending_stage_stiffness_N_per_m", result.analysis.bending_stage_stiffness)
-        .set("tensile_stage_stiffness_N_per_m", result.analysis.tensile_stage_stiffness)
-        .set("final_displacement_m", result.final_displacement)
-        .set("end_time_s", sim.time())
-        .set("max_kinetic_energy_J", result.max_kinetic_energy)
-        .set("steps", static_cast<long long>(result.steps))
-        .set("wall_time_s", result.wall_time)
-        .set("particle_steps_per_s", result.particle_steps_per_s);
-    summary.write(options.output_dir + "/summary.json");
-  }
-  if (print) {
-    fmt::print(
-        "stopped: {} at u = {:.2f} mm; peak load {:.3f} kN at u = {:.2f} mm; {} broken "
-        "bonds; tensile stage from u = {:.2f} mm\n",
-        stop_reason_name(reason), 1e3 * result.final_displacement, 1e-3 * result.analysis.peak_load,
-        1e3 * result.analysis.displacement_at_peak, result.broken_bonds,
-        1e3 * or_nan(result.analysis.stage_transition_displacement));
-    print_timing(sim, loop_seconds, result.particle_steps_per_s, comm.size());
-    if (!options.output_dir.empty())
-      fmt::print("results: {0}/summary.json, {0}/series.csv\n", options.output_dir);
-  }
-  return result;
+  std::unique_ptr<ScenarioDriver> driver = make_scenario_driver(config);
+  auto* tensile = dynamic_cast<TensileDriver*>(driver.get());
+  if (!tensile) throw std::invalid_argument("case '" + config.name + "' is not a tensile test");
+  ScenarioRunOptions run;
+  run.output_dir = options.output_dir;
+  run.verbose = options.verbose;
+  // The many short runs of a sweep or calibration cannot be continued one by one.
+  run.handle_stop_requests = false;
+  run_scenario(*tensile, run, comm);
+  return tensile->result();
 }
 
 }  // namespace ringdem

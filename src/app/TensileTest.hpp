@@ -29,6 +29,11 @@ class TensileMeter {
   double load(const std::vector<RigidBody>& bodies) const;
   double displacement(const std::vector<RigidBody>& bodies) const;
 
+  /// Where the moving bodies were when the meter was created (checkpoints save them).
+  const std::vector<Vec3>& start_positions() const { return start_; }
+  /// A restart: the start positions of the meter that was checkpointed.
+  void restore_start_positions(const std::vector<Vec3>& start);
+
  private:
   std::vector<std::size_t> moving_;
   std::vector<Vec3> start_;
@@ -50,6 +55,11 @@ class TensileStopRule {
 
   double peak_load() const { return peak_load_; }
   double displacement_at_peak() const { return displacement_at_peak_; }
+  /// A restart: the peak seen before the checkpoint.
+  void restore_peak(double peak_load, double displacement_at_peak) {
+    peak_load_ = peak_load;
+    displacement_at_peak_ = displacement_at_peak;
+  }
 
  private:
   double fraction_;

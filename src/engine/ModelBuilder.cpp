@@ -8,6 +8,7 @@
 #include "domain/RingGenerator.hpp"
 #include "domain/RingNet.hpp"
 #include "engine/TimoshenkoBondTerm.hpp"
+#include "io/ScenarioKind.hpp"
 
 namespace ringdem {
 
@@ -17,18 +18,6 @@ int Model::group_id(const std::string& name) const {
 }
 
 namespace {
-
-Motion to_motion(MotionKind m) {
-  switch (m) {
-    case MotionKind::kFixed:
-      return Motion::kFixed;
-    case MotionKind::kPrescribed:
-      return Motion::kPrescribed;
-    case MotionKind::kFree:
-      break;
-  }
-  return Motion::kFree;
-}
 
 int material_index(const MaterialTable& t, const std::string& name) {
   const int m = t.find(name);
@@ -88,7 +77,7 @@ void add_ring(Model& model, const CaseConfig& c, const RingConfig& ring, int bon
     np.material = mat;
     np.body = next_body;
     np.group = group;
-    np.motion = to_motion(ring.motion);
+    np.motion = ring.motion;
     p.add(np);
   }
   ++next_body;
@@ -212,7 +201,7 @@ Model build_model(const CaseConfig& c) {
       shackle.particle_radius = net.shackles.particle_radius;
       shackle.contact_radius = net.shackles.particle_radius;
       shackle.material = net.shackles.material;
-      shackle.motion = MotionKind::kFixed;
+      shackle.motion = Motion::kFixed;
       add_ring(model, c, shackle, kNoBond, 0, next_gid, next_body);
     }
   }
@@ -253,7 +242,7 @@ Model build_model(const CaseConfig& c) {
     np.damping = damping_of(c, s.group);
     np.material = mat;
     np.group = group;
-    np.motion = to_motion(s.motion);
+    np.motion = s.motion;
     p.add(np);
   }
 
@@ -289,26 +278,18 @@ Model build_model(const CaseConfig& c) {
         break;
       }
     }
-    switch (rb.motion) {
-      case MotionKind::kFixed:
-        b.motion = Motion::kFixed;
-        b.velocity = {};
-        b.omega = {};
-        break;
-      case MotionKind::kPrescribed:
-        b.motion = Motion::kPrescribed;
-        break;
-      case MotionKind::kFree:
-        if (b.shape == RigidShape::kPlane)
-          throw std::invalid_argument("rigid body '" + b.name + "': a plane cannot be free");
-        b.motion = Motion::kFree;
-        break;
+    b.motion = rb.motion;
+    if (b.motion == Motion::kFixed) {
+      b.velocity = {};
+      b.omega = {};
     }
+    if (b.motion == Motion::kFree && b.shape == RigidShape::kPlane)
+      throw std::invalid_argument("rigid body '" + b.name + "': a plane cannot be free");
     model.bodies.push_back(b);
   }
 
   // Tensile test: the pins of the moving plate travel at the loading rate.
-  if (c.scenario.type == "tensile_test") {
+  if (scenario_kind(c) == ScenarioKind::kTensileTest) {
     const TensileTestConfig& t = c.scenario.tensile_test;
     for (const std::string& name : t.moving_bodies) {
       const auto it = std::find_if(model.bodies.begin(), model.bodies.end(),

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/Motion.hpp"
 #include "core/Vec3.hpp"
 
 namespace ringdem {
@@ -54,8 +55,6 @@ struct BondConfig {
   std::uint64_t seed = 1;
 };
 
-enum class MotionKind { kFree, kFixed, kPrescribed };
-
 /// A ring of bonded spheres on a circle (centreline radius = internal_diameter/2 + particle
 /// radius), bonds between consecutive particles only.
 struct RingConfig {
@@ -72,7 +71,7 @@ struct RingConfig {
   /// Real mass of the ring; when set, the particle density is chosen so that the particles
   /// weigh this much together (the material density is then used for contacts only).
   std::optional<double> mass;
-  MotionKind motion = MotionKind::kFree;
+  Motion motion = Motion::kFree;
   Vec3 velocity;
 };
 
@@ -129,7 +128,7 @@ struct SphereConfig {
   Vec3 omega;
   double radius = 0.0045;
   std::string material = "steel";
-  MotionKind motion = MotionKind::kFree;
+  Motion motion = Motion::kFree;
 };
 
 enum class ShapeKind { kPlane, kCylinder, kSphere };
@@ -143,7 +142,7 @@ struct RigidBodyConfig {
   double radius = 0.0;   ///< cylinder, sphere
   double length = 0.0;   ///< cylinder length (finite, capped)
   std::string material = "steel";
-  MotionKind motion = MotionKind::kFixed;
+  Motion motion = Motion::kFixed;
   Vec3 velocity;  ///< prescribed velocity or initial velocity of a free body
   Vec3 omega;
   std::optional<double> mass;  ///< free body: mass (else from the material density)

@@ -3,6 +3,8 @@
 
 #include "io/CaseSchema.hpp"
 
+#include "engine/ModelTable.hpp"
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,10 +19,8 @@ using schema::interval;
 using schema::Table;
 using schema::Type;
 
-std::vector<std::pair<std::string, MotionKind>> motions() {
-  return {{"free", MotionKind::kFree},
-          {"fixed", MotionKind::kFixed},
-          {"prescribed", MotionKind::kPrescribed}};
+std::vector<std::pair<std::string, Motion>> motions() {
+  return {{"free", Motion::kFree}, {"fixed", Motion::kFixed}, {"prescribed", Motion::kPrescribed}};
 }
 
 const Table<SimulationConfig>& simulation_table() {
@@ -41,7 +41,7 @@ const Table<SimulationConfig>& simulation_table() {
                          "Wall-clock time between progress lines"),
           schema::number("series_interval", &S::series_interval, above(0), "s",
                          "Simulated time between rows of series.csv"),
-          schema::choice("contact_model", &S::contact_model, {"hertz_mindlin"},
+          schema::choice("contact_model", &S::contact_model, contact_model_names(),
                          "Particle contact law"),
           schema::number("imbalance_threshold", &S::imbalance_threshold, at_least(0), "",
                          "Repartition the ranks (METIS) at a neighbour-list rebuild when the "
@@ -124,7 +124,7 @@ const Table<BondConfig>& bond_table() {
       "Parallel-bond properties of the ring wire; names must be unique.",
       {
           schema::text("name", &B::name, Type::kName, "Name the rings refer to").required(),
-          schema::choice("model", &B::model, {"timoshenko"}, "Bond beam model"),
+          schema::choice("model", &B::model, bond_model_names(), "Bond beam model"),
           schema::number("youngs_modulus", &B::youngs_modulus, above(0), "Pa",
                          "Young's modulus of the bond beam; not with `derive_from`")
               .dump_if([](const B& b) { return !b.derive_from; }),

@@ -307,7 +307,7 @@ void validate_scenario(CaseConfig& c, Context& ctx, bool bodies_ok) {
     const std::size_t index = static_cast<std::size_t>(it - names.begin());
     RigidBodyConfig& body = c.rigid_bodies[index];
     const std::string bp = schema::index_path("rigid_bodies", index);
-    if (body.motion != MotionKind::kPrescribed && !ctx.failed(bp + ".motion")) {
+    if (body.motion != Motion::kPrescribed && !ctx.failed(bp + ".motion")) {
       ctx.error(ctx.where(bp + ".motion", bp), bp + ".motion",
                 fmt::format("rigid body '{}' is on the moving plate ({}) and must have motion: "
                             "prescribed",
@@ -358,6 +358,16 @@ void cross_validate_case(CaseConfig& c, Context& ctx) {
                &bodies_ok);
   if (c.materials.empty() && ctx.given("materials") && !ctx.failed("materials"))
     ctx.error(ctx.where("materials"), "materials", "must define at least one material, got none");
+
+  // One bond model per case: every bond of the model lives in one store, evaluated by one
+  // term (engine/ModelTable.hpp).
+  for (std::size_t i = 1; i < c.bonds.size(); ++i) {
+    const std::string key = schema::index_path("bonds", i) + ".model";
+    if (c.bonds[i].model != c.bonds[0].model && !ctx.failed(key))
+      ctx.error(ctx.where(key, schema::index_path("bonds", i)), key,
+                fmt::format("'{}' differs from bonds[0].model '{}': one bond model per case",
+                            c.bonds[i].model, c.bonds[0].model));
+  }
 
   std::map<std::pair<std::string, std::string>, std::size_t> pairs;
   for (std::size_t i = 0; i < c.interactions.size(); ++i) {
@@ -483,8 +493,7 @@ void cross_validate_case(CaseConfig& c, Context& ctx) {
         ctx.error(ctx.where(p + "." + k), p + "." + k,
                   fmt::format("does not apply to shape '{}' (remove it)", shape_name));
     }
-    if (b.shape == ShapeKind::kPlane && b.motion == MotionKind::kFree &&
-        !ctx.failed(p + ".motion")) {
+    if (b.shape == ShapeKind::kPlane && b.motion == Motion::kFree && !ctx.failed(p + ".motion")) {
       ctx.error(ctx.where(p + ".motion", p), p + ".motion",
                 "'free' is not allowed for a plane (allowed: fixed, prescribed)");
     }

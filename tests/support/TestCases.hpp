@@ -63,7 +63,7 @@ inline CaseConfig ring_patch_hit_by_sphere(double clearance, double speed, doubl
       auto ring = paper_ring({m * step, n * step, 0.0},
                              {0.0, (n % 2 ? 1.0 : -1.0) * std::sin(tilt), std::cos(tilt)});
       const bool corner = (n == 0 || n == 4) && (i == 0 || i == 4);
-      ring.motion = corner ? MotionKind::kFixed : MotionKind::kFree;
+      ring.motion = corner ? Motion::kFixed : Motion::kFree;
       c.rings.push_back(ring);
     }
   RigidBodyConfig boulder;
@@ -71,7 +71,7 @@ inline CaseConfig ring_patch_hit_by_sphere(double clearance, double speed, doubl
   boulder.shape = ShapeKind::kSphere;
   boulder.radius = 0.2;
   boulder.mass = 400.0;
-  boulder.motion = MotionKind::kFree;
+  boulder.motion = Motion::kFree;
   boulder.gravity = false;
   boulder.position = {4.5 * step, 2.0 * step, 0.23 + clearance};
   boulder.velocity = {0, 0, -speed};

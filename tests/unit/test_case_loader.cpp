@@ -149,7 +149,7 @@ TEST(CaseLoader, ValidCaseLoadsValuesAndDefaults) {
   EXPECT_EQ(r.reference, (Vec3{1, 0, 0}));
   EXPECT_EQ(r.n_particles, 100);
   EXPECT_DOUBLE_EQ(r.contact_radius, 0.008);  // default
-  EXPECT_EQ(r.motion, MotionKind::kFree);
+  EXPECT_EQ(r.motion, Motion::kFree);
 
   ASSERT_EQ(c.lattices.size(), 1u);
   EXPECT_EQ(c.lattices[0].group, "debris");
@@ -158,15 +158,15 @@ TEST(CaseLoader, ValidCaseLoadsValuesAndDefaults) {
 
   ASSERT_EQ(c.spheres.size(), 1u);
   EXPECT_EQ(c.spheres[0].group, "spheres");
-  EXPECT_EQ(c.spheres[0].motion, MotionKind::kFixed);
+  EXPECT_EQ(c.spheres[0].motion, Motion::kFixed);
 
   ASSERT_EQ(c.rigid_bodies.size(), 3u);
   EXPECT_EQ(c.rigid_bodies[0].shape, ShapeKind::kPlane);
   EXPECT_EQ(c.rigid_bodies[0].normal, (Vec3{0, 0, 1}));
-  EXPECT_EQ(c.rigid_bodies[0].motion, MotionKind::kFixed);
+  EXPECT_EQ(c.rigid_bodies[0].motion, Motion::kFixed);
   EXPECT_EQ(c.rigid_bodies[1].shape, ShapeKind::kCylinder);
   EXPECT_EQ(c.rigid_bodies[1].axis, (Vec3{1, 0, 0}));
-  EXPECT_EQ(c.rigid_bodies[1].motion, MotionKind::kPrescribed);
+  EXPECT_EQ(c.rigid_bodies[1].motion, Motion::kPrescribed);
   EXPECT_EQ(c.rigid_bodies[1].velocity, (Vec3{0, 0, 0.005}));
   EXPECT_EQ(c.rigid_bodies[1].material, "steel");
   EXPECT_EQ(c.rigid_bodies[2].shape, ShapeKind::kSphere);
@@ -212,7 +212,7 @@ TEST(CaseLoader, OverridesScalarListIndexVectorAndMaps) {
   ASSERT_EQ(c.damping.groups.size(), 2u);
   EXPECT_EQ(c.damping.groups[1].group, "debris");
   EXPECT_EQ(c.name, "moon_drop");
-  EXPECT_EQ(c.rings[0].motion, MotionKind::kFixed);
+  EXPECT_EQ(c.rings[0].motion, Motion::kFixed);
 }
 
 TEST(CaseLoader, OverrideCreatesMissingSectionAndKey) {
@@ -508,7 +508,7 @@ TEST(CaseLoader, DocsMatchTheSchema) {
   if (doc.str().find(reference) == std::string::npos) {
     const auto out = std::filesystem::temp_directory_path() / "case-file-reference.md";
     std::ofstream(out) << reference;
-    FAIL() << "docs/case-file.md is out of date with the schema in src/io/CaseLoader.cpp; "
+    FAIL() << "docs/case-file.md is out of date with the schema in src/io/CaseSchema.cpp; "
               "replace its reference section with "
            << out;
   }

@@ -231,7 +231,7 @@ TEST(EnergyLedger, ExternalForceWork) {
   c.damping.global = 0.3;
   const double l0 = 0.0097;
   SphereConfig a, b;
-  a.motion = MotionKind::kFixed;
+  a.motion = Motion::kFixed;
   b.position = {l0, 0, 0};
   c.spheres = {a, b};
   Model model = build_model(c);
@@ -320,10 +320,10 @@ TEST(EnergyLedger, BondLoadedToFailure) {
   c.bonds[0].tensile_strength = 1e9;  // strain 1/120 at failure
   const double l0 = 0.0097, speed = 0.05;
   SphereConfig a, b;
-  a.motion = MotionKind::kFixed;
+  a.motion = Motion::kFixed;
   b.position = {l0, 0, 0};
   b.velocity = {speed, 0, 0};
-  b.motion = MotionKind::kPrescribed;
+  b.motion = Motion::kPrescribed;
   c.spheres = {a, b};
   Model model = build_model(c);
   add_bond(model, 0, 1, 0, 1);
@@ -361,7 +361,7 @@ TEST(EnergyLedger, DrivenPlaneBoundaryWork) {
   piston.name = "piston";
   piston.normal = {1, 0, 0};
   piston.position = {-r - 1e-5, 0, 0};
-  piston.motion = MotionKind::kPrescribed;
+  piston.motion = Motion::kPrescribed;
   piston.velocity = {speed, 0, 0};
   c.rigid_bodies = {piston};
   const Communicator comm = self_comm();

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "TestCases.hpp"
-#include "app/RockfallTest.hpp"
+#include "app/RunCommand.hpp"
 #include "io/CaseLoader.hpp"
 
 namespace ringdem {
@@ -78,7 +78,8 @@ scenario:
   RunOptions options;
   options.quiet = true;
   const Communicator self = testing::self_comm();
-  ASSERT_EQ(run_rockfall(config, options, dir, self), 0);
+  options.output_dir = dir;
+  ASSERT_EQ(run_case(config, options, self), 0);
 
   std::ifstream in(dir + "/summary.json");
   std::stringstream s;

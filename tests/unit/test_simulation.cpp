@@ -200,12 +200,12 @@ TEST(RigidBodies, FreeBodyFallsBallistically) {
   boulder.shape = ShapeKind::kSphere;
   boulder.radius = 0.4;
   boulder.position = {0, 0, 3.0};
-  boulder.motion = MotionKind::kFree;
+  boulder.motion = Motion::kFree;
   boulder.mass = 825.0;
   c.rigid_bodies = {boulder};
   SphereConfig far_away;  // one particle so that the time step has a scale
   far_away.position = {10, 0, 0};
-  far_away.motion = MotionKind::kFixed;
+  far_away.motion = Motion::kFixed;
   c.spheres = {far_away};
   const Communicator comm = self_comm();
   Simulation sim(build_model(c), comm, settings(c, 1e-4));

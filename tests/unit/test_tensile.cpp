@@ -9,11 +9,14 @@
 #include <sstream>
 
 #include "TestCases.hpp"
+#include "app/ScenarioRunner.hpp"
+#include "app/TensileDriver.hpp"
 #include "app/TensileTest.hpp"
 #include "domain/RingGenerator.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
+#include "io/Checkpoint.hpp"
 
 namespace ringdem {
 namespace {
@@ -32,10 +35,8 @@ TEST(RingReductionFactors, Table3Check) {
   const double bond_axial = f.bond_youngs_modulus * M_PI * std::pow(0.43 * 0.0045, 2);
   const double wires_axial = 200e9 * M_PI * 0.0015 * 0.0015 * 12 / 5.0;
   EXPECT_NEAR(bond_axial / wires_axial, 1.0, 1e-12);
-  // Bending reduction eta gamma^4 = gamma^2 / 5, with gamma = lambda r_eq / R_eq from the
-  // inputs (not the factors' own gamma, which the lines above check only to 3 digits).
-  const double gamma = 0.43 * 0.0045 / (std::sqrt(12.0) * 0.0015);
-  EXPECT_NEAR(f.bending_reduction(), gamma * gamma / 5.0, 1e-15);
+  // Bending reduction eta gamma^4 = gamma^2 / 5.
+  EXPECT_NEAR(f.bending_reduction(), f.gamma * f.gamma / 5.0, 1e-15);
 }
 
 // 7 and 19 windings follow from the same lambda: E_b scales with n_w (eta = R_eq^2 / (5 (lambda
@@ -289,6 +290,94 @@ TEST(TensileRig, WritesSummaryAndSeries) {
         "\"stage_transition_displacement_m\"", "\"steps\"", "\"wall_time_s\"",
         "\"particle_steps_per_s\"", "\"stop_reason\": \"max_displacement\""})
     EXPECT_NE(summary.str().find(key), std::string::npos) << key << "\n" << summary.str();
+  std::filesystem::remove_all(dir);
+}
+
+// Contents of a summary.json without its timings (the lines naming a wall time or a rate).
+std::string summary_without_timings(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line, kept;
+  while (std::getline(in, line))
+    if (line.find("wall_time_s") == std::string::npos &&
+        line.find("particle_steps_per_s") == std::string::npos)
+      kept += line + "\n";
+  return kept;
+}
+
+std::string file_text(const std::filesystem::path& file) {
+  std::stringstream s;
+  s << std::ifstream(file).rdbuf();
+  return s.str();
+}
+
+// A tensile test continued from a checkpoint ends exactly as the run never interrupted: its
+// series.csv and summary.json (timings aside) are the same bytes, numbers written with 17
+// digits. Checkpoints before and after the first bond broke (peak, failure state, partial row
+// sums and the meter's start positions all come from the checkpoint; checkpoints every 3.7 mm of
+// travel fall between the rows, every 1 mm, so the sums are not empty). The restarted folder holds
+// the whole series.csv of the checkpointed run: the rows after the checkpoint must be dropped and
+// written again.
+TEST(TensileRestart, ContinuesFromACheckpointBitForBit) {
+  const std::vector<std::string> overrides{
+      "scenario.tensile_test.loading_rate=1.0", "scenario.tensile_test.max_displacement=0.06",
+      "scenario.tensile_test.record_interval=0.001", "bonds.0.tensile_strength=2e9"};
+  const CaseConfig plain = load_case_from_string(kTensileCase, "t.yaml", overrides);
+  std::vector<std::string> with_checkpoints = overrides;
+  with_checkpoints.push_back("output.checkpoint_interval=0.0037");
+  with_checkpoints.push_back("output.checkpoints_kept=100");
+  const CaseConfig checkpointed = load_case_from_string(kTensileCase, "t.yaml", with_checkpoints);
+
+  const auto dir = std::filesystem::temp_directory_path() / "ringdem_tensile_restart";
+  std::filesystem::remove_all(dir);
+  TensileRunOptions quiet;
+  quiet.verbose = false;
+  quiet.output_dir = (dir / "straight").string();
+  const TensileResult straight = run_tensile_test(plain, quiet, testing::self_comm());
+  ASSERT_TRUE(straight.first_bond_break_time.has_value()) << "the case must break a bond";
+  ASSERT_EQ(straight.stop_reason, TensileStopRule::Reason::kFailure);
+
+  ScenarioRunOptions run;
+  run.verbose = false;
+  run.output_dir = (dir / "checkpointed").string();
+  {
+    std::unique_ptr<ScenarioDriver> driver = make_scenario_driver(checkpointed);
+    ASSERT_EQ(run_scenario(*driver, run, testing::self_comm()), 0);
+  }
+  // Writing checkpoints does not change the run.
+  EXPECT_EQ(file_text(dir / "checkpointed/series.csv"), file_text(dir / "straight/series.csv"));
+
+  // One checkpoint before the first break, one after it.
+  std::vector<std::string> chosen;
+  const auto all = CheckpointStore((dir / "checkpointed/checkpoints").string()).list();
+  for (const std::string& path : all)
+    if (read_checkpoint_info(path).time < *straight.first_bond_break_time) chosen = {path};
+  for (const std::string& path : all)
+    if (read_checkpoint_info(path).time > *straight.first_bond_break_time) {
+      chosen.push_back(path);
+      break;
+    }
+  ASSERT_EQ(chosen.size(), 2u);
+
+  for (const std::string& checkpoint : chosen) {
+    SCOPED_TRACE(checkpoint);
+    const auto restarted = dir / "restarted";
+    std::filesystem::remove_all(restarted);
+    std::filesystem::create_directories(restarted);
+    std::filesystem::copy_file(dir / "checkpointed/series.csv", restarted / "series.csv");
+    run.output_dir = restarted.string();
+    run.restart = checkpoint;
+    std::unique_ptr<ScenarioDriver> driver = make_scenario_driver(checkpointed);
+    ASSERT_EQ(run_scenario(*driver, run, testing::self_comm()), 0);
+    const TensileResult& r = dynamic_cast<const TensileDriver&>(*driver).result();
+    EXPECT_EQ(file_text(restarted / "series.csv"), file_text(dir / "straight/series.csv"));
+    EXPECT_EQ(summary_without_timings(restarted / "summary.json"),
+              summary_without_timings(dir / "straight/summary.json"));
+    EXPECT_EQ(r.stop_reason, straight.stop_reason);
+    EXPECT_EQ(r.analysis.peak_load, straight.analysis.peak_load);
+    EXPECT_EQ(r.elongation_at_failure, straight.elongation_at_failure);
+    EXPECT_EQ(r.steps, straight.steps);
+    EXPECT_EQ(r.curve.size(), straight.curve.size());
+  }
   std::filesystem::remove_all(dir);
 }
 

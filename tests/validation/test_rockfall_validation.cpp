@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "../support/TestCases.hpp"
-#include "app/RockfallTest.hpp"
+#include "app/RunCommand.hpp"
 #include "io/CaseLoader.hpp"
 
 namespace ringdem {
@@ -67,7 +67,8 @@ TEST(RockfallValidation, DemoNetStopsTheBoulderAboveTheKinematicBoundAndBalances
   ASSERT_NE(mkdtemp(dir.data()), nullptr);
   RunOptions options;
   options.quiet = true;
-  ASSERT_EQ(run_rockfall(c, options, dir, testing::self_comm()), 0);
+  options.output_dir = dir;
+  ASSERT_EQ(run_case(c, options, testing::self_comm()), 0);
   std::ifstream in(dir + "/summary.json");
   std::stringstream s;
   s << in.rdbuf();

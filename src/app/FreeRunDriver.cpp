@@ -1,0 +1,150 @@
+#include "app/FreeRunDriver.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "app/RunCommand.hpp"
+#include "app/RunControl.hpp"
+#include "core/Version.hpp"
+#include "engine/Simulation.hpp"
+
+namespace ringdem {
+
+std::int64_t FreeRunDriver::total_steps(const Simulation& sim) const {
+  return static_cast<std::int64_t>(std::ceil(config_.simulation.end_time / sim.dt() - 1e-9));
+}
+
+std::int64_t FreeRunDriver::planned_steps(const Simulation& sim) const {
+  return total_steps(sim) - sim.steps();
+}
+
+bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
+  control_ = &context.control;
+  output_dir_ = context.output_dir;
+  verbose_ = context.verbose;
+  total_steps_ = total_steps(sim);
+
+  // series.csv columns: energies, broken bonds, and the contact force on each rigid body.
+  std::vector<std::string> columns{"time_s",        "kinetic_energy_J", "potential_energy_J",
+                                   "bond_energy_J", "contact_energy_J", "broken_bonds"};
+  for (const auto& b : sim.model().bodies)
+    for (const char* c : {"fx_N", "fy_N", "fz_N"})
+      columns.push_back(b.name + "_" + c);
+  if (sim.comm().is_root() && !output_dir_.empty())
+    series_ = control_->restarted() ? SeriesWriter::resume(output_dir_ + "/series.csv", columns,
+                                                           control_->restart_time())
+                                    : SeriesWriter(output_dir_ + "/series.csv", columns);
+
+  const DriverState& restored = control_->driver_state();
+  max_kinetic_ = restored.get("max_kinetic_energy", 0.0);
+  max_utilisation_ = restored.get("max_bond_utilisation", 0.0);
+  next_record_ = restored.get("next_record_time", config_.simulation.series_interval);
+  if (!control_->restarted()) {
+    record(sim);
+    control_->write_frame(sim);
+  }
+  return sim.steps() >= total_steps_;
+}
+
+void FreeRunDriver::record(Simulation& sim) {
+  const Energies e = sim.energies();
+  const std::int64_t broken = sim.global_broken_bonds();
+  max_kinetic_ = std::max(max_kinetic_, e.kinetic);
+  double util = 0.0;
+  for (double u : sim.model().bonds.utilisation)
+    util = std::max(util, u);
+  max_utilisation_ = std::max(max_utilisation_, sim.comm().max(util));
+  if (!sim.comm().is_root() || output_dir_.empty()) return;
+  std::vector<double> row{sim.time(),     e.kinetic,         e.potential,
+                          e.bond_elastic, e.contact_elastic, static_cast<double>(broken)};
+  for (const auto& b : sim.model().bodies) {
+    row.push_back(b.force.x);
+    row.push_back(b.force.y);
+    row.push_back(b.force.z);
+  }
+  series_.row(row);
+}
+
+bool FreeRunDriver::after_steps(Simulation& sim) {
+  if (sim.time() + 1e-12 >= next_record_ || sim.steps() == total_steps_) {
+    record(sim);
+    next_record_ += config_.simulation.series_interval;
+  }
+  return sim.steps() >= total_steps_;
+}
+
+DriverState FreeRunDriver::state() const {
+  DriverState d;
+  d.set("max_kinetic_energy", max_kinetic_);
+  d.set("max_bond_utilisation", max_utilisation_);
+  d.set("next_record_time", next_record_);
+  return d;
+}
+
+std::string FreeRunDriver::progress(const Simulation& sim, double rate) const {
+  return fmt::format("step {:>10} t = {:.5f} s  {:>9.0f} steps/s  ETA {:>7}  broken bonds {}",
+                     sim.steps(), sim.time(), rate,
+                     format_duration(static_cast<double>(total_steps_ - sim.steps()) / rate),
+                     sim.model().bonds.count_broken());
+}
+
+void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
+  const Communicator& comm = sim.comm();
+  control_->write_frame(sim);
+  const Model& model = sim.model();
+  const Energies e = sim.energies();
+  const std::int64_t n_particles = sim.global_particles();
+  const std::int64_t n_bonds = sim.global_bonds();
+  const std::int64_t n_broken = sim.global_broken_bonds();
+  const double particle_steps_per_s =
+      times.loop_seconds > 0
+          ? static_cast<double>(n_particles) * static_cast<double>(sim.steps() - times.first_step) /
+                times.loop_seconds
+          : 0.0;
+  const FrameWriter* frames = control_->frames();
+
+  if (comm.is_root() && !output_dir_.empty()) {
+    JsonObject summary;
+    summary.set("ringdem_version", kVersion)
+        .set("case", config_.name)
+        .set("ranks", comm.size())
+        .set("particles", static_cast<long long>(n_particles))
+        .set("bonds", static_cast<long long>(n_bonds))
+        .set("broken_bonds", static_cast<long long>(n_broken))
+        .set("dt_s", sim.dt())
+        .set("end_time_s", sim.time())
+        .set("steps", static_cast<long long>(sim.steps()))
+        .set("neighbour_rebuilds", static_cast<long long>(sim.rebuilds()))
+        .set("wall_time_s", times.wall_seconds)
+        .set("particle_steps_per_s", particle_steps_per_s)
+        .set("final_kinetic_energy_J", e.kinetic)
+        .set("max_kinetic_energy_J", max_kinetic_)
+        .set("final_bond_energy_J", e.bond_elastic)
+        .set("max_bond_utilisation", max_utilisation_)
+        .set("restarted", control_->restarted())
+        .set("frames", static_cast<long long>(frames ? frames->frames() : 0))
+        .set("frame_output_s", frames ? frames->seconds() : 0.0);
+    JsonObject bodies;
+    for (const auto& b : model.bodies) {
+      JsonObject one;
+      one.set("contact_force_N", std::vector<double>{b.force.x, b.force.y, b.force.z})
+          .set("contact_torque_Nm", std::vector<double>{b.torque.x, b.torque.y, b.torque.z})
+          .set("position_m", std::vector<double>{b.position.x, b.position.y, b.position.z});
+      bodies.set(b.name, one);
+    }
+    summary.set("rigid_bodies", bodies);
+    summary.write(output_dir_ + "/summary.json");
+  }
+
+  if (comm.is_root() && verbose_) {
+    print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size());
+    fmt::print("results: {}/summary.json, {}/series.csv\n", output_dir_, output_dir_);
+    if (frames)
+      fmt::print("frames: {} ({} frames, {:.2f} s writing); open {} in ParaView\n",
+                 frames->h5_path(), frames->frames(), frames->seconds(), frames->xdmf_path());
+  }
+}
+
+}  // namespace ringdem

@@ -1,0 +1,494 @@
+#include "app/RockfallDriver.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include "app/RunCommand.hpp"
+#include "app/RunControl.hpp"
+#include "core/Version.hpp"
+#include "engine/Simulation.hpp"
+
+namespace ringdem {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr const char* kBoulderName = "boulder";
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+/// Extent of a particle group over all ranks (owned particles), and the top of the group
+/// within a horizontal distance of an axis.
+struct GroupExtent {
+  Vec3 lo, hi;
+  double top_near_axis = -std::numeric_limits<double>::infinity();
+  double lowest_near_axis = std::numeric_limits<double>::infinity();
+};
+
+GroupExtent group_extent(const Simulation& sim, int group, double axis_x, double axis_y,
+                         double axis_radius) {
+  const ParticleStore& p = sim.model().particles;
+  const double inf = std::numeric_limits<double>::infinity();
+  Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  double top = -inf, low = inf;
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    if (p.group[k] != group) continue;
+    const Vec3& x = p.position[k];
+    lo = {std::min(lo.x, x.x), std::min(lo.y, x.y), std::min(lo.z, x.z - p.radius[k])};
+    hi = {std::max(hi.x, x.x), std::max(hi.y, x.y), std::max(hi.z, x.z + p.radius[k])};
+    const double dx = x.x - axis_x, dy = x.y - axis_y;
+    if (dx * dx + dy * dy <= axis_radius * axis_radius) {
+      top = std::max(top, x.z + p.radius[k]);
+      low = std::min(low, x.z - p.radius[k]);
+    }
+  }
+  const Communicator& c = sim.comm();
+  const auto maxima = c.max(std::array<double, 6>{-lo.x, -lo.y, -lo.z, hi.x, hi.y, hi.z});
+  const auto near = c.max(std::array<double, 2>{top, -low});
+  GroupExtent e;
+  e.lo = {-maxima[0], -maxima[1], -maxima[2]};
+  e.hi = {maxima[3], maxima[4], maxima[5]};
+  e.top_near_axis = near[0];
+  e.lowest_near_axis = -near[1];
+  return e;
+}
+
+/// Contact load on the particles of a group (their total force less gravity), summed by gid
+/// so that it does not depend on the rank count.
+Vec3 group_contact_load(const Simulation& sim, int group, const Vec3& gravity) {
+  const ParticleStore& p = sim.model().particles;
+  std::vector<std::int64_t> keys;
+  std::vector<double> fx, fy, fz;
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    if (p.group[k] != group) continue;
+    const Vec3 f = p.force[k] - p.mass[k] * gravity;
+    keys.push_back(p.gid[k]);
+    fx.push_back(f.x);
+    fy.push_back(f.y);
+    fz.push_back(f.z);
+  }
+  const Communicator& c = sim.comm();
+  return {c.sum_by_key(keys, fx), c.sum_by_key(keys, fy), c.sum_by_key(keys, fz)};
+}
+
+int group_or_throw(const Model& m, const std::string& name, const char* key) {
+  const int g = m.group_id(name);
+  if (g < 0)
+    throw std::runtime_error(
+        fmt::format("scenario.rockfall.{}: no particle group '{}' in the case (groups: {})", key,
+                    name, fmt::join(m.group_names, ", ")));
+  return g;
+}
+
+}  // namespace
+
+double sphere_radius(double mass, double density) {
+  return std::cbrt(3.0 * mass / (4.0 * M_PI * density));
+}
+
+RockfallDriver::RockfallDriver(const CaseConfig& input)
+    : config_(input),
+      rf_(config_.scenario.rockfall),
+      radius_(sphere_radius(rf_.boulder_mass, rf_.boulder_density)) {
+  // The boulder is a free rigid sphere; until the release it is parked far above, motion
+  // prescribed at rest, so it neither moves nor touches anything.
+  for (const auto& b : config_.rigid_bodies)
+    if (b.name == kBoulderName)
+      throw std::runtime_error(
+          "a rockfall case makes its own rigid body 'boulder': rename the one in rigid_bodies");
+  RigidBodyConfig boulder;
+  boulder.name = kBoulderName;
+  boulder.shape = ShapeKind::kSphere;
+  boulder.radius = radius_;
+  boulder.material = rf_.boulder_material;
+  boulder.motion = Motion::kPrescribed;
+  boulder.mass = rf_.boulder_mass;
+  boulder.gravity = true;
+  boulder.position = {0, 0, 1e3};
+  config_.rigid_bodies.push_back(boulder);
+}
+
+bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
+  control_ = &context.control;
+  output_dir_ = context.output_dir;
+  const Communicator& comm = sim.comm();
+  print_ = comm.is_root() && context.verbose;
+  const Model& model = sim.model();
+  net_ = group_or_throw(model, rf_.net_group, "net_group");
+  frame_ = group_or_throw(model, rf_.frame_group, "frame_group");
+  boulder_ = model.bodies.size() - 1;
+  g_ = norm(sim.settings().gravity);
+  if (!(g_ > 0.0)) throw std::runtime_error("a rockfall test needs gravity");
+  const Vec3 down = sim.settings().gravity / g_;
+  if (std::abs(down.z + 1.0) > 1e-12)
+    throw std::runtime_error("a rockfall test expects gravity along -z");
+  impact_energy_ = rf_.boulder_mass * g_ * rf_.drop_height;
+  impact_velocity_ = std::sqrt(2.0 * g_ * rf_.drop_height);
+  restore(control_->driver_state());
+
+  static const std::vector<std::string> columns{"time_s",
+                                                "time_from_contact_s",
+                                                "boulder_x_m",
+                                                "boulder_y_m",
+                                                "boulder_z_m",
+                                                "boulder_vz_m_s",
+                                                "boulder_speed_m_s",
+                                                "acceleration_m_s2",
+                                                "acceleration_g",
+                                                "boulder_az_m_s2",
+                                                "frame_force_N",
+                                                "frame_fz_N",
+                                                "broken_bonds",
+                                                "kinetic_J",
+                                                "potential_J",
+                                                "bond_elastic_J",
+                                                "contact_elastic_J",
+                                                "contact_damping_J",
+                                                "friction_J",
+                                                "global_damping_J",
+                                                "broken_bonds_J",
+                                                "boundary_work_J",
+                                                "balance_error_J"};
+  if (comm.is_root() && !output_dir_.empty()) {
+    const double until = control_->restarted() ? control_->restart_time() : -1.0;
+    series_ = SeriesWriter::resume(output_dir_ + "/series.csv", columns, until);
+    sag_series_ = SeriesWriter::resume(output_dir_ + "/sag.csv",
+                                       {"time_s", "kinetic_J", "net_top_near_axis_m"}, until);
+  }
+  segment_start_ = impact_start_ = Clock::now();
+
+  if (control_->restarted())
+    // The checkpoint was written after between_steps(): nothing is due before the next step.
+    return phase_ == kImpact && impact_over(sim);
+
+  // Centre of the net, its initial top, and the reference of the energy ledger.
+  const GroupExtent e = group_extent(sim, net_, 0, 0, 0);
+  drop_x_ = rf_.drop_point ? rf_.drop_point->x : 0.5 * (e.lo.x + e.hi.x);
+  drop_y_ = rf_.drop_point ? rf_.drop_point->y : 0.5 * (e.lo.y + e.hi.y);
+  net_top_initial_ = group_extent(sim, net_, drop_x_, drop_y_, radius_).top_near_axis;
+  ledger_start_ = sim.energies().ledger();
+  if (rf_.sag_damping) sim.set_group_damping(net_, *rf_.sag_damping);
+  control_->write_frame(sim);
+  if (print_)
+    fmt::print(
+        "rockfall: boulder {:.4g} kg, radius {:.4g} m, drop {:.4g} m ({:.4g} kJ, {:.4g} "
+        "m/s at contact) on ({:.4g}, {:.4g}); sag phase first\n",
+        rf_.boulder_mass, radius_, rf_.drop_height, 1e-3 * impact_energy_, impact_velocity_,
+        drop_x_, drop_y_);
+  return between_steps(sim);
+}
+
+void RockfallDriver::restore(const DriverState& d) {
+  phase_ = static_cast<int>(d.get("phase", 0.0));
+  next_sag_check_ = d.get("next_sag_check", rf_.sag_min_time);
+  sag_end_time_ = d.get("sag_end_time", -1.0);
+  contact_time_ = d.get("contact_time", -1.0);
+  ledger_start_ = d.get("ledger_start", 0.0);
+  energy_added_ = d.get("energy_added", 0.0);
+  contact_z_ = d.get("contact_z", 0.0);
+  net_top_initial_ = d.get("net_top_initial", 0.0);
+  net_top_sagged_ = d.get("net_top_sagged", 0.0);
+  drop_x_ = d.get("drop_x", 0.0);
+  drop_y_ = d.get("drop_y", 0.0);
+  next_record_ = d.get("next_record", 0.0);
+  peak_acceleration_ = d.get("peak_acceleration", 0.0);
+  time_of_peak_ = d.get("time_of_peak", 0.0);
+  peak_instant_ = d.get("peak_instant", 0.0);
+  lowest_z_ = d.get("lowest_z", std::numeric_limits<double>::infinity());
+  stopping_time_ = d.get("stopping_time", -1.0);
+  max_frame_force_ = d.get("max_frame_force", 0.0);
+  max_balance_error_ = d.get("max_balance_error", 0.0);
+  free_fall_time_ = d.get("free_fall_time", 0.0);
+  peak_sag_kinetic_ = d.get("peak_sag_kinetic", 0.0);
+  no_contact_limit_ = d.get("no_contact_limit", std::numeric_limits<double>::infinity());
+  sum_steps_ = d.get("sum_steps", 0.0);
+  sum_force_ = {d.get("sum_fx", 0.0), d.get("sum_fy", 0.0), d.get("sum_fz", 0.0)};
+  sag_wall_ = d.get("sag_wall", 0.0);
+}
+
+DriverState RockfallDriver::state() const {
+  DriverState d;
+  d.set("phase", static_cast<double>(phase_));
+  d.set("next_sag_check", next_sag_check_);
+  d.set("sag_end_time", sag_end_time_);
+  d.set("contact_time", contact_time_);
+  d.set("ledger_start", ledger_start_);
+  d.set("energy_added", energy_added_);
+  d.set("contact_z", contact_z_);
+  d.set("net_top_initial", net_top_initial_);
+  d.set("net_top_sagged", net_top_sagged_);
+  d.set("drop_x", drop_x_);
+  d.set("drop_y", drop_y_);
+  d.set("next_record", next_record_);
+  d.set("peak_acceleration", peak_acceleration_);
+  d.set("time_of_peak", time_of_peak_);
+  d.set("peak_instant", peak_instant_);
+  d.set("lowest_z", lowest_z_);
+  d.set("stopping_time", stopping_time_);
+  d.set("max_frame_force", max_frame_force_);
+  d.set("max_balance_error", max_balance_error_);
+  d.set("free_fall_time", free_fall_time_);
+  d.set("peak_sag_kinetic", peak_sag_kinetic_);
+  d.set("no_contact_limit", no_contact_limit_);
+  d.set("sum_steps", sum_steps_);
+  d.set("sum_fx", sum_force_.x);
+  d.set("sum_fy", sum_force_.y);
+  d.set("sum_fz", sum_force_.z);
+  d.set("sag_wall", phase_ == kSag ? sag_wall_ + seconds_since(segment_start_) : sag_wall_);
+  return d;
+}
+
+bool RockfallDriver::net_at_rest(Simulation& sim) {
+  if (sim.time() + 0.5 * sim.dt() < next_sag_check_) return false;
+  next_sag_check_ += rf_.sag_check_interval;
+  kinetic_ = sim.energies().kinetic;
+  const double top = group_extent(sim, net_, drop_x_, drop_y_, radius_).top_near_axis;
+  if (sim.comm().is_root() && !output_dir_.empty()) sag_series_.row({sim.time(), kinetic_, top});
+  peak_sag_kinetic_ = std::max(peak_sag_kinetic_, kinetic_);
+  // The net starts at rest: it is at rest again once its kinetic energy has fallen below
+  // the threshold and to half its peak (or, if it barely moves, after a while).
+  const bool decayed =
+      kinetic_ < 0.5 * peak_sag_kinetic_ ||
+      (peak_sag_kinetic_ < rf_.sag_kinetic_energy && sim.time() >= 10.0 * rf_.sag_min_time);
+  if (sim.time() >= rf_.sag_min_time && kinetic_ < rf_.sag_kinetic_energy && decayed) return true;
+  if (sim.time() > rf_.sag_max_time)
+    throw std::runtime_error(fmt::format(
+        "the net is not at rest after {:.4g} s of sag (kinetic energy {:.4g} J > "
+        "scenario.rockfall.sag_kinetic_energy {:.4g} J): raise sag_max_time, sag_damping "
+        "or the threshold",
+        sim.time(), kinetic_, rf_.sag_kinetic_energy));
+  return false;
+}
+
+void RockfallDriver::release(Simulation& sim) {
+  sag_wall_ += seconds_since(segment_start_);
+  sag_end_time_ = sim.time();
+  const GroupExtent e = group_extent(sim, net_, drop_x_, drop_y_, radius_);
+  net_top_sagged_ = e.top_near_axis;
+  if (rf_.impact_damping) sim.set_group_damping(net_, *rf_.impact_damping);
+  const double bottom_at_rest = net_top_sagged_ + rf_.drop_height;
+  double z_centre, vz;
+  if (rf_.integrate_free_fall) {
+    z_centre = bottom_at_rest + radius_;
+    vz = 0.0;
+  } else {
+    // Free fall in vacuum, exactly: from rest at bottom_at_rest down to release_gap above
+    // the net, v = sqrt(2 g (h - gap)); the net is at rest meanwhile.
+    const double fall = rf_.drop_height - rf_.release_gap;
+    z_centre = net_top_sagged_ + rf_.release_gap + radius_;
+    vz = -std::sqrt(2.0 * g_ * fall);
+    free_fall_time_ = -vz / g_;
+  }
+  const Energies before = sim.energies();
+  sim.place_body(boulder_, {drop_x_, drop_y_, z_centre}, {0, 0, vz}, Motion::kFree);
+  energy_added_ = sim.energies().ledger() - before.ledger();
+  phase_ = kImpact;
+  next_record_ = sim.time();
+  no_contact_limit_ = sim.time() + std::sqrt(2.0 * (rf_.drop_height + 1.0) / g_) + 1.0;  // generous
+  impact_start_ = Clock::now();
+  if (print_)
+    fmt::print(
+        "sag done at t = {:.4f} s ({} wall): net top under the drop axis {:.4f} m (sagged {:.4f} "
+        "m), "
+        "kinetic energy {:.3g} J; boulder released {:.4g} m above the net{}\n",
+        sim.time(), format_duration(sag_wall_), net_top_sagged_, net_top_initial_ - net_top_sagged_,
+        kinetic_, rf_.drop_height,
+        rf_.integrate_free_fall
+            ? ""
+            : fmt::format(" (free fall of {:.4f} s advanced analytically to {:.3g} m above, "
+                          "{:.4g} m/s)",
+                          free_fall_time_, rf_.release_gap, -vz));
+}
+
+bool RockfallDriver::impact_over(const Simulation& sim) const {
+  return contact_time_ >= 0.0 && sim.time() >= contact_time_ + rf_.duration - 0.5 * sim.dt();
+}
+
+bool RockfallDriver::between_steps(Simulation& sim) {
+  if (phase_ == kSag) {
+    if (!net_at_rest(sim)) return false;
+    release(sim);
+  }
+  if (impact_over(sim)) {
+    record(sim);  // the final state
+    return true;
+  }
+  if (sim.time() + 0.5 * sim.dt() >= next_record_) {
+    record(sim);
+    next_record_ += rf_.record_interval;
+  }
+  return false;
+}
+
+bool RockfallDriver::after_steps(Simulation& sim) {
+  if (phase_ == kImpact) {
+    const RigidBody& b = sim.model().bodies[boulder_];
+    sum_force_ += b.force;
+    sum_steps_ += 1.0;
+    if (contact_time_ < 0.0) {
+      if (norm2(b.force) > 0.0) {
+        contact_time_ = sim.time();
+        contact_z_ = b.position.z;
+        if (print_)
+          fmt::print("first contact at t = {:.5f} s, boulder speed {:.4g} m/s\n", contact_time_,
+                     norm(b.velocity));
+      } else if (sim.time() > no_contact_limit_) {
+        throw std::runtime_error("the boulder never touched the net: check drop_point");
+      }
+    } else {
+      peak_instant_ = std::max(peak_instant_, norm(b.force) / rf_.boulder_mass);
+      if (b.position.z < lowest_z_) lowest_z_ = b.position.z;
+      if (stopping_time_ < 0.0 && b.velocity.z >= 0.0) stopping_time_ = sim.time() - contact_time_;
+    }
+  }
+  return between_steps(sim);
+}
+
+void RockfallDriver::record(Simulation& sim) {
+  const Energies e = sim.energies();
+  const RigidBody& b = sim.model().bodies[boulder_];
+  const Vec3 mean_force = sum_steps_ > 0 ? sum_force_ / sum_steps_ : b.force;
+  sum_force_ = {};
+  sum_steps_ = 0;
+  const double accel = norm(mean_force) / rf_.boulder_mass;
+  const double az = mean_force.z / rf_.boulder_mass - g_;
+  const Vec3 frame_load = group_contact_load(sim, frame_, sim.settings().gravity);
+  const std::int64_t broken = sim.global_broken_bonds();
+  const double balance = e.ledger() - (ledger_start_ + energy_added_);
+  max_balance_error_ = std::max(max_balance_error_, std::abs(balance));
+  if (contact_time_ >= 0.0) {
+    if (accel > peak_acceleration_) {
+      peak_acceleration_ = accel;
+      time_of_peak_ = sim.time() - contact_time_;
+    }
+    max_frame_force_ = std::max(max_frame_force_, norm(frame_load));
+  }
+  if (!sim.comm().is_root() || output_dir_.empty()) return;
+  series_.row({sim.time(),
+               contact_time_ >= 0 ? sim.time() - contact_time_ : std::nan(""),
+               b.position.x,
+               b.position.y,
+               b.position.z,
+               b.velocity.z,
+               norm(b.velocity),
+               accel,
+               accel / g_,
+               az,
+               norm(frame_load),
+               frame_load.z,
+               static_cast<double>(broken),
+               e.kinetic,
+               e.potential,
+               e.bond_elastic,
+               e.contact_elastic,
+               e.contact_damping,
+               e.friction,
+               e.global_damping,
+               e.broken_bonds,
+               e.boundary_work,
+               balance});
+}
+
+std::string RockfallDriver::progress(const Simulation& sim, double rate) const {
+  std::string extra;
+  if (phase_ == kSag)
+    extra = fmt::format("net kinetic energy {:.4g} J (rest below {:.3g} J)", kinetic_,
+                        rf_.sag_kinetic_energy);
+  else if (contact_time_ < 0)
+    extra = "falling";
+  else
+    extra = fmt::format("{:.4f} s after contact, boulder vz {:.3f} m/s", sim.time() - contact_time_,
+                        sim.model().bodies[boulder_].velocity.z);
+  return fmt::format("{} step {:>9} t = {:.5f} s  {:>7.0f} steps/s  {}",
+                     phase_ == kSag ? "sag   " : "impact", sim.steps(), sim.time(), rate, extra);
+}
+
+void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
+  const Communicator& comm = sim.comm();
+  control_->write_frame(sim);
+  const double impact_wall = seconds_since(impact_start_);
+  const std::int64_t n_particles = sim.global_particles();
+  const double particle_steps_per_s =
+      times.loop_seconds > 0
+          ? static_cast<double>(n_particles) * static_cast<double>(sim.steps() - times.first_step) /
+                times.loop_seconds
+          : 0.0;
+  // Collective calls first: never inside rank-0-only code.
+  const Energies e = sim.energies();
+  const std::int64_t broken = sim.global_broken_bonds();
+  const std::int64_t n_bonds = sim.global_bonds();
+  const FrameWriter* frames = control_->frames();
+  if (comm.is_root() && !output_dir_.empty()) {
+    JsonObject s;
+    s.set("ringdem_version", kVersion)
+        .set("case", config_.name)
+        .set("scenario", scenario_name(ScenarioKind::kRockfall))
+        .set("peak_acceleration_m_s2", peak_acceleration_)
+        .set("peak_acceleration_g", peak_acceleration_ / g_)
+        .set("time_of_peak_s", time_of_peak_)
+        .set("peak_acceleration_single_step_m_s2", peak_instant_)
+        .set("max_deflection_m", contact_z_ - lowest_z_)
+        .set("stopping_time_s", stopping_time_)
+        .set("broken_bonds", static_cast<long long>(broken))
+        .set("max_frame_force_N", max_frame_force_)
+        .set("energy_balance_error", max_balance_error_ / impact_energy_)
+        .set("energy_balance_error_final",
+             std::abs(e.ledger() - ledger_start_ - energy_added_) / impact_energy_)
+        .set("impact_energy_J", impact_energy_)
+        .set("impact_velocity_m_s", impact_velocity_)
+        .set("boulder_mass_kg", rf_.boulder_mass)
+        .set("boulder_radius_m", radius_)
+        .set("drop_height_m", rf_.drop_height)
+        .set("free_fall_time_s", free_fall_time_)
+        .set("free_fall_integrated", rf_.integrate_free_fall)
+        .set("sag_time_s", sag_end_time_)
+        .set("net_sag_m", net_top_initial_ - net_top_sagged_)
+        .set("first_contact_time_s", contact_time_)
+        .set("energy_dissipated_J",
+             std::vector<double>{e.contact_damping, e.friction, e.global_damping, e.broken_bonds})
+        .set("energy_dissipated_order", "contact_damping, friction, global_damping, broken_bonds")
+        .set("ranks", comm.size())
+        .set("particles", static_cast<long long>(n_particles))
+        .set("bonds", static_cast<long long>(n_bonds))
+        .set("dt_s", sim.dt())
+        .set("steps", static_cast<long long>(sim.steps()))
+        .set("neighbour_rebuilds", static_cast<long long>(sim.rebuilds()))
+        .set("wall_time_s", times.wall_seconds)
+        .set("sag_wall_time_s", sag_wall_)
+        .set("impact_wall_time_s", impact_wall)
+        .set("particle_steps_per_s", particle_steps_per_s)
+        .set("particle_steps_per_s_per_rank", particle_steps_per_s / comm.size())
+        .set("restarted", control_->restarted())
+        .set("frames", static_cast<long long>(frames ? frames->frames() : 0))
+        .set("frame_output_s", frames ? frames->seconds() : 0.0);
+    JsonObject phases;
+    for (int ph = 0; ph < Simulation::kPhaseCount; ++ph)
+      phases.set(Simulation::phase_name(ph), sim.phase_seconds()[ph]);
+    s.set("time_per_phase_s", phases);
+    s.write(output_dir_ + "/summary.json");
+  }
+  if (print_) {
+    print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size());
+    fmt::print(
+        "rockfall: peak acceleration {:.4g} m/s^2 ({:.3g} g) at {:.4f} s after contact, "
+        "deflection {:.4f} m, stopped after {:.4f} s, {} broken bonds, frame force up to {:.4g} "
+        "kN, energy balance within {:.3g} % of the impact energy\n",
+        peak_acceleration_, peak_acceleration_ / g_, time_of_peak_, contact_z_ - lowest_z_,
+        stopping_time_, broken, 1e-3 * max_frame_force_,
+        100.0 * max_balance_error_ / impact_energy_);
+    fmt::print("results: {0}/summary.json, {0}/series.csv, {0}/sag.csv\n", output_dir_);
+    if (frames)
+      fmt::print("frames: open {} in ParaView ({} frames)\n", frames->xdmf_path(),
+                 frames->frames());
+  }
+}
+
+}  // namespace ringdem

@@ -1,0 +1,27 @@
+#pragma once
+
+#include <string>
+
+#include "app/ScenarioDriver.hpp"
+#include "comm/Communicator.hpp"
+
+namespace ringdem {
+
+struct ScenarioRunOptions {
+  std::string output_dir;     ///< empty: write nothing (no series, summary, frames, checkpoints)
+  bool verbose = true;        ///< banner, pre-flight, progress lines, timing table (rank 0)
+  std::string restart;        ///< "", "auto" or a checkpoint path
+  double max_walltime = 0.0;  ///< seconds; checkpoint and exit 3 when reached (0: no limit)
+  /// SIGUSR1 and --max-walltime checkpoint and stop the run. Off for the many short runs of a
+  /// sweep or a calibration, which cannot be continued as a whole.
+  bool handle_stop_requests = true;
+};
+
+/// The one run loop of every scenario (app/ScenarioDriver.hpp): banner, simulation (fresh or
+/// from a checkpoint), pre-flight, driver.start(), then steps, driver.after_steps(), frames and
+/// checkpoints when due, stop requests and progress lines until the driver is done, then
+/// driver.finish(). Returns 0, or kExitCheckpointed after a requested stop.
+int run_scenario(ScenarioDriver& driver, const ScenarioRunOptions& options,
+                 const Communicator& comm);
+
+}  // namespace ringdem
