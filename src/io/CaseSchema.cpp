@@ -184,7 +184,8 @@ const Table<RingConfig>& ring_table() {
           schema::number("particle_radius", &R::particle_radius, above(0), "m",
                          "Radius of the bonded spheres (the wire radius)"),
           schema::number("contact_radius", &R::contact_radius, above(0), "m",
-                         "Radius used for contacts with other rings and bodies; must be >= "
+                         "EDEM's bond-detection radius, kept for the clearance check between "
+                         "rings at creation (contacts act at particle_radius); must be >= "
                          "particle_radius")
               .default_text("max(0.008, particle_radius)"),
           schema::text("material", &R::material, Type::kName, "Material (from `materials`)"),
@@ -260,7 +261,9 @@ const Table<RingNetConfig>& net_table() {
           schema::number("particle_radius", &N::particle_radius, above(0), "m",
                          "Radius of the bonded spheres (the wire radius)"),
           schema::number("contact_radius", &N::contact_radius, above(0), "m",
-                         "Radius used for contacts; must be >= particle_radius")
+                         "Clearance kept between the net's rings at creation (EDEM's "
+                         "bond-detection radius; contacts act at particle_radius); must be >= "
+                         "particle_radius")
               .default_text("max(0.008, particle_radius)"),
           schema::text("material", &N::material, Type::kName, "Material (from `materials`)"),
           schema::text("bond", &N::bond, Type::kName, "Bond properties (from `bonds`)"),
