@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "domain/ContactHistory.hpp"
-#include "domain/NeighbourSearch.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
 #include "engine/EnergyLedger.hpp"

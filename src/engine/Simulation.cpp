@@ -57,6 +57,13 @@ std::vector<std::unique_ptr<ForceTerm>> Simulation::make_terms(Model& m) {
   return terms;
 }
 
+void Simulation::find_typed_terms() {
+  // make_terms() puts the bond term first; the body-contact term is found by type.
+  bond_term_ = static_cast<BondTerm*>(terms_.front().get());
+  for (auto& t : terms_)
+    if (auto* b = dynamic_cast<BodyContactTerm*>(t.get())) body_term_ = b;
+}
+
 double Simulation::block_size() const {
   double width = 0.0;
   for (const auto& t : terms_)
@@ -80,9 +87,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       settings_(settings),
       terms_(make_terms(model_)),
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
-  bond_term_ = static_cast<BondTerm*>(terms_.front().get());
-  for (auto& t : terms_)
-    if (auto* b = dynamic_cast<BodyContactTerm*>(t.get())) body_term_ = b;
+  find_typed_terms();
   ParticleStore& p = model_.particles;
   init_limits();
   dt_ = settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
@@ -103,9 +108,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       settings_(settings),
       terms_(make_terms(model_)),
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
-  bond_term_ = static_cast<BondTerm*>(terms_.front().get());
-  for (auto& t : terms_)
-    if (auto* b = dynamic_cast<BodyContactTerm*>(t.get())) body_term_ = b;
+  find_typed_terms();
   ParticleStore& p = model_.particles;
   init_limits();
   // The checkpoint's dt, whatever the case now says: a different dt would not continue the
@@ -235,7 +238,7 @@ void Simulation::compute_forces() {
 }
 
 void Simulation::reduce_body_loads() {
-  if (model_.bodies.empty()) return;
+  if (model_.bodies.empty() || body_term_ == nullptr) return;
   // Every rank sums all contributions in (body, gid) order: the same bits for any rank count.
   auto loads = comm_.allgather(body_term_->body_loads());
   std::sort(loads.begin(), loads.end(), [](const auto& x, const auto& y) {

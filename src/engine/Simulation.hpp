@@ -132,6 +132,8 @@ class Simulation {
   bool needs_rebuild();
   /// The force terms of the model's bond and contact models (engine/ModelTable).
   static std::vector<std::unique_ptr<ForceTerm>> make_terms(Model& m);
+  /// Sets bond_term_ and body_term_, the terms the simulation asks more of than compute().
+  void find_typed_terms();
   /// Block width of the decomposition: the widest term's partner distance plus the skin (the
   /// same on every rank).
   double block_size() const;
