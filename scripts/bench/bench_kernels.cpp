@@ -129,7 +129,7 @@ void BM_StepRings(benchmark::State& state) {
   SimulationSettings s;
   s.dt = 7.87e-7;
   s.gravity = c.simulation.gravity;
-  Simulation sim(build_model(c), comm, s);
+  Simulation sim(build_model(c, comm), comm, s);
   sim.run_steps(100);  // warm up
   for (auto _ : state)
     sim.step();

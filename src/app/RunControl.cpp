@@ -68,13 +68,13 @@ std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings
     candidates.push_back(options_.restart);
   }
   for (const std::string& path : candidates) {
-    Model model = build_model(config_);
+    Model model = build_model_without_particles(config_);
     DriverState driver;
     CheckpointInfo info;
     RestartState state;
     std::string error;
     try {
-      state = read_checkpoint(path, model, driver, &info);
+      state = read_checkpoint(comm_, path, model, driver, &info);
     } catch (const std::exception& e) {
       error = e.what();
     }
@@ -104,7 +104,7 @@ std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings
   next_frame_time_ = config_.output.frame_interval;
   next_frame_step_ = config_.output.frame_interval_steps;
   next_checkpoint_time_ = config_.output.checkpoint_interval;
-  return std::make_unique<Simulation>(build_model(config_), comm_, settings);
+  return std::make_unique<Simulation>(build_model(config_, comm_), comm_, settings);
 }
 
 void RunControl::before_step(Simulation& sim) const {

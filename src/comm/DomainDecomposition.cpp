@@ -109,7 +109,7 @@ int DomainDecomposition::owner_of(const Vec3& x) const {
 }
 
 std::vector<DomainDecomposition::BlockLoad> DomainDecomposition::global_blocks(
-    const ParticleStore& p, const BondStore& bonds, bool all_ranks_hold_everything) const {
+    const ParticleStore& p, const BondStore& bonds) const {
   std::unordered_map<std::uint64_t, BlockLoad> local;
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     const std::uint64_t key = block_of(p.position[k]);
@@ -124,7 +124,7 @@ std::vector<DomainDecomposition::BlockLoad> DomainDecomposition::global_blocks(
   std::vector<BlockLoad> mine;
   for (const auto& [key, load] : local)
     mine.push_back({key, load.particles, load.bonds, load.rank});
-  std::vector<BlockLoad> all = all_ranks_hold_everything ? mine : comm_.allgather(mine);
+  std::vector<BlockLoad> all = comm_.allgather(mine);
   std::sort(all.begin(), all.end(), [](const BlockLoad& a, const BlockLoad& b) {
     return a.key < b.key || (a.key == b.key && a.rank < b.rank);
   });
@@ -194,44 +194,129 @@ void DomainDecomposition::assign_new_blocks(const std::vector<BlockLoad>& blocks
     owner_.try_emplace(b.key, b.rank);
 }
 
-void DomainDecomposition::distribute_initial(ParticleStore& p, BondStore& bonds) {
-  const auto blocks = global_blocks(p, bonds, /*all_ranks_hold_everything=*/true);
-  partition(blocks);
+std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
+                                                     const std::vector<int>& owner,
+                                                     const std::vector<std::int64_t>& gids) const {
+  // A rendezvous directory: the entry of gid g lives on rank g mod P. Every rank files its
+  // particles' owners there, asks for the gids it lacks, and gets the answers back: three
+  // all-to-alls of small records, O(held items) memory on every rank.
+  const int n_ranks = comm_.size();
+  const auto home = [n_ranks](std::int64_t g) {
+    return static_cast<std::size_t>(((g % n_ranks) + n_ranks) % n_ranks);
+  };
+  struct Entry {
+    std::int64_t gid;
+    std::int64_t owner;
+  };
+  std::vector<std::vector<char>> filed(static_cast<std::size_t>(n_ranks));
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    const Entry e{p.gid[k], owner[k]};
+    const char* src = reinterpret_cast<const char*>(&e);
+    filed[home(e.gid)].insert(filed[home(e.gid)].end(), src, src + sizeof(e));
+  }
+  std::vector<int> counts;
+  const std::vector<char> entries = comm_.alltoall_bytes(filed, counts);
+  std::unordered_map<std::int64_t, std::int64_t> directory;
+  bool duplicate = false;
+  for (std::size_t k = 0; k < entries.size() / sizeof(Entry); ++k) {
+    Entry e;
+    std::memcpy(&e, entries.data() + k * sizeof(Entry), sizeof(Entry));
+    duplicate = duplicate || !directory.emplace(e.gid, e.owner).second;
+  }
+  // Each particle must be held by one rank (a model built whole on every rank is not).
+  if (comm_.any(duplicate))
+    throw std::logic_error("first distribution: a particle gid is held by more than one rank");
+  // Questions, then answers in the order asked.
+  std::vector<std::vector<char>> asked(static_cast<std::size_t>(n_ranks));
+  std::vector<std::vector<std::size_t>> asked_for(static_cast<std::size_t>(n_ranks));
+  std::vector<int> out(gids.size(), -1);
+  for (std::size_t i = 0; i < gids.size(); ++i) {
+    const std::int64_t k = p.index_of(gids[i]);
+    if (k >= 0 && static_cast<std::size_t>(k) < p.n_local()) {
+      out[i] = owner[static_cast<std::size_t>(k)];
+      continue;
+    }
+    const char* src = reinterpret_cast<const char*>(&gids[i]);
+    asked[home(gids[i])].insert(asked[home(gids[i])].end(), src, src + sizeof(std::int64_t));
+    asked_for[home(gids[i])].push_back(i);
+  }
+  const std::vector<char> questions = comm_.alltoall_bytes(asked, counts);
+  std::vector<std::vector<char>> answers(static_cast<std::size_t>(n_ranks));
+  std::size_t offset = 0;
+  for (std::size_t r = 0; r < answers.size(); ++r) {
+    const std::size_t n = static_cast<std::size_t>(counts[r]) / sizeof(std::int64_t);
+    for (std::size_t q = 0; q < n; ++q, offset += sizeof(std::int64_t)) {
+      std::int64_t g;
+      std::memcpy(&g, questions.data() + offset, sizeof(g));
+      const auto it = directory.find(g);
+      const std::int64_t a = it == directory.end() ? -1 : it->second;
+      const char* src = reinterpret_cast<const char*>(&a);
+      answers[r].insert(answers[r].end(), src, src + sizeof(a));
+    }
+  }
+  const std::vector<char> replies = comm_.alltoall_bytes(answers, counts);
+  offset = 0;
+  std::int64_t missing = -1;
+  for (std::size_t r = 0; r < asked_for.size(); ++r)
+    for (std::size_t i : asked_for[r]) {
+      std::int64_t a;
+      std::memcpy(&a, replies.data() + offset, sizeof(a));
+      offset += sizeof(a);
+      if (a < 0) missing = gids[i];
+      out[i] = static_cast<int>(a);
+    }
+  // Every rank throws, not only the one that asked (the others would wait in the migration).
+  if (comm_.any(missing >= 0))
+    throw std::runtime_error(
+        missing >= 0 ? "particle " + std::to_string(missing) +
+                           " is named by a bond or a contact but held by no rank"
+                     : std::string("a bond or a contact names a particle that no rank holds"));
+  return out;
+}
+
+void DomainDecomposition::distribute_initial(ParticleStore& p, BondStore& bonds,
+                                             ContactHistory& history) {
   p.resize_ghosts(0);
   p.rebuild_index();
-  const std::size_t n = p.n_local();
-  std::vector<int> dest(n);
-  std::vector<char> keep(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    dest[k] = owner_of(p.position[k]);
-    keep[k] = dest[k] == comm_.rank();
-  }
-  std::vector<char> keep_bond(bonds.size());
+  partition(global_blocks(p, bonds));
+  std::vector<int> owner(p.n_local());
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    owner[k] = owner_of(p.position[k]);
+  // The owners of every particle a held bond or contact names, from wherever it is.
+  std::vector<std::int64_t> named;
+  named.reserve(2 * (bonds.size() + history.size()));
   for (std::size_t b = 0; b < bonds.size(); ++b) {
-    const auto ia = static_cast<std::size_t>(p.index_of(bonds.gid_a[b]));
-    const auto ib = static_cast<std::size_t>(p.index_of(bonds.gid_b[b]));
-    keep_bond[b] = keep[ia] || keep[ib];
+    named.push_back(bonds.gid_a[b]);
+    named.push_back(bonds.gid_b[b]);
   }
-  compact(bonds, keep_bond, bonds.size());
-  bonds.index_a.assign(bonds.size(), 0);
-  bonds.index_b.assign(bonds.size(), 0);
-  p.resize_local(compact(p, keep, n));
-  build_ghosts(p);
+  for (const auto& h : history) {
+    named.push_back(h.gid);
+    named.push_back(h.partner_kind == ContactHistoryEntry::Partner::kParticle ? h.partner : h.gid);
+  }
+  const std::vector<int> named_owner = owners_of_gids(p, owner, named);
+  Destinations to;
+  to.particle = std::move(owner);
+  to.bond.resize(bonds.size());
+  for (std::size_t b = 0; b < bonds.size(); ++b)
+    to.bond[b] = {named_owner[2 * b], named_owner[2 * b + 1]};
+  to.history.resize(history.size());
+  const std::size_t first_h = 2 * bonds.size();
+  for (std::size_t h = 0; h < history.size(); ++h)
+    to.history[h] = {named_owner[first_h + 2 * h], named_owner[first_h + 2 * h + 1]};
+  migrate(p, bonds, history, to);
 }
 
 void DomainDecomposition::redistribute(ParticleStore& p, BondStore& bonds,
                                        ContactHistory& history) {
-  const int me = comm_.rank();
-  const int n_ranks = comm_.size();
   p.rebuild_index();
-  const auto blocks = global_blocks(p, bonds, /*all_ranks_hold_everything=*/false);
+  const auto blocks = global_blocks(p, bonds);
   if (imbalance(p) > imbalance_threshold_) {
     partition(blocks);
   } else {
     assign_new_blocks(blocks);
   }
-
-  // New owner of every particle this rank holds (owned and ghost).
+  // New owner of every particle this rank holds (owned and ghost): an intact bond or a
+  // contact has both its particles here, owned or as ghosts.
   std::vector<int> owner(p.n_total());
   for (std::size_t k = 0; k < p.n_total(); ++k)
     owner[k] = owner_of(p.position[k]);
@@ -240,7 +325,25 @@ void DomainDecomposition::redistribute(ParticleStore& p, BondStore& bonds,
     const std::int64_t k = p.index_of(gid);
     return k < 0 ? -1 : owner[static_cast<std::size_t>(k)];
   };
+  Destinations to;
+  to.particle.assign(owner.begin(), owner.begin() + static_cast<std::ptrdiff_t>(p.n_local()));
+  to.bond.resize(bonds.size());
+  for (std::size_t b = 0; b < bonds.size(); ++b)
+    to.bond[b] = {owner_of_gid(bonds.gid_a[b]), owner_of_gid(bonds.gid_b[b])};
+  to.history.reserve(history.size());
+  for (const auto& h : history) {
+    const int oa = owner_of_gid(h.gid);
+    to.history.push_back({oa, h.partner_kind == ContactHistoryEntry::Partner::kParticle
+                                  ? owner_of_gid(h.partner)
+                                  : oa});
+  }
+  migrate(p, bonds, history, to);
+}
 
+void DomainDecomposition::migrate(ParticleStore& p, BondStore& bonds, ContactHistory& history,
+                                  const Destinations& to) {
+  const int me = comm_.rank();
+  const int n_ranks = comm_.size();
   // Particles, bonds and history entries to send, one buffer of each per rank.
   const unsigned migrate = field_flag::kMigrate;
   std::vector<std::vector<char>> send_p(static_cast<std::size_t>(n_ranks));
@@ -248,27 +351,25 @@ void DomainDecomposition::redistribute(ParticleStore& p, BondStore& bonds,
   std::vector<std::vector<char>> send_h(static_cast<std::size_t>(n_ranks));
   std::vector<char> keep(p.n_local());
   for (std::size_t k = 0; k < p.n_local(); ++k) {
-    keep[k] = owner[k] == me;
-    if (!keep[k]) pack_fields(p, k, migrate, send_p[static_cast<std::size_t>(owner[k])]);
+    keep[k] = to.particle[k] == me;
+    if (!keep[k]) pack_fields(p, k, migrate, send_p[static_cast<std::size_t>(to.particle[k])]);
   }
   std::vector<char> keep_bond(bonds.size());
   for (std::size_t b = 0; b < bonds.size(); ++b) {
-    const int oa = owner_of_gid(bonds.gid_a[b]);
-    const int ob = owner_of_gid(bonds.gid_b[b]);
+    const auto [oa, ob] = to.bond[b];
     keep_bond[b] = oa == me || ob == me;
     if (oa >= 0 && oa != me) pack_fields(bonds, b, migrate, send_b[static_cast<std::size_t>(oa)]);
     if (ob >= 0 && ob != me && ob != oa)
       pack_fields(bonds, b, migrate, send_b[static_cast<std::size_t>(ob)]);
   }
   ContactHistory kept_history;
-  for (const auto& h : history) {
-    const int oa = owner_of_gid(h.gid);
-    const int ob =
-        h.partner_kind == ContactHistoryEntry::Partner::kParticle ? owner_of_gid(h.partner) : oa;
+  for (std::size_t i = 0; i < history.size(); ++i) {
+    const auto& h = history[i];
+    const auto [oa, ob] = to.history[i];
     if (oa == me || ob == me) kept_history.push_back(h);
     std::set<int> targets{oa, ob};
     for (int r : targets) {
-      if (r == me) continue;
+      if (r == me || r < 0) continue;
       const char* src = reinterpret_cast<const char*>(&h);
       send_h[static_cast<std::size_t>(r)].insert(send_h[static_cast<std::size_t>(r)].end(), src,
                                                  src + sizeof(h));

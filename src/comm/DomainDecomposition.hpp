@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -22,9 +23,13 @@ class DomainDecomposition {
  public:
   DomainDecomposition(const Communicator& comm, double block_size, double imbalance_threshold);
 
-  /// First distribution: every rank holds the whole model; each keeps its own particles,
-  /// the bonds of its particles, and receives its ghosts.
-  void distribute_initial(ParticleStore& p, BondStore& bonds);
+  /// First distribution, from any spread of the particles over the ranks (each held by one
+  /// rank, none a ghost) and of the bonds and history entries (each held by at least one rank,
+  /// not necessarily with its particles): partitions the blocks, then sends every particle to
+  /// the owner of its block, every bond and history entry to the owners of its particles
+  /// (found through a gid directory spread over the ranks), and builds the ghost layer.
+  /// No rank ever holds more than its own items and what it receives.
+  void distribute_initial(ParticleStore& p, BondStore& bonds, ContactHistory& history);
 
   /// Migration at a neighbour-list rebuild: owned particles move to the owner of their
   /// block (repartitioning first when the imbalance exceeds the threshold), bonds to every
@@ -57,12 +62,25 @@ class DomainDecomposition {
     int rank;  ///< a rank with particles in the block (the smallest, after merging)
   };
   /// Occupied blocks of all ranks, merged and sorted by key (identical on every rank).
-  std::vector<BlockLoad> global_blocks(const ParticleStore& p, const BondStore& bonds,
-                                       bool all_ranks_hold_everything) const;
+  std::vector<BlockLoad> global_blocks(const ParticleStore& p, const BondStore& bonds) const;
   void partition(const std::vector<BlockLoad>& blocks);
   void assign_new_blocks(const std::vector<BlockLoad>& blocks);
   int owner_of(const Vec3& x) const;
   void build_ghosts(ParticleStore& p);
+  /// The owner of each of `gids`, given the owner of each owned particle of p (owner[k]), from
+  /// the rank that holds it. Throws if a gid exists on no rank.
+  std::vector<int> owners_of_gids(const ParticleStore& p, const std::vector<int>& owner,
+                                  const std::vector<std::int64_t>& gids) const;
+  /// Where each held item goes: owned particle k to rank particle[k], bond b and history
+  /// entry h to the (up to two, -1 for none) ranks in bond[b] and history[h].
+  struct Destinations {
+    std::vector<int> particle;
+    std::vector<std::array<int, 2>> bond;
+    std::vector<std::array<int, 2>> history;
+  };
+  /// Moves the items to their destinations, keeps bonds and history in canonical order and
+  /// owned particles in gid order, and rebuilds the ghost layer.
+  void migrate(ParticleStore& p, BondStore& bonds, ContactHistory& history, const Destinations& to);
 
   const Communicator& comm_;
   double block_size_;

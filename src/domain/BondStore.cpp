@@ -4,15 +4,15 @@
 
 namespace ringdem {
 
-std::size_t BondStore::append(std::int64_t gid_first, std::int64_t gid_second,
-                              std::int32_t bond_type) {
+std::size_t BondStore::append(std::int64_t bond_id, std::int64_t gid_first,
+                              std::int64_t gid_second, std::int32_t bond_type) {
   if (gid_first >= gid_second)
     throw std::invalid_argument("BondStore::append expects gid_first < gid_second");
   const std::size_t k = size();
   for_each_field([k](const FieldInfo&, auto& v) { v.resize(k + 1); });
   index_a.resize(k + 1);
   index_b.resize(k + 1);
-  id[k] = static_cast<std::int64_t>(k);
+  id[k] = bond_id;
   gid_a[k] = gid_first;
   gid_b[k] = gid_second;
   type[k] = bond_type;

@@ -77,9 +77,10 @@ class BondStore {
 
   std::size_t size() const { return gid_a.size(); }
 
-  /// Appends an intact bond with id = its index (expects gid_first < gid_second, the canonical
-  /// order) and every other column zero; returns its index for the caller to fill.
-  std::size_t append(std::int64_t gid_first, std::int64_t gid_second, std::int32_t bond_type);
+  /// Appends intact bond `bond_id` (expects gid_first < gid_second, the canonical order) with
+  /// every other column zero; returns its index for the caller to fill.
+  std::size_t append(std::int64_t bond_id, std::int64_t gid_first, std::int64_t gid_second,
+                     std::int32_t bond_type);
 
   /// Whether this rank counts bond k: a bond whose ends live on two ranks is held by both, and
   /// counts (in sums, frames, checkpoints) on the rank that owns end a. The one place of this rule.

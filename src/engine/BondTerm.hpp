@@ -1,8 +1,21 @@
 #pragma once
 
+#include <cstdint>
+
+#include "core/Quat.hpp"
+#include "core/Vec3.hpp"
 #include "engine/ForceTerm.hpp"
 
 namespace ringdem {
+
+/// One end of a bond being created: what a bond law needs of the particle (its state at
+/// creation), whether or not the particle is in this rank's store yet.
+struct BondEnd {
+  std::int64_t gid = -1;
+  Vec3 position;
+  Quat orientation;
+  double radius = 0.0;
+};
 
 /// A force term of bonds (one bond model over the model's bond store): what the simulation
 /// asks of every bond model besides the force evaluation.

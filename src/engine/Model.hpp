@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,9 @@ struct Model {
   std::string bond_model = "timoshenko";        ///< name in the bond model table
   std::string contact_model = "hertz_mindlin";  ///< name in the contact model table
   std::vector<std::string> group_names;
+  /// Particles and bonds the case's sources create at start-up, over all ranks.
+  std::int64_t initial_particles = 0;
+  std::int64_t initial_bonds = 0;
 
   int group_id(const std::string& name) const;
 };

@@ -7,7 +7,10 @@
 
 #include "domain/RingGenerator.hpp"
 #include "domain/RingNet.hpp"
-#include "engine/TimoshenkoBondTerm.hpp"
+#include "engine/LatticeSource.hpp"
+#include "engine/ModelTable.hpp"
+#include "engine/RingSource.hpp"
+#include "engine/SphereListSource.hpp"
 #include "io/ScenarioKind.hpp"
 
 namespace ringdem {
@@ -45,47 +48,27 @@ Quat orientation_for_axis(const Vec3& n) {
   return quat_between({0, 0, 1}, normalized(n));
 }
 
-constexpr int kNoBond = -1;
-
-/// Adds the particles of one ring as a body of its own and, unless bond_type is kNoBond, the
-/// bonds between consecutive particles.
-void add_ring(Model& model, const CaseConfig& c, const RingConfig& ring, int bond_type,
-              std::uint64_t bond_seed, std::int64_t& next_gid, std::int32_t& next_body) {
-  ParticleStore& p = model.particles;
-  RingGeometry g;
-  g.centre = ring.centre;
-  g.normal = ring.normal;
-  g.reference = ring.reference;
-  g.internal_diameter = ring.internal_diameter;
-  g.particle_radius = ring.particle_radius;
-  g.n_particles = ring.n_particles;
-  const int group = ensure_group(model, ring.group);
-  const int mat = material_index(model.materials, ring.material);
-  const std::size_t first = p.n_local();
+RingSpec ring_spec(Model& model, const CaseConfig& c, const RingConfig& ring, int bond_type,
+                   std::uint64_t bond_seed) {
+  RingSpec s;
+  s.geometry.centre = ring.centre;
+  s.geometry.normal = ring.normal;
+  s.geometry.reference = ring.reference;
+  s.geometry.internal_diameter = ring.internal_diameter;
+  s.geometry.particle_radius = ring.particle_radius;
+  s.geometry.n_particles = ring.n_particles;
+  s.group = ensure_group(model, ring.group);
+  s.material = material_index(model.materials, ring.material);
   // A given ring mass sets the particle density (the particles stand for the whole wire).
   const double particle_volume = 4.0 / 3.0 * M_PI * std::pow(ring.particle_radius, 3);
-  const double density = ring.mass ? *ring.mass / (ring.n_particles * particle_volume)
-                                   : model.materials[static_cast<std::size_t>(mat)].density;
-  for (const Vec3& x : g.positions()) {
-    ParticleStore::NewParticle np;
-    np.gid = next_gid++;
-    np.position = x;
-    np.velocity = ring.velocity;
-    np.radius = ring.particle_radius;
-    np.density = density;
-    np.damping = damping_of(c, ring.group);
-    np.material = mat;
-    np.body = next_body;
-    np.group = group;
-    np.motion = ring.motion;
-    p.add(np);
-  }
-  ++next_body;
-  if (bond_type == kNoBond) return;
-  for (const auto& [ka, kb] : g.bonded_pairs()) {
-    add_bond(model, first + static_cast<std::size_t>(ka), first + static_cast<std::size_t>(kb),
-             bond_type, bond_seed);
-  }
+  s.density = ring.mass ? *ring.mass / (ring.n_particles * particle_volume)
+                        : model.materials[static_cast<std::size_t>(s.material)].density;
+  s.damping = damping_of(c, ring.group);
+  s.motion = ring.motion;
+  s.velocity = ring.velocity;
+  s.bond_type = bond_type;
+  s.bond_seed = bond_seed;
+  return s;
 }
 
 RingNetParameters net_parameters(const RingNetConfig& net) {
@@ -105,16 +88,17 @@ RingNetParameters net_parameters(const RingNetConfig& net) {
   return g;
 }
 
-}  // namespace
-
-void add_bond(Model& model, std::size_t index_a, std::size_t index_b, int bond_type,
-              std::uint64_t seed) {
-  TimoshenkoBondTerm::create(model.bonds, model.bond_types[static_cast<std::size_t>(bond_type)],
-                             bond_type, model.particles, index_a, index_b, seed);
-}
-
-Model build_model(const CaseConfig& c) {
+/// The model without particles and bonds, plus the sources that create them, in case order:
+/// the `rings` entries, each net, the lattices, the listed spheres. Groups are numbered in the
+/// order the sources first name them.
+struct ModelPlan {
   Model model;
+  std::vector<std::unique_ptr<ParticleSource>> sources;
+};
+
+ModelPlan plan_model(const CaseConfig& c) {
+  ModelPlan plan;
+  Model& model = plan.model;
   std::vector<Material> materials;
   for (const auto& m : c.materials)
     materials.push_back({m.name, m.density, m.youngs_modulus, m.poisson_ratio, m.restitution,
@@ -152,10 +136,6 @@ Model build_model(const CaseConfig& c) {
   }
   model.contact_model = c.simulation.contact_model;
 
-  ParticleStore& p = model.particles;
-  std::int64_t next_gid = 0;
-  std::int32_t next_body = 0;
-
   const auto bond_type_of = [&](const std::string& name) {
     const auto it = std::find(model.bond_type_names.begin(), model.bond_type_names.end(), name);
     if (it == model.bond_type_names.end())
@@ -166,15 +146,21 @@ Model build_model(const CaseConfig& c) {
     return bond_seeds[static_cast<std::size_t>(bond_type)];
   };
 
-  for (const auto& ring : c.rings) {
-    const int bond_type = bond_type_of(ring.bond);
-    add_ring(model, c, ring, bond_type, seed_of(bond_type), next_gid, next_body);
+  if (!c.rings.empty()) {
+    std::vector<RingSpec> rings;
+    for (const auto& ring : c.rings) {
+      const int bond_type = bond_type_of(ring.bond);
+      rings.push_back(ring_spec(model, c, ring, bond_type, seed_of(bond_type)));
+    }
+    plan.sources.push_back(std::make_unique<RingSource>("rings", std::move(rings)));
   }
 
   // Nets: each ring is a `rings` entry; the shackles are fixed rings without bonds.
   for (const auto& net : c.nets) {
     const RingNetLayout layout = generate_ring_net(net_parameters(net));
     const int bond_type = bond_type_of(net.bond);
+    std::vector<RingSpec> rings;
+    rings.reserve(layout.rings.size() + layout.shackles.size());
     for (const RingPlacement& placement : layout.rings) {
       RingConfig ring;
       ring.group = net.group;
@@ -184,11 +170,9 @@ Model build_model(const CaseConfig& c) {
       ring.internal_diameter = net.internal_diameter;
       ring.n_particles = net.n_particles;
       ring.particle_radius = net.particle_radius;
-      ring.contact_radius = net.contact_radius;
       ring.material = net.material;
-      ring.bond = net.bond;
       ring.mass = net.mass;
-      add_ring(model, c, ring, bond_type, seed_of(bond_type), next_gid, next_body);
+      rings.push_back(ring_spec(model, c, ring, bond_type, seed_of(bond_type)));
     }
     for (const ShacklePlacement& placement : layout.shackles) {
       RingConfig shackle;
@@ -199,51 +183,50 @@ Model build_model(const CaseConfig& c) {
       shackle.internal_diameter = net.shackles.internal_diameter;
       shackle.n_particles = net.shackles.n_particles;
       shackle.particle_radius = net.shackles.particle_radius;
-      shackle.contact_radius = net.shackles.particle_radius;
       shackle.material = net.shackles.material;
       shackle.motion = Motion::kFixed;
-      add_ring(model, c, shackle, kNoBond, 0, next_gid, next_body);
+      rings.push_back(ring_spec(model, c, shackle, RingSpec::kNoBond, 0));
     }
+    plan.sources.push_back(std::make_unique<RingSource>("net", std::move(rings)));
   }
 
   for (const auto& lat : c.lattices) {
-    const int group = ensure_group(model, lat.group);
-    const int mat = material_index(model.materials, lat.material);
-    std::mt19937_64 rng(lat.seed);
-    std::uniform_real_distribution<double> u(-0.5, 0.5);
-    const double gap = lat.spacing - 2.0 * lat.particle_radius;
-    for (int i = 0; i < lat.count[0]; ++i)
-      for (int j = 0; j < lat.count[1]; ++j)
-        for (int k = 0; k < lat.count[2]; ++k) {
-          ParticleStore::NewParticle np;
-          np.gid = next_gid++;
-          np.position = lat.origin + Vec3{i * lat.spacing, j * lat.spacing, k * lat.spacing};
-          if (lat.jitter > 0.0) np.position += Vec3{u(rng), u(rng), u(rng)} * (lat.jitter * gap);
-          np.velocity = lat.velocity;
-          np.radius = lat.particle_radius;
-          np.density = model.materials[static_cast<std::size_t>(mat)].density;
-          np.damping = damping_of(c, lat.group);
-          np.material = mat;
-          np.group = group;
-          p.add(np);
-        }
+    LatticeSource::Spec s;
+    s.group = ensure_group(model, lat.group);
+    s.material = material_index(model.materials, lat.material);
+    s.origin = lat.origin;
+    s.count = lat.count;
+    s.spacing = lat.spacing;
+    s.radius = lat.particle_radius;
+    s.jitter = lat.jitter;
+    s.seed = lat.seed;
+    s.velocity = lat.velocity;
+    s.density = model.materials[static_cast<std::size_t>(s.material)].density;
+    s.damping = damping_of(c, lat.group);
+    plan.sources.push_back(std::make_unique<LatticeSource>(s));
   }
 
-  for (const auto& s : c.spheres) {
-    const int group = ensure_group(model, s.group);
-    const int mat = material_index(model.materials, s.material);
-    ParticleStore::NewParticle np;
-    np.gid = next_gid++;
-    np.position = s.position;
-    np.velocity = s.velocity;
-    np.omega = s.omega;
-    np.radius = s.radius;
-    np.density = model.materials[static_cast<std::size_t>(mat)].density;
-    np.damping = damping_of(c, s.group);
-    np.material = mat;
-    np.group = group;
-    np.motion = s.motion;
-    p.add(np);
+  if (!c.spheres.empty()) {
+    std::vector<ParticleStore::NewParticle> spheres;
+    for (const auto& s : c.spheres) {
+      ParticleStore::NewParticle np;
+      np.group = ensure_group(model, s.group);
+      np.material = material_index(model.materials, s.material);
+      np.position = s.position;
+      np.velocity = s.velocity;
+      np.omega = s.omega;
+      np.radius = s.radius;
+      np.density = model.materials[static_cast<std::size_t>(np.material)].density;
+      np.damping = damping_of(c, s.group);
+      np.motion = s.motion;
+      spheres.push_back(np);
+    }
+    plan.sources.push_back(std::make_unique<SphereListSource>(std::move(spheres)));
+  }
+
+  for (const auto& src : plan.sources) {
+    model.initial_particles += src->count();
+    model.initial_bonds += src->bond_count();
   }
 
   for (const auto& rb : c.rigid_bodies) {
@@ -300,8 +283,54 @@ Model build_model(const CaseConfig& c) {
     }
   }
 
-  p.rebuild_index();
-  return model;
+  return plan;
+}
+
+}  // namespace
+
+void add_bond(Model& model, std::int64_t id, const BondEnd& a, const BondEnd& b, int bond_type,
+              std::uint64_t seed) {
+  const BondModelEntry* entry = find_bond_model(model.bond_model);
+  if (!entry) throw std::invalid_argument("unknown bond model '" + model.bond_model + "'");
+  entry->create(model.bonds, model.bond_types[static_cast<std::size_t>(bond_type)], bond_type, id,
+                a, b, seed);
+}
+
+void add_bond(Model& model, std::size_t index_a, std::size_t index_b, int bond_type,
+              std::uint64_t seed) {
+  const ParticleStore& p = model.particles;
+  const auto end = [&](std::size_t i) {
+    return BondEnd{p.gid[i], p.position[i], p.orientation[i], p.radius[i]};
+  };
+  std::int64_t next_id = 0;
+  for (std::int64_t id : model.bonds.id)
+    next_id = std::max(next_id, id + 1);
+  add_bond(model, next_id, end(index_a), end(index_b), bond_type, seed);
+}
+
+Model build_model(const CaseConfig& config, int rank, int ranks) {
+  if (ranks < 1 || rank < 0 || rank >= ranks)
+    throw std::invalid_argument("build_model: rank outside 0..ranks-1");
+  ModelPlan plan = plan_model(config);
+  SourceBases bases;
+  for (const auto& src : plan.sources) {
+    const std::int64_t n = src->count();
+    src->emit(ParticleSource::slice_begin(n, rank, ranks),
+              ParticleSource::slice_begin(n, rank + 1, ranks), bases, plan.model);
+    bases.gid += n;
+    bases.bond_id += src->bond_count();
+    bases.body += src->body_count();
+  }
+  plan.model.particles.rebuild_index();
+  return std::move(plan.model);
+}
+
+Model build_model(const CaseConfig& config, const Communicator& comm) {
+  return build_model(config, comm.rank(), comm.size());
+}
+
+Model build_model_without_particles(const CaseConfig& config) {
+  return std::move(plan_model(config).model);
 }
 
 }  // namespace ringdem

@@ -1,20 +1,34 @@
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
+#include "comm/Communicator.hpp"
+#include "engine/BondTerm.hpp"
 #include "engine/Model.hpp"
 #include "io/CaseConfig.hpp"
-#include "physics/BondTimoshenko.hpp"
-#include "physics/MaterialTable.hpp"
 
 namespace ringdem {
 
-/// Generates particles, bonds and rigid bodies of a case, gids 0..N-1 in generator order.
-Model build_model(const CaseConfig& config);
+/// Builds rank `rank`'s share of a case's model: materials, bond types, groups and rigid
+/// bodies in full (they are small), and an equal slice of every particle source's items
+/// (engine/ParticleSource.hpp) with the bonds that touch them. Gids run over the sources in
+/// case order (rings, nets, lattices, spheres) and do not depend on the rank count; the
+/// Simulation's first distribution moves every particle to the owner of its block.
+/// build_model(config) is the whole model, for one rank.
+Model build_model(const CaseConfig& config, int rank = 0, int ranks = 1);
+/// This rank's share for a simulation over `comm`.
+Model build_model(const CaseConfig& config, const Communicator& comm);
+/// Everything but the particles and bonds, for a restart, which reads those from the
+/// checkpoint. initial_particles and initial_bonds still count what the sources create.
+Model build_model_without_particles(const CaseConfig& config);
 
-/// Adds a bond between two existing particles (by index) with the given type, its reference
-/// frame from the current orientations and its strengths drawn by (seed, gid pair).
+/// Adds bond `id` between two particles of the model's bond law, strengths drawn by
+/// (seed, gid pair).
+void add_bond(Model& model, std::int64_t id, const BondEnd& a, const BondEnd& b, int bond_type,
+              std::uint64_t seed);
+/// The same between two particles of this rank's store (by index), with the next free id.
 void add_bond(Model& model, std::size_t index_a, std::size_t index_b, int bond_type,
               std::uint64_t seed);
 

@@ -13,7 +13,8 @@ const std::vector<BondModelEntry>& bond_models() {
        [](BondStore& bonds,
           std::vector<BondTimoshenko::Params> types) -> std::unique_ptr<BondTerm> {
          return std::make_unique<TimoshenkoBondTerm>(bonds, std::move(types));
-       }},
+       },
+       &TimoshenkoBondTerm::create},
   };
   return table;
 }

@@ -17,6 +17,10 @@ struct BondModelEntry {
   std::string_view name;
   std::string_view description;
   std::unique_ptr<BondTerm> (*make)(BondStore& bonds, std::vector<BondTimoshenko::Params> types);
+  /// Appends bond `id` between two ends (either order) of type `type`, strengths drawn by
+  /// (seed, gid pair); returns its index in the store.
+  std::size_t (*create)(BondStore& bonds, const BondTimoshenko::Params& params, std::int32_t type,
+                        std::int64_t id, const BondEnd& a, const BondEnd& b, std::uint64_t seed);
 };
 
 /// The one table of contact laws selectable by name (`simulation.contact_model`): each makes

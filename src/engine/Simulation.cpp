@@ -89,12 +89,14 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
   ParticleStore& p = model_.particles;
+  // Each rank built a slice of every source; move the particles to the owners of their blocks.
+  ContactHistory no_history;
+  decomposition_.distribute_initial(p, model_.bonds, no_history);
+  // After the distribution: every intact bond then has both ends on the ranks that hold it.
   init_limits();
   dt_ = settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("cannot choose a time step: give simulation.dt explicitly");
-  // Every rank built the whole model; keep this rank's share.
-  decomposition_.distribute_initial(p, model_.bonds);
   rebuild();
   compute_forces();  // loads of the initial state, for the first half kick
   apply_global_damping(model_.particles, dt_);
@@ -110,7 +112,6 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
   ParticleStore& p = model_.particles;
-  init_limits();
   // The checkpoint's dt, whatever the case now says: a different dt would not continue the
   // same trajectory.
   dt_ = restart.dt;
@@ -119,16 +120,11 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   rebuilds_ = restart.rebuilds - 1;  // the rebuild below is not a new one of the trajectory
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("restart state has no valid time step");
-  decomposition_.distribute_initial(p, model_.bonds);
-  // Keep the springs of pairs this rank holds (owned or ghost ends); the redistribution
-  // hands each to the owners of its particles.
-  ContactHistory history;
-  for (const auto& h : restart.history) {
-    const bool have_first = p.index_of(h.gid) >= 0;
-    const bool have_partner =
-        h.partner_kind == ContactHistoryEntry::Partner::kRigidBody || p.index_of(h.partner) >= 0;
-    if (have_first && have_partner) history.push_back(h);
-  }
+  // Each rank read a block of the checkpoint's rows: particles go to the owners of their
+  // blocks, bonds and contact springs to the owners of their particles.
+  ContactHistory history = restart.history;
+  decomposition_.distribute_initial(p, model_.bonds, history);
+  init_limits();
   rebuild(std::move(history));
   // No force evaluation: forces, torques and body loads come from the checkpoint (a new
   // evaluation would advance the tangential springs a second time).

@@ -24,15 +24,17 @@ TimoshenkoBondTerm::TimoshenkoBondTerm(BondStore& bonds, std::vector<BondTimoshe
     : bonds_(bonds), types_(std::move(types)) {}
 
 std::size_t TimoshenkoBondTerm::create(BondStore& bonds, const BondTimoshenko::Params& params,
-                                       std::int32_t type, const ParticleStore& p, std::size_t a,
-                                       std::size_t b, std::uint64_t seed) {
-  if (p.gid[a] > p.gid[b]) std::swap(a, b);
-  const double length0 = norm(p.position[b] - p.position[a]);
-  const auto section = BondTimoshenko::Section::make(params, p.radius[a], p.radius[b], length0);
-  const auto ref = BondTimoshenko::Reference::make(p.position[a], p.orientation[a], p.position[b],
-                                                   p.orientation[b]);
-  const auto strength = BondTimoshenko::draw_strength(params, seed, p.gid[a], p.gid[b]);
-  const std::size_t k = bonds.append(p.gid[a], p.gid[b], type);
+                                       std::int32_t type, std::int64_t id, const BondEnd& end_a,
+                                       const BondEnd& end_b, std::uint64_t seed) {
+  const bool in_order = end_a.gid < end_b.gid;
+  const BondEnd& a = in_order ? end_a : end_b;
+  const BondEnd& b = in_order ? end_b : end_a;
+  const double length0 = norm(b.position - a.position);
+  const auto section = BondTimoshenko::Section::make(params, a.radius, b.radius, length0);
+  const auto ref =
+      BondTimoshenko::Reference::make(a.position, a.orientation, b.position, b.orientation);
+  const auto strength = BondTimoshenko::draw_strength(params, seed, a.gid, b.gid);
+  const std::size_t k = bonds.append(id, a.gid, b.gid, type);
   store(bonds, k, section, ref, strength);
   return k;
 }

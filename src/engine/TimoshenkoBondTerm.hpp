@@ -29,12 +29,11 @@ class TimoshenkoBondTerm final : public BondTerm {
   /// for the current configuration; returns the summed energy.
   double update_diagnostics(const ParticleStore& p) const override;
 
-  /// Creates a bond between particles of indices a and b of `p` (either order; the store
-  /// keeps the lower gid first): section from the type's parameters and the end radii,
-  /// reference frames from the current orientations, strengths drawn by (seed, gid pair).
-  /// Returns the bond's index in the store.
+  /// Creates bond `id` between two ends (either order; the store keeps the lower gid first):
+  /// section from the type's parameters and the end radii, reference frames from the ends'
+  /// orientations, strengths drawn by (seed, gid pair). Returns the bond's index in the store.
   static std::size_t create(BondStore& bonds, const BondTimoshenko::Params& params,
-                            std::int32_t type, const ParticleStore& p, std::size_t a, std::size_t b,
+                            std::int32_t type, std::int64_t id, const BondEnd& a, const BondEnd& b,
                             std::uint64_t seed);
   /// Stores a section, reference and strengths in bond k's columns.
   static void store(BondStore& bonds, std::size_t k, const BondTimoshenko::Section& s,

@@ -55,14 +55,6 @@ std::uint64_t bytes_checksum(const std::vector<char>& bytes, std::size_t row_byt
   return sum;
 }
 
-template <class T>
-void verify(const Hdf5File& f, const std::string& name, const std::vector<T>& rows) {
-  const auto stored = static_cast<std::uint64_t>(f.attribute_int(name, "checksum"));
-  if (stored != rows_checksum(rows, 0))
-    throw Hdf5Error(f.path() + ": dataset " + name +
-                    " fails its checksum: the checkpoint is corrupted");
-}
-
 /// Writes one registry field in row blocks, with its checksum.
 template <class T>
 void write_field(Hdf5File& f, const Communicator& comm, const RowBlocks& blocks,
@@ -89,14 +81,27 @@ void write_concatenated(Hdf5File& f, const Communicator& comm, const std::string
   set_checksum(f, name, total(comm, rows_checksum(local, first)));
 }
 
+/// How the ranks read a table: each its own block of rows, or every rank all of them.
+enum class ReadBy { kBlocks, kEveryRank };
+
+/// Rows [first, end) of a dataset of `rows` rows, read collectively, checked against the
+/// dataset's checksum: the blocks' partial checksums add up to it.
 template <class T>
-std::vector<T> read_verified(const Hdf5File& f, const std::string& name, std::int64_t rows) {
-  std::vector<T> v = f.read_rows<T>(name);
-  if (static_cast<std::int64_t>(v.size()) != rows)
-    throw Hdf5Error(f.path() + ": dataset " + name + " has " + std::to_string(v.size()) +
-                    " rows, expected " + std::to_string(rows));
-  verify(f, name, v);
-  return v;
+std::vector<T> read_verified_block(const Hdf5File& f, const Communicator& comm,
+                                   const std::string& name, std::int64_t rows, std::int64_t first,
+                                   std::int64_t end, ReadBy read_by = ReadBy::kBlocks) {
+  const auto d = f.dims(name);
+  if ((d.empty() ? 0 : d[0]) != rows)
+    throw Hdf5Error(f.path() + ": dataset " + name + " has " +
+                    std::to_string(d.empty() ? 0 : d[0]) + " rows, expected " +
+                    std::to_string(rows));
+  std::vector<T> block = f.read_row_block<T>(name, first, end - first);
+  const auto stored = static_cast<std::uint64_t>(f.attribute_int(name, "checksum"));
+  const std::uint64_t partial = rows_checksum(block, first);
+  if (stored != (read_by == ReadBy::kBlocks ? total(comm, partial) : partial))
+    throw Hdf5Error(f.path() + ": dataset " + name +
+                    " fails its checksum: the checkpoint is corrupted");
+  return block;
 }
 
 std::string join(const std::vector<std::string>& names) {
@@ -316,33 +321,59 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   return info;
 }
 
-RestartState read_checkpoint(const std::string& path, Model& model, DriverState& driver,
-                             CheckpointInfo* info_out) {
+RestartState read_checkpoint(const Communicator& comm, const std::string& path, Model& model,
+                             DriverState& driver, CheckpointInfo* info_out) {
   const CheckpointInfo info = read_checkpoint_info(path);
   ParticleStore& p = model.particles;
   BondStore& bonds = model.bonds;
-  const auto n_particles = static_cast<std::int64_t>(p.n_local());
-  const auto n_bonds = static_cast<std::int64_t>(bonds.size());
-  if (info.particles != n_particles || info.bonds != n_bonds ||
+  if (p.n_total() != 0 || bonds.size() != 0)
+    throw std::logic_error("read_checkpoint: the model must be built without particles");
+  if (info.particles != model.initial_particles || info.bonds != model.initial_bonds ||
       info.bodies != static_cast<std::int64_t>(model.bodies.size()))
     throw Hdf5Error(fmt::format(
         "{}: the checkpoint holds {} particles, {} bonds and {} rigid bodies, the case builds {}, "
         "{} and {}: it belongs to another case",
-        path, info.particles, info.bonds, info.bodies, n_particles, n_bonds, model.bodies.size()));
-  const Hdf5File f = Hdf5File::open_read(path);
-  p.for_each_field([&](const FieldInfo& info_field, auto& v) {
-    if (!info_field.has(field_flag::kCheckpoint)) return;
+        path, info.particles, info.bonds, info.bodies, model.initial_particles, model.initial_bonds,
+        model.bodies.size()));
+  const Hdf5File f = Hdf5File::open_parallel_read(path, comm);
+  // Each rank reads one block of every table's rows; the first distribution then moves the
+  // rows to their owners.
+  const auto block_of = [&](std::int64_t n) {
+    return std::pair{RowBlocks::block_begin(n, comm.rank(), comm.size()),
+                     RowBlocks::block_begin(n, comm.rank() + 1, comm.size())};
+  };
+  const auto [p_first, p_end] = block_of(info.particles);
+  p.resize_local(static_cast<std::size_t>(p_end - p_first));
+  p.for_each_field([&](const FieldInfo& field, auto& v) {
+    if (!field.has(field_flag::kCheckpoint)) return;
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
-    auto rows = read_verified<T>(f, "/particles/" + std::string(info_field.name), n_particles);
+    auto rows = read_verified_block<T>(f, comm, "/particles/" + std::string(field.name),
+                                       info.particles, p_first, p_end);
     std::copy(rows.begin(), rows.end(), v.begin());
   });
-  for (std::int64_t k = 0; k < n_particles; ++k)
-    if (p.gid[static_cast<std::size_t>(k)] != k)
-      throw Hdf5Error(path + ": particle rows are not in gid order");
-  bonds.for_each_field([&](const FieldInfo& info_field, auto& v) {
-    if (!info_field.has(field_flag::kCheckpoint)) return;
+  // Rows in strictly increasing gid order, across the blocks too.
+  bool ordered = std::is_sorted(p.gid.begin(), p.gid.end()) &&
+                 std::adjacent_find(p.gid.begin(), p.gid.end()) == p.gid.end();
+  const std::int64_t my_last = p.gid.empty() ? -1 : p.gid.back();
+  const auto lasts = comm.allgather(std::vector<std::int64_t>{my_last});
+  for (int r = comm.rank() - 1; r >= 0 && !p.gid.empty(); --r)
+    if (lasts[static_cast<std::size_t>(r)] >= 0) {
+      ordered = ordered && lasts[static_cast<std::size_t>(r)] < p.gid.front();
+      break;
+    }
+  if (comm.any(!ordered)) throw Hdf5Error(path + ": particle rows are not in gid order");
+  p.rebuild_index();
+
+  const auto [b_first, b_end] = block_of(info.bonds);
+  bonds.for_each_field(
+      [&](const FieldInfo&, auto& v) { v.resize(static_cast<std::size_t>(b_end - b_first)); });
+  bonds.index_a.assign(bonds.size(), 0);
+  bonds.index_b.assign(bonds.size(), 0);
+  bonds.for_each_field([&](const FieldInfo& field, auto& v) {
+    if (!field.has(field_flag::kCheckpoint)) return;
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
-    auto rows = read_verified<T>(f, "/bonds/" + std::string(info_field.name), n_bonds);
+    auto rows = read_verified_block<T>(f, comm, "/bonds/" + std::string(field.name), info.bonds,
+                                       b_first, b_end);
     std::copy(rows.begin(), rows.end(), v.begin());
   });
 
@@ -352,16 +383,21 @@ RestartState read_checkpoint(const std::string& path, Model& model, DriverState&
   state.steps = info.step;
   state.rebuilds = info.rebuilds;
   const std::int64_t nh = info.history_entries;
-  const auto kind = read_verified<std::uint8_t>(f, "/history/partner_kind", nh);
-  const auto gid = read_verified<std::int64_t>(f, "/history/gid", nh);
-  const auto partner = read_verified<std::int64_t>(f, "/history/partner", nh);
-  const auto spring = read_verified<Vec3>(f, "/history/spring", nh);
-  state.history.resize(static_cast<std::size_t>(nh));
+  const auto [h_first, h_end] = block_of(nh);
+  const auto kind =
+      read_verified_block<std::uint8_t>(f, comm, "/history/partner_kind", nh, h_first, h_end);
+  const auto gid = read_verified_block<std::int64_t>(f, comm, "/history/gid", nh, h_first, h_end);
+  const auto partner =
+      read_verified_block<std::int64_t>(f, comm, "/history/partner", nh, h_first, h_end);
+  const auto spring = read_verified_block<Vec3>(f, comm, "/history/spring", nh, h_first, h_end);
+  state.history.resize(kind.size());
+  bool valid = true;
   for (std::size_t k = 0; k < state.history.size(); ++k) {
-    if (kind[k] > 1) throw Hdf5Error(path + ": invalid contact history entry");
-    state.history[k] = {static_cast<ContactHistoryEntry::Partner>(kind[k]), gid[k], partner[k],
-                        spring[k]};
+    valid = valid && kind[k] <= 1;
+    state.history[k] = {static_cast<ContactHistoryEntry::Partner>(kind[k] <= 1 ? kind[k] : 0),
+                        gid[k], partner[k], spring[k]};
   }
+  if (comm.any(!valid)) throw Hdf5Error(path + ": invalid contact history entry");
 
   const auto names = split(f.attribute_string("/bodies", "names"));
   for (std::size_t b = 0; b < model.bodies.size(); ++b)
@@ -373,7 +409,8 @@ RestartState read_checkpoint(const std::string& path, Model& model, DriverState&
   const auto n_bodies = static_cast<std::int64_t>(model.bodies.size());
   rows.for_each([&](const char* name, auto& v) {
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
-    v = read_verified<T>(f, std::string("/bodies/") + name, n_bodies);
+    v = read_verified_block<T>(f, comm, std::string("/bodies/") + name, n_bodies, 0, n_bodies,
+                               ReadBy::kEveryRank);
   });
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     RigidBody& body = model.bodies[b];
@@ -388,8 +425,9 @@ RestartState read_checkpoint(const std::string& path, Model& model, DriverState&
     body.motion = rows.motion[b];
   }
   driver.names = split(f.attribute_string("/driver", "names"));
-  driver.values =
-      read_verified<double>(f, "/driver/values", static_cast<std::int64_t>(driver.names.size()));
+  const auto n_values = static_cast<std::int64_t>(driver.names.size());
+  driver.values = read_verified_block<double>(f, comm, "/driver/values", n_values, 0, n_values,
+                                              ReadBy::kEveryRank);
   if (info_out) *info_out = info;
   return state;
 }

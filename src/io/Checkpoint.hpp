@@ -60,12 +60,15 @@ class CheckpointStore {
   int keep_;
 };
 
-/// Reads a checkpoint into `model` (built from the same case, not yet distributed: every rank
-/// holds all particles, gids 0..N-1) and returns the simulation state; fills `driver`.
-/// Throws Hdf5Error with a clear message for a missing, truncated, incomplete or corrupted
-/// file, or one that does not match the model (other particle, bond or body counts).
-RestartState read_checkpoint(const std::string& path, Model& model, DriverState& driver,
-                             CheckpointInfo* info = nullptr);
+/// Collective: reads a checkpoint into `model` (built from the same case without particles,
+/// build_model_without_particles) and returns the simulation state; fills `driver`. Each rank
+/// reads one block of the particle, bond and contact-history rows (no rank reads them all);
+/// the Simulation's first distribution moves them to their owners. Rigid bodies and the
+/// driver state are read by every rank. Throws Hdf5Error with a clear message for a missing,
+/// truncated, incomplete or corrupted file, or one that does not match the model (other
+/// particle, bond or body counts).
+RestartState read_checkpoint(const Communicator& comm, const std::string& path, Model& model,
+                             DriverState& driver, CheckpointInfo* info = nullptr);
 
 /// Root attributes only (ringdem info, --restart auto).
 CheckpointInfo read_checkpoint_info(const std::string& path);

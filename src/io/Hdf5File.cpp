@@ -90,6 +90,14 @@ Hdf5File Hdf5File::open_read(const std::string& path) {
   return Hdf5File(id, path, false, 0);
 }
 
+Hdf5File Hdf5File::open_parallel_read(const std::string& path, const Communicator& comm) {
+  silence_hdf5();
+  Handle fapl(parallel_access_list(comm.raw()), H5Pclose);
+  const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, fapl.get());
+  if (id < 0) throw Hdf5Error(path + ": HDF5 cannot open it (truncated or corrupted?)");
+  return Hdf5File(id, path, true, comm.rank());
+}
+
 Hdf5File::Hdf5File(Hdf5File&& o) noexcept
     : id_(std::exchange(o.id_, -1)),
       path_(std::move(o.path_)),
@@ -358,6 +366,35 @@ void Hdf5File::read_raw(const std::string& name, std::int64_t frame, void* out, 
     status = H5Dread(d.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out);
   }
   if (status < 0) fail("cannot read dataset " + name + " (corrupted?)");
+}
+
+void Hdf5File::read_block_raw(const std::string& name, std::int64_t first_row, std::int64_t count,
+                              void* out, hid_t type) const {
+  Handle d(H5Dopen2(id_, name.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!d.ok()) fail("cannot open dataset " + name);
+  Handle fspace(H5Dget_space(d.get()), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(fspace.get());
+  hsize_t dims[2] = {0, 0};
+  H5Sget_simple_extent_dims(fspace.get(), dims, nullptr);
+  if (first_row < 0 || count < 0 || static_cast<hsize_t>(first_row + count) > dims[0])
+    fail("dataset " + name + " has no rows " + std::to_string(first_row) + ".." +
+         std::to_string(first_row + count));
+  // An empty dataset (no contact springs, say): nothing to read on any rank.
+  if (dims[0] == 0) return;
+  hsize_t start[2] = {static_cast<hsize_t>(first_row), 0};
+  hsize_t size[2] = {static_cast<hsize_t>(count), rank == 2 ? dims[1] : 1};
+  Handle mspace(H5Screate_simple(rank, size, nullptr), H5Sclose);
+  if (count == 0) {
+    H5Sselect_none(fspace.get());
+    H5Sselect_none(mspace.get());
+  } else {
+    H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start, nullptr, size, nullptr);
+  }
+  Handle dxpl(transfer_list(parallel_), H5Pclose);
+  // HDF5 refuses a null buffer even when nothing is selected (an empty block on this rank).
+  double dummy = 0.0;
+  if (H5Dread(d.get(), type, mspace.get(), fspace.get(), dxpl.get(), out ? out : &dummy) < 0)
+    fail("cannot read dataset " + name + " (corrupted?)");
 }
 
 std::vector<char> Hdf5File::read_bytes(const std::string& name, std::size_t& row_bytes) const {

@@ -76,6 +76,8 @@ class Hdf5File {
   static Hdf5File open_parallel(const std::string& path, const Communicator& comm);
   /// Read-only, this process alone.
   static Hdf5File open_read(const std::string& path);
+  /// Collective, read-only: every rank of `comm` reads its own rows (read_row_block).
+  static Hdf5File open_parallel_read(const std::string& path, const Communicator& comm);
 
   Hdf5File(Hdf5File&& o) noexcept;
   Hdf5File& operator=(Hdf5File&& o) noexcept;
@@ -130,6 +132,16 @@ class Hdf5File {
     if (!out.empty()) read_raw(name, frame, out.data(), H5Layout<T>::type());
     return out;
   }
+  /// Rows [first_row, first_row + count) of a fixed dataset, checking the row layout;
+  /// collective on a parallel file (every rank calls it, with its own block, maybe empty).
+  template <class T>
+  std::vector<T> read_row_block(const std::string& name, std::int64_t first_row,
+                                std::int64_t count) const {
+    check_layout(name, -1, H5Layout<T>::components);
+    std::vector<T> out(static_cast<std::size_t>(count));
+    read_block_raw(name, first_row, count, out.data(), H5Layout<T>::type());
+    return out;
+  }
   /// A whole dataset as raw bytes in its native memory type; `row_bytes` is set to the bytes
   /// per first-dimension row.
   std::vector<char> read_bytes(const std::string& name, std::size_t& row_bytes) const;
@@ -141,6 +153,8 @@ class Hdf5File {
       : id_(id), path_(std::move(path)), parallel_(parallel), rank_(rank) {}
   void check_layout(const std::string& name, std::int64_t frame, int components) const;
   void read_raw(const std::string& name, std::int64_t frame, void* out, hid_t type) const;
+  void read_block_raw(const std::string& name, std::int64_t first_row, std::int64_t count,
+                      void* out, hid_t type) const;
   [[noreturn]] void fail(const std::string& what) const;
 
   hid_t id_ = -1;

@@ -23,15 +23,18 @@ class Decomposition : public ::testing::Test {
   MPI_Comm comm_ = MPI_COMM_NULL;
 };
 
-/// A 12 x 12 x 2 lattice of particles, 6 mm apart (several per block), the same on every
-/// rank; consecutive gids along x are bonded. Field values encode the gid.
-void make_lattice(ParticleStore& p, BondStore& bonds) {
+/// A 12 x 12 x 2 lattice of particles, 6 mm apart (several per block); consecutive gids along
+/// x are bonded. Field values encode the gid. Rank `rank` of `ranks` holds the particles with
+/// gid = rank mod ranks and the bonds with id = rank mod ranks: a spread unlike the blocks',
+/// in which a rank may hold a bond but neither of its particles, as after reading a checkpoint.
+void make_lattice(ParticleStore& p, BondStore& bonds, int rank = 0, int ranks = 1) {
   std::int64_t gid = 0;
   for (int k = 0; k < 2; ++k)
     for (int j = 0; j < 12; ++j)
       for (int i = 0; i < 12; ++i) {
         ParticleStore::NewParticle np;
         np.gid = gid++;
+        if (np.gid % ranks != rank) continue;
         np.position = {0.006 * i, 0.006 * j, 0.006 * k};
         np.radius = 0.002;
         np.density = 1000;
@@ -41,9 +44,13 @@ void make_lattice(ParticleStore& p, BondStore& bonds) {
     p.external_force[k] = {7.0 * p.gid[k] + 1, 0, 0};
   BondTimoshenko::Section s;
   BondTimoshenko::Reference ref;
+  std::int64_t id = 0;
   for (std::int64_t g = 0; g + 1 < gid; ++g)
-    if ((g + 1) % 12 != 0)
-      TimoshenkoBondTerm::store(bonds, bonds.append(g, g + 1, 0), s, ref, {1, 1, 1});
+    if ((g + 1) % 12 != 0) {
+      if (id % ranks == rank)
+        TimoshenkoBondTerm::store(bonds, bonds.append(id, g, g + 1, 0), s, ref, {1, 1, 1});
+      ++id;
+    }
   p.rebuild_index();
 }
 
@@ -67,10 +74,11 @@ TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
   const Communicator c(comm_);
   ParticleStore p;
   BondStore bonds;
-  make_lattice(p, bonds);
-  const std::int64_t n_total = static_cast<std::int64_t>(p.n_local());
+  make_lattice(p, bonds, c.rank(), c.size());
+  const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
   DomainDecomposition d(c, kBlock, 0.1);
-  d.distribute_initial(p, bonds);
+  ContactHistory no_history;
+  d.distribute_initial(p, bonds, no_history);
   const auto owner = owners(c, p, n_total);
   // Rank-encoded refresh: owners write rank + 1, ghosts must read their owner's rank + 1.
   for (std::size_t k = 0; k < p.n_local(); ++k)
@@ -109,10 +117,11 @@ TEST_F(Decomposition, MigrationCarriesParticlesBondsAndHistory) {
   const Communicator c(comm_);
   ParticleStore p;
   BondStore bonds;
-  make_lattice(p, bonds);
-  const std::int64_t n_total = static_cast<std::int64_t>(p.n_local());
+  make_lattice(p, bonds, c.rank(), c.size());
+  const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
   DomainDecomposition d(c, kBlock, /*imbalance_threshold=*/0.0);
-  d.distribute_initial(p, bonds);
+  ContactHistory no_history;
+  d.distribute_initial(p, bonds, no_history);
   // Mark state that must travel: a broken bond with its break time, a history entry per
   // owned particle (spring = gid-encoded), and rank-encoded velocities.
   for (std::size_t b = 0; b < bonds.size(); ++b)
@@ -163,6 +172,75 @@ TEST_F(Decomposition, MigrationCarriesParticlesBondsAndHistory) {
     holders_of_30 += bonds.gid_a[b] == 30;
   const bool own_an_end = after.at(30) == c.rank() || after.at(31) == c.rank();
   EXPECT_EQ(holders_of_30, own_an_end ? 1 : 0);
+}
+
+TEST_F(Decomposition, FirstDistributionSendsBondsAndSpringsHeldAnywhereToTheirParticles) {
+  const Communicator c(comm_);
+  ParticleStore p;
+  BondStore bonds;
+  make_lattice(p, bonds, c.rank(), c.size());
+  const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
+  // Springs between gid g and g + 12, held by a rank unrelated to either particle.
+  ContactHistory history;
+  for (std::int64_t g = 0; g + 12 < n_total; ++g)
+    if ((5 * g + 1) % c.size() == c.rank())
+      history.push_back(
+          {ContactHistoryEntry::Partner::kParticle, g, g + 12, Vec3{static_cast<double>(g), 0, 0}});
+  DomainDecomposition d(c, kBlock, 0.1);
+  d.distribute_initial(p, bonds, history);
+  const auto owner = owners(c, p, n_total);
+  // Brute force: every bond of the whole lattice is held exactly by the owners of its ends.
+  ParticleStore all;
+  BondStore all_bonds;
+  make_lattice(all, all_bonds);
+  std::set<std::pair<std::int64_t, std::int64_t>> expected, held;
+  for (std::size_t b = 0; b < all_bonds.size(); ++b)
+    if (owner.at(all_bonds.gid_a[b]) == c.rank() || owner.at(all_bonds.gid_b[b]) == c.rank())
+      expected.emplace(all_bonds.gid_a[b], all_bonds.gid_b[b]);
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    EXPECT_TRUE(held.emplace(bonds.gid_a[b], bonds.gid_b[b]).second) << "bond held twice";
+    // Bond ids of the lattice: the gid pair determines it (11 bonds per row of 12).
+    EXPECT_EQ(bonds.id[b], bonds.gid_a[b] - bonds.gid_a[b] / 12) << "bond id lost";
+  }
+  EXPECT_EQ(held, expected);
+  // Springs: each on the owners of its two particles, with its value.
+  std::set<std::int64_t> springs_expected, springs_held;
+  for (std::int64_t g = 0; g + 12 < n_total; ++g)
+    if (owner.at(g) == c.rank() || owner.at(g + 12) == c.rank()) springs_expected.insert(g);
+  for (const auto& h : history) {
+    EXPECT_EQ(h.partner, h.gid + 12);
+    EXPECT_EQ(h.spring.x, static_cast<double>(h.gid));
+    EXPECT_TRUE(springs_held.insert(h.gid).second) << "spring " << h.gid << " held twice";
+  }
+  EXPECT_EQ(springs_held, springs_expected);
+  // Ghosts: the far end of every held bond is here.
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    EXPECT_GE(p.index_of(bonds.gid_a[b]), 0);
+    EXPECT_GE(p.index_of(bonds.gid_b[b]), 0);
+  }
+}
+
+TEST_F(Decomposition, FirstDistributionRefusesABondToAMissingParticle) {
+  const Communicator c(comm_);
+  ParticleStore p;
+  BondStore bonds;
+  make_lattice(p, bonds, c.rank(), c.size());
+  // On the last rank only: a bond to a particle nobody has. Every rank must throw.
+  if (c.rank() == c.size() - 1) bonds.append(999, 0, 100000, 0);
+  DomainDecomposition d(c, kBlock, 0.1);
+  ContactHistory no_history;
+  EXPECT_THROW(d.distribute_initial(p, bonds, no_history), std::runtime_error);
+}
+
+TEST_F(Decomposition, FirstDistributionRefusesAParticleHeldTwice) {
+  const Communicator c(comm_);
+  if (c.size() == 1) GTEST_SKIP() << "needs two ranks to hold a particle twice";
+  ParticleStore p;
+  BondStore bonds;
+  make_lattice(p, bonds);  // the whole lattice on every rank
+  DomainDecomposition d(c, kBlock, 0.1);
+  ContactHistory no_history;
+  EXPECT_THROW(d.distribute_initial(p, bonds, no_history), std::logic_error);
 }
 
 }  // namespace

@@ -149,7 +149,7 @@ EquivalenceResult run_both(const CaseConfig& c, std::int64_t steps,
     s.imbalance_threshold = imbalance_threshold;
     SimulationSettings compared = s;
     compared.skin = compared_skin(s.skin);
-    Simulation parallel(build_model(c), comm, compared);
+    Simulation parallel(build_model(c, comm), comm, compared);
     for (const auto& rank :
          parallel.decomposition().report(parallel.model().particles, parallel.model().bonds)) {
       r.cut_bonds += rank.cut_bonds;
@@ -165,7 +165,7 @@ EquivalenceResult run_both(const CaseConfig& c, std::int64_t steps,
     r.parallel_rebuilds = parallel.rebuilds();
 
     const Communicator self = Communicator::self();
-    Simulation serial(build_model(c), self, s);
+    Simulation serial(build_model(c, self), self, s);
     serial.run_steps(steps);
     r.reference = gather_state(serial);
     r.reference_energies = serial.energies();

@@ -101,7 +101,7 @@ TEST(FrameFile, SameOnAnyRankCountOrderedByGid) {
     // one-rank file below compares two runs of the same code.
     std::vector<ParticleSnapshot> final_state;
     {
-      Simulation sim(build_model(c), comm, s);
+      Simulation sim(build_model(c, comm), comm, s);
       FrameWriter frames(comm, dir + "/parallel.h5", dir + "/parallel.xdmf");
       write_frames(sim, frames, kSteps, kEvery);
       EXPECT_EQ(frames.frames(), kSteps / kEvery + 1);
@@ -109,7 +109,7 @@ TEST(FrameFile, SameOnAnyRankCountOrderedByGid) {
     }
     if (comm.is_root()) {
       const Communicator self = Communicator::self();
-      Simulation sim(build_model(c), self, s);
+      Simulation sim(build_model(c, self), self, s);
       FrameWriter frames(self, dir + "/serial.h5", dir + "/serial.xdmf");
       write_frames(sim, frames, kSteps, kEvery);
     }
@@ -192,9 +192,9 @@ void expect_same_checkpoint_state(const std::string& ref, const std::string& got
 
 std::unique_ptr<Simulation> restart(const CaseConfig& c, const std::string& path,
                                     const Communicator& comm) {
-  Model model = build_model(c);
+  Model model = build_model_without_particles(c);
   DriverState driver;
-  const RestartState state = read_checkpoint(path, model, driver);
+  const RestartState state = read_checkpoint(comm, path, model, driver);
   EXPECT_EQ(driver.get("marker"), 42.0);
   return std::make_unique<Simulation>(std::move(model), comm, settings_from_case(c), state);
 }
@@ -214,7 +214,7 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
     std::string straight;
     std::size_t straight_springs = 0;
     {
-      Simulation sim(build_model(c), comm, s);
+      Simulation sim(build_model(c, comm), comm, s);
       sim.run_steps(2 * kHalf);
       straight = CheckpointStore(dir + "/straight")
                      .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c.name);
@@ -233,7 +233,7 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
     // N steps, checkpoint, restart here, N steps.
     std::string middle, resumed;
     {
-      Simulation sim(build_model(c), comm, s);
+      Simulation sim(build_model(c, comm), comm, s);
       sim.run_steps(kHalf);
       middle = CheckpointStore(dir + "/middle")
                    .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c.name);

@@ -67,7 +67,7 @@ Bounce bounce(double dt) {
   c.spheres = {s};
   c.rigid_bodies = {floor_plane()};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c), comm, settings(c, dt));
+  Simulation sim(build_model(c, comm), comm, settings(c, dt));
   Bounce b;
   b.drop = sim.model().particles.mass[0] * kG * h;
   const Energies e0 = sim.energies();
@@ -267,7 +267,7 @@ TEST(EnergyLedger, FallingSphereGlobalDamping) {
   c.damping.global = alpha;
   c.spheres = {SphereConfig{}};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c), comm, settings(c, 1e-5));
+  Simulation sim(build_model(c, comm), comm, settings(c, 1e-5));
   const Energies e0 = sim.energies();
   sim.run_steps(10000);
   const Energies e = sim.energies();
@@ -365,7 +365,7 @@ TEST(EnergyLedger, DrivenPlaneBoundaryWork) {
   piston.velocity = {speed, 0, 0};
   c.rigid_bodies = {piston};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c), comm, settings(c, 1e-8, 0.0005));
+  Simulation sim(build_model(c, comm), comm, settings(c, 1e-8, 0.0005));
   const Energies e0 = sim.energies();
   double worst = 0.0;
   Energies e;
@@ -404,7 +404,7 @@ TEST(EnergyLedger, RingDroppedOnPlaneCloses) {
   c.rings.push_back(ring);
   c.rigid_bodies = {floor_plane()};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c), comm, settings(c, 0.0));
+  Simulation sim(build_model(c, comm), comm, settings(c, 0.0));
   const Energies e0 = sim.energies();
   std::vector<Energies> series;
   for (int k = 0; k < 100; ++k) {
@@ -429,7 +429,7 @@ TEST(EnergyLedger, TensileTestBoundaryWork) {
       load_case(std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_calibrated.yaml",
                 {"scenario.tensile_test.loading_rate=0.5"});
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c), comm, settings_from_case(c));
+  Simulation sim(build_model(c, comm), comm, settings_from_case(c));
   const Energies e0 = sim.energies();
   double worst = 0.0;
   Energies e;

@@ -60,7 +60,7 @@ TEST(FrameFile, XdmfSidecarMatchesTheHdf5File) {
   const std::string dir = temp_dir("xdmf");
   const Communicator self = testing::self_comm();
   const CaseConfig c = ring_on_floor();
-  Simulation sim(build_model(c), self, settings_from_case(c));
+  Simulation sim(build_model(c, self), self, settings_from_case(c));
   FrameWriter frames(self, dir + "/frames_0000.h5", dir + "/frames_0000.xdmf");
   for (int f = 0; f < 3; ++f) {
     sim.refresh_bond_diagnostics();
@@ -133,7 +133,7 @@ class CorruptCheckpoint : public ::testing::Test {
     dir_ = temp_dir("corrupt");
     const Communicator self = testing::self_comm();
     config_ = ring_on_floor();
-    Simulation sim(build_model(config_), self, settings_from_case(config_));
+    Simulation sim(build_model(config_, self), self, settings_from_case(config_));
     sim.run_steps(5);  // mid-contact
     DriverState d;
     d.set("next_record_time", 0.5);
@@ -149,10 +149,10 @@ class CorruptCheckpoint : public ::testing::Test {
     return path;
   }
   void expect_refused(const std::string& path, const std::string& words) {
-    Model model = build_model(config_);
+    Model model = build_model_without_particles(config_);
     DriverState d;
     try {
-      read_checkpoint(path, model, d);
+      read_checkpoint(testing::self_comm(), path, model, d);
       ADD_FAILURE() << path << " was accepted";
     } catch (const Hdf5Error& e) {
       EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
@@ -164,10 +164,10 @@ class CorruptCheckpoint : public ::testing::Test {
 };
 
 TEST_F(CorruptCheckpoint, GoodOneRestoresTheState) {
-  Model model = build_model(config_);
+  Model model = build_model_without_particles(config_);
   DriverState d;
   CheckpointInfo info;
-  const RestartState s = read_checkpoint(good_, model, d, &info);
+  const RestartState s = read_checkpoint(testing::self_comm(), good_, model, d, &info);
   EXPECT_EQ(s.steps, 5);
   // The case's dt, and the time of 5 steps of it (summed step by step: a few ulp).
   EXPECT_EQ(s.dt, 1e-6);
@@ -186,9 +186,9 @@ TEST_F(CorruptCheckpoint, GoodOneRestoresTheState) {
 TEST_F(CorruptCheckpoint, TruncatedFileIsRefused) {
   const std::string path = copy("truncated.h5");
   fs::resize_file(path, fs::file_size(path) / 2);
-  Model model = build_model(config_);
+  Model model = build_model_without_particles(config_);
   DriverState d;
-  EXPECT_THROW(read_checkpoint(path, model, d), Hdf5Error);
+  EXPECT_THROW(read_checkpoint(testing::self_comm(), path, model, d), Hdf5Error);
 }
 
 TEST_F(CorruptCheckpoint, FlippedDataByteFailsTheChecksum) {

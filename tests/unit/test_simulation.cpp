@@ -160,7 +160,7 @@ TEST(Collision, RestitutionThroughTheStepLoop) {
     b.velocity = {-0.5, 0, 0};
     c.spheres = {a, b};
     const Communicator comm = self_comm();
-    Simulation sim(build_model(c), comm, settings(c, 1e-8, 0.0005));
+    Simulation sim(build_model(c, comm), comm, settings(c, 1e-8, 0.0005));
     sim.run_steps(6000);  // Hertz contact at 1 m/s lasts ~ 27 us; 60 us covers all of it
     const ParticleStore& p = sim.model().particles;
     const double v_rel_after = p.velocity[1].x - p.velocity[0].x;
@@ -183,7 +183,7 @@ TEST(RigidBodies, PlaneCarriesWeightOfRestingSphere) {
   floor.shape = ShapeKind::kPlane;
   c.rigid_bodies = {floor};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c), comm, settings(c, 0.0));
+  Simulation sim(build_model(c, comm), comm, settings(c, 0.0));
   sim.run_steps(100000);
   const double weight = sim.model().particles.mass[0] * 9.81;
   EXPECT_NEAR(sim.model().bodies[0].force.z / -weight, 1.0, 1e-6);
@@ -208,7 +208,7 @@ TEST(RigidBodies, FreeBodyFallsBallistically) {
   far_away.motion = Motion::kFixed;
   c.spheres = {far_away};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c), comm, settings(c, 1e-4));
+  Simulation sim(build_model(c, comm), comm, settings(c, 1e-4));
   sim.run_steps(5000);
   const double t = sim.time();
   EXPECT_NEAR(sim.model().bodies[0].position.z, 3.0 - 0.5 * 9.81 * t * t, 1e-9);
@@ -233,7 +233,7 @@ TEST(RigidBodies, PinCarriesRingWeight) {
   pin.position = {0, 0, 0.15 - 0.0101};  // 0.1 mm below the ring's inner surface
   c.rigid_bodies = {pin};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c), comm, settings(c, 0.0));
+  Simulation sim(build_model(c, comm), comm, settings(c, 0.0));
   sim.run_steps(200000);
   double weight = 0.0;
   for (double m : sim.model().particles.mass)

@@ -248,7 +248,7 @@ TEST(TensileRig, LoadOnTheMovingPinBalancesTheFixedPin) {
       kTensileCase, "t.yaml",
       {"scenario.tensile_test.loading_rate=1.0", "damping.global=0.95", "simulation.dt=7.87e-7"});
   const Communicator comm = testing::self_comm();
-  Simulation sim(build_model(c), comm, settings_from_case(c));
+  Simulation sim(build_model(c, comm), comm, settings_from_case(c));
   const TensileMeter meter(sim.model().bodies, {"top"}, {0, 0, 1});
   const auto steps = static_cast<std::int64_t>(0.06 / 1.0 / sim.dt());
   sim.run_steps(steps - 1000);

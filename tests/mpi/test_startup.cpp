@@ -1,0 +1,69 @@
+// Start-up without a rank holding the whole model: each rank builds a slice of every source,
+// the first distribution hands the particles to the owners of their blocks, and no rank's
+// store ever holds much more than N / ranks (plus its ghost layer).
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include "TestCases.hpp"
+#include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
+
+namespace ringdem {
+namespace {
+
+/// A bed of 24 x 24 x 8 jittered spheres and a second bed of 16 x 16 x 4 above it (two
+/// sources). Free grains only: METIS balances block weights (particles plus bonds), which for
+/// grains alone is the particle count.
+CaseConfig bed_and_net() {
+  CaseConfig c = testing::base_case();
+  c.simulation.dt = 1e-6;
+  LatticeConfig lattice;
+  lattice.origin = {0, 0, 0};
+  lattice.count = {24, 24, 8};
+  lattice.spacing = 0.0105;
+  lattice.particle_radius = 0.005;
+  lattice.jitter = 0.3;
+  c.lattices.push_back(lattice);
+  lattice.origin = {0.02, 0.02, 0.1};
+  lattice.count = {16, 16, 4};
+  lattice.seed = 7;
+  c.lattices.push_back(lattice);
+  return c;
+}
+
+TEST(StartUp, LargestPerRankStoreIsAboutNOverRanks) {
+  MPI_Comm world;
+  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  {
+    const Communicator comm(world);
+    const CaseConfig c = bed_and_net();
+    Model model = build_model(c, comm);
+    const std::int64_t n = model.initial_particles;
+    const double share = static_cast<double>(n) / comm.size();
+    // The slices: one per source, each split evenly.
+    const auto built = static_cast<std::int64_t>(model.particles.n_local());
+    EXPECT_EQ(comm.sum(built), n);
+    EXPECT_LE(static_cast<double>(comm.max(built)), share + 2.0);
+    Simulation sim(std::move(model), comm, settings_from_case(c));
+    const ParticleStore& p = sim.model().particles;
+    const auto owned = static_cast<std::int64_t>(p.n_local());
+    const auto held = static_cast<std::int64_t>(p.n_total());
+    // Collectives first: a failure message must not call one on a single rank.
+    const std::int64_t total = comm.sum(owned);
+    const std::int64_t most_owned = comm.max(owned);
+    const std::int64_t most_held = comm.max(held);
+    if (comm.is_root())
+      std::printf("[ startup  ] %d ranks: N = %lld, largest owned %lld, largest store %lld\n",
+                  comm.size(), static_cast<long long>(n), static_cast<long long>(most_owned),
+                  static_cast<long long>(most_held));
+    EXPECT_EQ(total, n);
+    // Owned: METIS balances the block weights within a few per cent (blocks are indivisible).
+    EXPECT_LE(static_cast<double>(most_owned), 1.15 * share);
+    // Owned plus ghosts: one block-wide layer along the cuts, far below N for more ranks.
+    EXPECT_LE(static_cast<double>(most_held), comm.size() == 1 ? n : 1.6 * share);
+  }
+  MPI_Comm_free(&world);
+}
+
+}  // namespace
+}  // namespace ringdem
