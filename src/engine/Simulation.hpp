@@ -159,8 +159,6 @@ class Simulation {
   std::int64_t rebuilds_ = 0;
   bool force_rebuild_ = false;
   bool bonds_broke_anywhere_ = false;
-  std::int64_t n_global_particles_ = -1;  ///< row counts of the energy sums (first use)
-  std::int64_t n_global_bonds_ = -1;
   bool stop_local_ = false;
   bool stop_agreed_ = false;
   std::vector<Vec3> position_at_rebuild_;
