@@ -218,8 +218,8 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
   const std::int64_t frame = frames();
   const std::vector<std::int64_t> gids(p.gid.begin(),
                                        p.gid.begin() + static_cast<std::ptrdiff_t>(n_local));
-  const RowBlocks particle_rows(comm_, sizes.particles, gids);
-  const RowBlocks bond_blocks(comm_, sizes.bonds, bond_rows);
+  const RowBlocks particle_rows(comm_, gids);
+  const RowBlocks bond_blocks(comm_, bond_rows);
   {
     Hdf5File f = Hdf5File::open_parallel(h5_path_, comm_);
     p.for_each_field([&](const FieldInfo& info, const auto& v) {
