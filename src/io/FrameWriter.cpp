@@ -290,21 +290,14 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
   {
     Hdf5File f = Hdf5File::open_parallel(h5_path_, comm_);
     grow(f, sizes);
-    // The last rank's block ends at the frame's last row: it appends the zero padding up to the
-    // row dimension, so that every row of the frame is written.
-    const bool last = comm_.rank() == comm_.size() - 1;
-    const auto padded = [&](auto block, std::int64_t rows, std::int64_t capacity) {
-      if (last) block.resize(block.size() + static_cast<std::size_t>(capacity - rows));
-      return block;
-    };
     p.for_each_field([&](const FieldInfo& info, const auto& v) {
       if (!info.has(field_flag::kOutput)) return;
       f.write_rows("/particles/" + std::string(info.name), frame, particle_rows.first_row(),
-                   padded(particle_rows.to_blocks(v), sizes.particles, capacity_.particles));
+                   particle_rows.to_blocks(v));
     });
     const std::vector<std::int32_t> rank(n_local, comm_.rank());
     f.write_rows("/particles/rank", frame, particle_rows.first_row(),
-                 padded(particle_rows.to_blocks(rank), sizes.particles, capacity_.particles));
+                 particle_rows.to_blocks(rank));
     bonds.for_each_field([&](const FieldInfo& info, const auto& v) {
       if (!info.has(field_flag::kOutput)) return;
       std::remove_cvref_t<decltype(v)> mine;
@@ -312,7 +305,7 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
       for (std::size_t k : bond_local)
         mine.push_back(v[k]);
       f.write_rows("/bonds/" + std::string(info.name), frame, bond_blocks.first_row(),
-                   padded(bond_blocks.to_blocks(mine), sizes.bonds, capacity_.bonds));
+                   bond_blocks.to_blocks(mine));
     });
     record.connectivity = write_topology(f, topology, bond_blocks.first_row(), sizes.bonds);
     // Rigid bodies are replicated on every rank: rank 0 writes them.

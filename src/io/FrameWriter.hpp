@@ -48,14 +48,14 @@ struct FrameRecord {
 /// Every field flagged kOutput in the particle and bond registries is a chunked dataset
 /// [frame, row(, component)] extendible in both, plus the owning rank of each particle. Frame f
 /// holds its n_f rows at [0, n_f) (/frames/particles, /frames/bonds); the row dimension is the
-/// largest count so far (root attributes `particles`, `bonds`) and the rows beyond n_f are
-/// zero padding. /bonds/connectivity holds the bond topology as pairs of particle ROWS of the
-/// frame: a new block of rows is appended only when the topology changes, and
-/// /frames/connectivity gives the first row of each frame's block. A run whose counts never
-/// change thus has one topology block and the layout it always had. /bodies/ holds the rigid
-/// bodies (position, velocity, contact force, radius, names in an attribute); /frames/time and
-/// /frames/step the frame times. After each frame rank 0 rewrites an XDMF 2 sidecar
-/// (Polyvertex particles and bodies, Polyline bonds; hyperslabs select each frame's rows)
+/// largest count so far (root attributes `particles`, `bonds`); rows beyond n_f are not
+/// written (each frame is its own chunk, so they read as zeros). /bonds/connectivity holds the bond
+/// topology as pairs of particle ROWS of the frame: a new block of rows is appended only when the
+/// topology changes, and /frames/connectivity gives the first row of each frame's block. A run
+/// whose counts never change thus has one topology block and the layout it always had. /bodies/
+/// holds the rigid bodies (position, velocity, contact force, radius, names in an attribute);
+/// /frames/time and /frames/step the frame times. After each frame rank 0 rewrites an XDMF 2
+/// sidecar (Polyvertex particles and bodies, Polyline bonds; hyperslabs select each frame's rows)
 /// under a temporary name and renames it, and the HDF5 file is closed between frames, so
 /// ParaView can open a run that is still going. Beyond 256 frames the sidecar, whose size
 /// grows with the frame count, is rewritten at most every 10 s of wall time, and once more at
