@@ -30,7 +30,7 @@ struct SimulationSettings {
 /// The settings a case file asks for.
 SimulationSettings settings_from_case(const CaseConfig& config);
 
-/// Global energies (summed over ranks in gid order).
+/// Global energies (exact sums over the ranks, comm/ExactSum: the same bits on any rank count).
 struct Energies {
   double kinetic = 0.0;    ///< particles (translation + rotation) and free rigid bodies
   double potential = 0.0;  ///< -m g.x of free particles and free bodies
