@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
 """Opens a ringdem frame file (or its XDMF sidecar) and checks it the way a reader would:
-rows in gid order in every frame, bond connectivity within range and equal to the bond gid
-pairs, frame times increasing, every per-frame dataset with one row block per frame, finite
-positions, and every HDF dataset the XDMF sidecar names present with the dimensions it states.
-Prints a short summary; exit code 1 on any problem.
+each frame's rows [0, n_f) in increasing gid (or bond id) order, each frame's bond topology
+(particle rows of that frame) within range and joining the bond's gid pairs, frame times
+increasing, every per-frame dataset with one row block per frame, finite positions, every HDF
+dataset the XDMF sidecar names present with the dimensions it states, and each frame of the
+sidecar selecting that frame's rows. Files whose particle and bond counts change between frames
+(/frames/particles, /frames/bonds, /frames/connectivity) and files written before those existed
+(constant counts, one topology) are both read. Prints a short summary; exit code 1 on any
+problem.
 
 usage: check_frames.py frames_0000.h5|frames_0000.xdmf
 """
@@ -41,21 +45,38 @@ def main(path):
                     continue
                 if d.shape[0] != nf or d.shape[1] != rows:
                     problems.append(f"{g}/{name} has shape {d.shape}, expected ({nf}, {rows}, ...)")
-        gid = f["particles/gid"][()]
-        if not np.all(gid == np.arange(n)[None, :]):
-            problems.append("particle rows are not in gid order")
-        pos = f["particles/position"][()]
-        if not np.all(np.isfinite(pos)):
-            problems.append("non-finite positions")
-        if nb:
-            conn = f["bonds/connectivity"][()]
-            if conn.min() < 0 or conn.max() >= n:
-                problems.append("bond connectivity out of range")
-            if not (np.array_equal(conn[:, 0], f["bonds/gid_a"][0]) and np.array_equal(conn[:, 1], f["bonds/gid_b"][0])):
-                problems.append("connectivity differs from the bond gid pairs")
-            broken = int(f["bonds/broken"][-1].sum())
-        else:
-            broken = 0
+        # Per-frame counts and topology blocks; older files: constant counts, one topology.
+        counts = f["frames/particles"][()] if "frames/particles" in f else np.full(nf, n)
+        bond_counts = f["frames/bonds"][()] if "frames/bonds" in f else np.full(nf, nb)
+        first = f["frames/connectivity"][()] if "frames/connectivity" in f else np.zeros(nf, int)
+        if np.any(counts > n) or np.any(bond_counts > nb):
+            problems.append("a frame has more rows than its datasets")
+        gid = f["particles/gid"]
+        pos = f["particles/position"]
+        conn = f["bonds/connectivity"][()] if nb else np.zeros((0, 2), int)
+        broken = 0
+        for i in range(nf):
+            ni, nbi, c0 = int(counts[i]), int(bond_counts[i]), int(first[i])
+            g = gid[i, :ni]
+            if np.any(np.diff(g) <= 0) or (ni and g[0] < 0):
+                problems.append(f"frame {i}: particle rows are not in increasing gid order")
+            if not np.all(np.isfinite(pos[i, :ni])):
+                problems.append(f"frame {i}: non-finite positions")
+            if nbi == 0:
+                continue
+            if np.any(np.diff(f["bonds/id"][i, :nbi]) <= 0):
+                problems.append(f"frame {i}: bond rows are not in increasing id order")
+            if c0 < 0 or c0 + nbi > len(conn):
+                problems.append(f"frame {i}: its topology lies outside /bonds/connectivity")
+                continue
+            c = conn[c0:c0 + nbi]
+            if c.min() < 0 or c.max() >= ni:
+                problems.append(f"frame {i}: bond connectivity out of range")
+            elif not (np.array_equal(g[c[:, 0]], f["bonds/gid_a"][i, :nbi])
+                      and np.array_equal(g[c[:, 1]], f["bonds/gid_b"][i, :nbi])):
+                problems.append(f"frame {i}: connectivity differs from the bond gid pairs")
+            if i == nf - 1:
+                broken = int(f["bonds/broken"][i, :nbi].sum())
         if os.path.exists(xdmf_path):
             text = open(xdmf_path).read()
             items = re.findall(r'<DataItem Dimensions="([0-9 ]+)"[^>]*Format="HDF">([^:<]+):([^<]+)</DataItem>', text)
@@ -69,11 +90,25 @@ def main(path):
             grids = len(re.findall(r'CollectionType="Spatial"', text))
             if grids != nf:
                 problems.append(f"sidecar lists {grids} frames, file has {nf}")
+            # Each frame's grids name that frame's counts.
+            for i, block in enumerate(re.split(r'<Grid Name="frame_\d+"', text)[1:]):
+                m = re.search(r'Polyvertex" NumberOfElements="(\d+)"', block)
+                if i < nf and (m is None or int(m.group(1)) != counts[i]):
+                    problems.append(f"sidecar frame {i} does not hold its {counts[i]} particles")
+                m = re.search(r'Polyline" NumberOfElements="(\d+)"', block)
+                if i < nf and bond_counts[i] and (m is None or int(m.group(1)) != bond_counts[i]):
+                    problems.append(f"sidecar frame {i} does not hold its {bond_counts[i]} bonds")
         else:
             items = []
             problems.append(f"no sidecar {xdmf_path}")
-        lo, hi = pos[-1].min(axis=0), pos[-1].max(axis=0)
-        print(f"{h5_path}: {nf} frames, t = {times[0]:.6g} .. {times[-1]:.6g} s, {n} particles, {nb} bonds "
+        last = pos[nf - 1, :int(counts[-1])] if nf and counts[-1] else np.zeros((1, 3))
+        lo, hi = last.min(axis=0), last.max(axis=0)
+
+        def span(c, full):
+            return f"{full}" if nf == 0 or c.min() == c.max() else f"{c.min()}..{c.max()}"
+
+        particles, bonds = span(counts, n), span(bond_counts, nb)
+        print(f"{h5_path}: {nf} frames, t = {times[0]:.6g} .. {times[-1]:.6g} s, {particles} particles, {bonds} bonds "
               f"({broken} broken at the last frame); last frame spans x {lo[0]:.3f}..{hi[0]:.3f}, "
               f"y {lo[1]:.3f}..{hi[1]:.3f}, z {lo[2]:.3f}..{hi[2]:.3f} m; sidecar: {len(items)} data items checked")
     for p in problems:

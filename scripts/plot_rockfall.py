@@ -55,11 +55,15 @@ def snapshot(folder, summary, series, out):
                     best = (score, path, i, t)
     _, path, i, t = best
     with h5py.File(path, "r") as f:
-        pos = f["particles/position"][i]
-        group = f["particles/group"][i]
-        conn = f["bonds/connectivity"][()]
-        util = f["bonds/utilisation"][i]
-        broken = f["bonds/broken"][i].astype(bool)
+        # Frame i's rows; files whose counts may change say how many (docs/output.md).
+        n = int(f["frames/particles"][i]) if "frames/particles" in f else f["particles/position"].shape[1]
+        nb = int(f["frames/bonds"][i]) if "frames/bonds" in f else f["bonds/utilisation"].shape[1]
+        c0 = int(f["frames/connectivity"][i]) if "frames/connectivity" in f else 0
+        pos = f["particles/position"][i, :n]
+        group = f["particles/group"][i, :n]
+        conn = f["bonds/connectivity"][c0:c0 + nb]  # particle rows of frame i
+        util = f["bonds/utilisation"][i, :nb]
+        broken = f["bonds/broken"][i, :nb].astype(bool)
     k = int(np.argmin(np.abs(series["time_s"] - t)))
     bx, bz, by = series["boulder_x_m"][k], series["boulder_z_m"][k], series["boulder_y_m"][k]
     r = summary["boulder_radius_m"]

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <stdexcept>
@@ -96,8 +97,17 @@ int print_file_info(const std::string& path, std::ostream& out) {
       out << fmt::format("{}: ringdem frame file (written by ringdem {} on {} rank{})\n", path,
                          f.attribute_string("/", "ringdem_version"), f.attribute_int("/", "ranks"),
                          f.attribute_int("/", "ranks") == 1 ? "" : "s");
-      out << fmt::format("  {} particles, {} bonds, {} frames", f.attribute_int("/", "particles"),
-                         f.attribute_int("/", "bonds"), times.size());
+      // Counts that change between frames (inflow, outflow) are given as their range.
+      const auto count = [&](const char* name) {
+        const std::string full = std::string("/frames/") + name;
+        const std::vector<std::int64_t> per_frame =
+            f.exists(full) ? f.read_rows<std::int64_t>(full) : std::vector<std::int64_t>{};
+        const auto [lo, hi] = std::minmax_element(per_frame.begin(), per_frame.end());
+        return per_frame.empty() || *lo == *hi ? fmt::format("{}", f.attribute_int("/", name))
+                                               : fmt::format("{}..{}", *lo, *hi);
+      };
+      out << fmt::format("  {} particles, {} bonds, {} frames", count("particles"), count("bonds"),
+                         times.size());
       if (!times.empty())
         out << fmt::format(" from t = {:.6g} s to {:.6g} s", times.front(), times.back());
       out << "\n";

@@ -61,22 +61,20 @@ GroupExtent group_extent(const Simulation& sim, int group, double axis_x, double
   return e;
 }
 
-/// Contact load on the particles of a group (their total force less gravity), summed by gid
-/// so that it does not depend on the rank count.
+/// Contact load on the particles of a group (their total force less gravity), summed exactly
+/// (comm/ExactSum) so that it does not depend on the rank count.
 Vec3 group_contact_load(const Simulation& sim, int group, const Vec3& gravity) {
   const ParticleStore& p = sim.model().particles;
-  std::vector<std::int64_t> keys;
-  std::vector<double> fx, fy, fz;
+  std::vector<ExactSum> partial(3);
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     if (p.group[k] != group) continue;
     const Vec3 f = p.force[k] - p.mass[k] * gravity;
-    keys.push_back(p.gid[k]);
-    fx.push_back(f.x);
-    fy.push_back(f.y);
-    fz.push_back(f.z);
+    partial[0].add(f.x);
+    partial[1].add(f.y);
+    partial[2].add(f.z);
   }
-  const Communicator& c = sim.comm();
-  return {c.sum_by_key(keys, fx), c.sum_by_key(keys, fy), c.sum_by_key(keys, fz)};
+  const std::vector<double> s = sim.comm().sum_exact(partial);
+  return {s[0], s[1], s[2]};
 }
 
 int group_or_throw(const Model& m, const std::string& name, const char* key) {

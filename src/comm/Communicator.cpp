@@ -41,55 +41,30 @@ std::int64_t Communicator::max(std::int64_t v) const {
   return r;
 }
 
-double Communicator::sum_by_key(const std::vector<std::int64_t>& keys,
-                                const std::vector<double>& values) const {
-  if (keys.size() != values.size()) throw std::invalid_argument("sum_by_key: size mismatch");
-  const int n = static_cast<int>(keys.size());
-  std::vector<int> counts(static_cast<std::size_t>(size_));
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
-  std::vector<int> displs(counts.size(), 0);
-  std::partial_sum(counts.begin(), counts.end() - 1, displs.begin() + 1);
-  const int total = displs.back() + counts.back();
-  std::vector<std::int64_t> all_keys(static_cast<std::size_t>(total));
-  std::vector<double> all_values(static_cast<std::size_t>(total));
-  MPI_Allgatherv(keys.data(), n, MPI_INT64_T, all_keys.data(), counts.data(), displs.data(),
-                 MPI_INT64_T, comm_);
-  MPI_Allgatherv(values.data(), n, MPI_DOUBLE, all_values.data(), counts.data(), displs.data(),
-                 MPI_DOUBLE, comm_);
-  std::vector<std::size_t> order(static_cast<std::size_t>(total));
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return all_keys[a] < all_keys[b] ||
-           (all_keys[a] == all_keys[b] && all_values[a] < all_values[b]);
-  });
-  double s = 0.0;
-  for (std::size_t i : order)
-    s += all_values[i];
-  return s;
+std::vector<double> Communicator::sum_exact(const std::vector<ExactSum>& partial) const {
+  // Integer sums of canonical words are exact and associative, so MPI's reduction order does
+  // not matter.
+  std::vector<std::int64_t> words(partial.size() * ExactSum::kWords);
+  for (std::size_t c = 0; c < partial.size(); ++c) {
+    const auto w = partial[c].export_words();
+    std::copy(w.begin(), w.end(), words.begin() + static_cast<std::ptrdiff_t>(c * w.size()));
+  }
+  if (size_ > 1 && !words.empty())
+    MPI_Allreduce(MPI_IN_PLACE, words.data(), static_cast<int>(words.size()), MPI_INT64_T, MPI_SUM,
+                  comm_);
+  std::vector<double> sums(partial.size());
+  for (std::size_t c = 0; c < partial.size(); ++c)
+    sums[c] = ExactSum::from_words(words.data() + c * ExactSum::kWords).value();
+  return sums;
 }
 
-std::vector<double> Communicator::sum_columns_by_row(
-    const std::vector<std::int64_t>& rows, std::int64_t n_rows,
+std::vector<double> Communicator::sum_columns(
     const std::vector<const std::vector<double>*>& columns) const {
-  const std::size_t n_cols = columns.size();
-  std::vector<double> table(static_cast<std::size_t>(n_rows) * n_cols, 0.0);
-  for (std::size_t c = 0; c < n_cols; ++c) {
-    if (columns[c]->size() != rows.size())
-      throw std::invalid_argument("sum_columns_by_row: size mismatch");
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      if (rows[i] < 0 || rows[i] >= n_rows)
-        throw std::invalid_argument("sum_columns_by_row: row out of range");
-      table[static_cast<std::size_t>(rows[i]) * n_cols + c] = (*columns[c])[i];
-    }
-  }
-  if (size_ > 1 && !table.empty())
-    MPI_Allreduce(MPI_IN_PLACE, table.data(), static_cast<int>(table.size()), MPI_DOUBLE, MPI_SUM,
-                  comm_);
-  std::vector<double> sums(n_cols, 0.0);
-  for (std::size_t r = 0; r < static_cast<std::size_t>(n_rows); ++r)
-    for (std::size_t c = 0; c < n_cols; ++c)
-      sums[c] += table[r * n_cols + c];
-  return sums;
+  std::vector<ExactSum> partial(columns.size());
+  for (std::size_t c = 0; c < columns.size(); ++c)
+    for (const double v : *columns[c])
+      partial[c].add(v);
+  return sum_exact(partial);
 }
 
 std::vector<char> Communicator::allgather_bytes(const char* data, std::size_t n) const {

@@ -8,6 +8,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "comm/ExactSum.hpp"
+
 namespace ringdem {
 
 /// The comm layer's handle: wraps an injected MPI communicator (never MPI_COMM_WORLD inside
@@ -37,18 +39,13 @@ class Communicator {
   }
   std::int64_t min(std::int64_t v) const;
   std::int64_t max(std::int64_t v) const;
-  /// Sum of doubles that does not depend on the number of ranks or their order: every
-  /// rank's values are gathered and added in one fixed order on every rank. Each rank passes
-  /// its terms keyed by a global id; terms are summed in key order.
-  double sum_by_key(const std::vector<std::int64_t>& keys, const std::vector<double>& values) const;
-  /// Column sums of a table whose rows are spread over the ranks, each row held by exactly one
-  /// rank: rows[i] in 0..n_rows-1 is the row of local item i, columns[c][i] its value in
-  /// column c. Every rank gets each column summed in row order, so the sums do not depend on
-  /// the rank count (like sum_by_key, but for dense row indices: one all-reduce of
-  /// n_rows x columns values, exact because every other rank adds zeros, and no sort).
-  std::vector<double> sum_columns_by_row(
-      const std::vector<std::int64_t>& rows, std::int64_t n_rows,
-      const std::vector<const std::vector<double>*>& columns) const;
+  /// Sums that do not depend on the rank count or the order of the terms: each rank passes
+  /// its partial ExactSum of some columns, and every rank gets each column's total rounded once
+  /// (to nearest), the same bits however the terms are spread. One all-reduce of
+  /// ExactSum::kWords integers per column; no rank holds more than its own terms.
+  std::vector<double> sum_exact(const std::vector<ExactSum>& partial) const;
+  /// The exact sums (sum_exact) over the ranks of each column's local values.
+  std::vector<double> sum_columns(const std::vector<const std::vector<double>*>& columns) const;
 
   /// Every rank's items, concatenated in rank order, on every rank (trivially copyable T).
   template <class T>

@@ -320,55 +320,54 @@ std::int64_t Simulation::global_broken_bonds() const {
 Energies Simulation::energies() {
   bond_term_->update_diagnostics(model_.particles);
   const ParticleStore& p = model_.particles;
-  std::vector<std::int64_t> keys;
-  std::vector<double> kin, pot, damping, friction, global, boundary, contact;
-  keys.reserve(p.n_local());
+  // Exact sums (comm/ExactSum), all in one all-reduce: the same bits on any rank count,
+  // whatever the gids, and no rank holds more than its own terms.
+  enum Column {
+    kKinetic,
+    kPotential,
+    kDamping,
+    kFriction,
+    kGlobal,
+    kBoundary,
+    kContact,
+    kBond,
+    kBreak,
+    kColumns
+  };
+  std::vector<ExactSum> partial(kColumns);
   for (std::size_t k = 0; k < p.n_local(); ++k) {
-    keys.push_back(p.gid[k]);
-    damping.push_back(
+    partial[kDamping].add(
         ParticleStore::ledger_value(p.dissipated_damping[k], p.power_damping[k], dt_));
-    friction.push_back(
+    partial[kFriction].add(
         ParticleStore::ledger_value(p.dissipated_friction[k], p.power_friction[k], dt_));
-    global.push_back(ParticleStore::ledger_value(p.dissipated_global[k], p.power_global[k], dt_));
-    boundary.push_back(ParticleStore::ledger_value(p.boundary_work[k], p.power_boundary[k], dt_));
-    contact.push_back(p.contact_energy[k]);
+    partial[kGlobal].add(
+        ParticleStore::ledger_value(p.dissipated_global[k], p.power_global[k], dt_));
+    partial[kBoundary].add(
+        ParticleStore::ledger_value(p.boundary_work[k], p.power_boundary[k], dt_));
+    partial[kContact].add(p.contact_energy[k]);
     if (p.motion[k] == Motion::kFree) {
-      kin.push_back(0.5 * p.mass[k] * norm2(p.velocity[k]) +
-                    0.5 * p.inertia[k] * norm2(p.omega[k]));
-      pot.push_back(-p.mass[k] * dot(settings_.gravity, p.position[k]));
-    } else {
-      kin.push_back(0.0);
-      pot.push_back(0.0);
+      partial[kKinetic].add(0.5 * p.mass[k] * norm2(p.velocity[k]) +
+                            0.5 * p.inertia[k] * norm2(p.omega[k]));
+      partial[kPotential].add(-p.mass[k] * dot(settings_.gravity, p.position[k]));
     }
   }
-  // Summed by gid and by bond id (dense rows): the same bits on any rank count.
-  if (n_global_particles_ < 0) {
-    n_global_particles_ = global_particles();
-    n_global_bonds_ = global_bonds();
-  }
-  const auto particle_sums = comm_.sum_columns_by_row(
-      keys, n_global_particles_, {&kin, &pot, &damping, &friction, &global, &boundary, &contact});
-  Energies e;
-  e.kinetic = particle_sums[0];
-  e.potential = particle_sums[1];
-  e.contact_damping = particle_sums[2];
-  e.friction = particle_sums[3];
-  e.global_damping = particle_sums[4];
-  e.boundary_work = particle_sums[5];
-  e.contact_elastic = particle_sums[6];
-  std::vector<std::int64_t> bond_rows;
-  std::vector<double> bond_energy, break_energy;
   const BondStore& bonds = model_.bonds;
   for (std::size_t k = 0; k < bonds.size(); ++k) {
     if (!bonds.counted_here(p, k)) continue;
-    bond_rows.push_back(bonds.id[k]);
-    bond_energy.push_back(bonds.energy[k]);
-    break_energy.push_back(bonds.break_energy[k]);
+    partial[kBond].add(bonds.energy[k]);
+    partial[kBreak].add(bonds.break_energy[k]);
   }
-  const auto bond_sums =
-      comm_.sum_columns_by_row(bond_rows, n_global_bonds_, {&bond_energy, &break_energy});
-  e.bond_elastic = bond_sums[0];
-  e.broken_bonds = bond_sums[1];
+  const std::vector<double> sums = comm_.sum_exact(partial);
+  Energies e;
+  e.kinetic = sums[kKinetic];
+  e.potential = sums[kPotential];
+  e.contact_damping = sums[kDamping];
+  e.friction = sums[kFriction];
+  e.global_damping = sums[kGlobal];
+  e.boundary_work = sums[kBoundary];
+  e.contact_elastic = sums[kContact];
+  e.bond_elastic = sums[kBond];
+  e.broken_bonds = sums[kBreak];
   for (const auto& b : model_.bodies) {
     if (b.motion != Motion::kFree) continue;
     const Mat3 r = rotation_matrix(b.orientation);

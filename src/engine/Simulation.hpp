@@ -30,7 +30,7 @@ struct SimulationSettings {
 /// The settings a case file asks for.
 SimulationSettings settings_from_case(const CaseConfig& config);
 
-/// Global energies (summed over ranks in gid order).
+/// Global energies (exact sums over the ranks, comm/ExactSum: the same bits on any rank count).
 struct Energies {
   double kinetic = 0.0;    ///< particles (translation + rotation) and free rigid bodies
   double potential = 0.0;  ///< -m g.x of free particles and free bodies
@@ -159,8 +159,6 @@ class Simulation {
   std::int64_t rebuilds_ = 0;
   bool force_rebuild_ = false;
   bool bonds_broke_anywhere_ = false;
-  std::int64_t n_global_particles_ = -1;  ///< row counts of the energy sums (first use)
-  std::int64_t n_global_bonds_ = -1;
   bool stop_local_ = false;
   bool stop_agreed_ = false;
   std::vector<Vec3> position_at_rebuild_;

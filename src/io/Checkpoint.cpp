@@ -212,7 +212,7 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     f.create_group("/particles");
     const std::vector<std::int64_t> gids(p.gid.begin(),
                                          p.gid.begin() + static_cast<std::ptrdiff_t>(p.n_local()));
-    const RowBlocks particle_rows(comm, n_particles, gids);
+    const RowBlocks particle_rows(comm, gids);
     p.for_each_field([&](const FieldInfo& info, const auto& v) {
       if (info.has(field_flag::kCheckpoint))
         write_field(f, comm, particle_rows, "/particles/" + std::string(info.name), v);
@@ -227,7 +227,7 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
       bond_rows.push_back(bonds.id[k]);
       bond_local.push_back(k);
     }
-    const RowBlocks bond_blocks(comm, n_bonds, bond_rows);
+    const RowBlocks bond_blocks(comm, bond_rows);
     bonds.for_each_field([&](const FieldInfo& info, const auto& v) {
       if (!info.has(field_flag::kCheckpoint)) return;
       std::remove_cvref_t<decltype(v)> mine;

@@ -11,6 +11,8 @@
 
 namespace ringdem {
 
+class Hdf5File;
+
 /// The three grids of a frame: particles (Polyvertex), bonds (Polyline between particles),
 /// rigid bodies (Polyvertex at their reference points).
 enum class FrameGrid { kParticles, kBonds, kBodies };
@@ -30,17 +32,34 @@ struct FrameSizes {
   std::int64_t particles = 0, bonds = 0, bodies = 0;
 };
 
-/// Frame output (DESIGN §5): one HDF5 file per run segment, written collectively, rows in gid
-/// (particles) and bond-id (bonds) order so that the file does not depend on the rank count.
-/// Every field flagged kOutput in the particle and bond registries is a chunked extendible
-/// dataset [frame, row(, component)], plus the owning rank of each particle; /bonds/connectivity
-/// holds the gid pairs; /bodies/ the rigid bodies (position, velocity, contact force, radius,
-/// names in an attribute); /frames/time and /frames/step the frame times. After each frame
-/// rank 0 rewrites an XDMF 2 sidecar (Polyvertex particles and bodies, Polyline bonds) under a
-/// temporary name and
-/// renames it, and the HDF5 file is closed between frames, so ParaView can open a run that is
-/// still going. Beyond 256 frames the sidecar, whose size grows with the frame count, is
-/// rewritten at most every 10 s of wall time, and once more at the end.
+/// What the sidecar needs of one frame: its time, its particle and bond rows, and where its
+/// bond topology starts in /bonds/connectivity.
+struct FrameRecord {
+  double time = 0.0;
+  std::int64_t particles = 0, bonds = 0;
+  std::int64_t connectivity = 0;  ///< first row of the frame's topology
+};
+
+/// Frame output (DESIGN §5, docs/output.md): one HDF5 file per run segment, written
+/// collectively, rows in gid (particles) and bond-id (bonds) order so that the file does not
+/// depend on the rank count. Gids and bond ids may be sparse, and the particle and bond counts
+/// may change from frame to frame (inflow, outflow, bonds removed).
+///
+/// Every field flagged kOutput in the particle and bond registries is a chunked dataset
+/// [frame, row(, component)] extendible in both, plus the owning rank of each particle. Frame f
+/// holds its n_f rows at [0, n_f) (/frames/particles, /frames/bonds); the row dimension is the
+/// largest count so far (root attributes `particles`, `bonds`); rows beyond n_f are not
+/// written (each frame is its own chunk, so they read as zeros). /bonds/connectivity holds the bond
+/// topology as pairs of particle ROWS of the frame: a new block of rows is appended only when the
+/// topology changes, and /frames/connectivity gives the first row of each frame's block. A run
+/// whose counts never change thus has one topology block and the layout it always had. /bodies/
+/// holds the rigid bodies (position, velocity, contact force, radius, names in an attribute);
+/// /frames/time and /frames/step the frame times. After each frame rank 0 rewrites an XDMF 2
+/// sidecar (Polyvertex particles and bodies, Polyline bonds; hyperslabs select each frame's rows)
+/// under a temporary name and renames it, and the HDF5 file is closed between frames, so
+/// ParaView can open a run that is still going. Beyond 256 frames the sidecar, whose size
+/// grows with the frame count, is rewritten at most every 10 s of wall time, and once more at
+/// the end.
 class FrameWriter {
  public:
   FrameWriter(const Communicator& comm, std::string h5_path, std::string xdmf_path,
@@ -54,7 +73,7 @@ class FrameWriter {
   void write(ParticleStore& p, BondStore& bonds, const std::vector<RigidBody>& bodies, double time,
              std::int64_t step);
 
-  std::int64_t frames() const { return static_cast<std::int64_t>(times_.size()); }
+  std::int64_t frames() const { return static_cast<std::int64_t>(records_.size()); }
   const std::string& h5_path() const { return h5_path_; }
   const std::string& xdmf_path() const { return xdmf_path_; }
 
@@ -62,25 +81,39 @@ class FrameWriter {
   double seconds() const { return seconds_; }
 
  private:
+  /// Two particle rows per bond: the topology of a frame.
+  struct RowPair {
+    std::int64_t a, b;
+    bool operator==(const RowPair&) const = default;
+  };
+
   void create_file(ParticleStore& p, BondStore& bonds, const std::vector<RigidBody>& bodies);
+  void grow(Hdf5File& f, const FrameSizes& sizes);
+  std::int64_t write_topology(Hdf5File& f, const std::vector<RowPair>& block,
+                              std::int64_t first_row, std::int64_t n_bonds);
   void write_xdmf();
 
   const Communicator& comm_;
   std::string h5_path_, xdmf_path_;
   int compression_ = 0;
-  FrameSizes sizes_;
+  FrameSizes capacity_;  ///< row dimensions of the datasets: the largest counts so far
   std::vector<FrameDataset> datasets_;
-  std::vector<double> times_;
-  std::vector<std::int64_t> steps_;
+  std::vector<FrameRecord> records_;
+  std::int64_t connectivity_rows_ = 0;   ///< rows of /bonds/connectivity
+  std::int64_t topology_first_ = 0;      ///< first row of the newest topology block
+  std::int64_t topology_bonds_ = -1;     ///< its bond count (-1: none yet)
+  std::vector<RowPair> topology_block_;  ///< this rank's block of it
   double seconds_ = 0.0;
   std::size_t xdmf_frames_ = 0;  ///< frames the sidecar on disk lists
   double last_xdmf_wall_ = 0.0;
 };
 
 /// XDMF 2 text of a frame file: a Temporal collection whose members are Spatial collections of
-/// the particle, bond and rigid-body grids of one frame, each attribute a hyperslab (one frame)
-/// of its dataset.
-std::string frame_xdmf(const std::string& h5_name, const FrameSizes& sizes,
-                       const std::vector<double>& times, const std::vector<FrameDataset>& datasets);
+/// the particle, bond and rigid-body grids of one frame, each attribute a hyperslab (one frame,
+/// its rows) of its dataset. `capacity`: the datasets' row dimensions; `connectivity_rows`:
+/// the rows of /bonds/connectivity.
+std::string frame_xdmf(const std::string& h5_name, const FrameSizes& capacity,
+                       std::int64_t connectivity_rows, const std::vector<FrameRecord>& frames,
+                       const std::vector<FrameDataset>& datasets);
 
 }  // namespace ringdem

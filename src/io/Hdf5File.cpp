@@ -223,11 +223,28 @@ std::string Hdf5File::attribute_string(const std::string& object, const std::str
   return v;
 }
 
-void Hdf5File::create_rows(const std::string& name, hid_t type, int components, std::int64_t rows) {
+namespace {
+
+/// Rows per chunk: one frame's rows up to 64 Ki; a dataset created empty (no bonds yet) gets
+/// 4 Ki, as its rows may come later.
+hsize_t chunk_rows(std::int64_t rows) {
+  return static_cast<hsize_t>(rows > 0 ? std::min<std::int64_t>(rows, 65536) : 4096);
+}
+
+}  // namespace
+
+void Hdf5File::create_rows(const std::string& name, hid_t type, int components, std::int64_t rows,
+                           bool extendible) {
+  const int rank = components > 1 ? 2 : 1;
   const hsize_t dims[2] = {static_cast<hsize_t>(rows), static_cast<hsize_t>(components)};
-  Handle space(H5Screate_simple(components > 1 ? 2 : 1, dims, nullptr), H5Sclose);
+  const hsize_t maxdims[2] = {H5S_UNLIMITED, static_cast<hsize_t>(components)};
+  Handle space(H5Screate_simple(rank, dims, extendible ? maxdims : nullptr), H5Sclose);
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER);
+  if (extendible) {
+    const hsize_t chunk[2] = {chunk_rows(rows), static_cast<hsize_t>(components)};
+    H5Pset_chunk(dcpl.get(), rank, chunk);
+  }
   Handle d(H5Dcreate2(id_, name.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
            H5Dclose);
   if (!d.ok()) fail("cannot create dataset " + name);
@@ -237,11 +254,9 @@ void Hdf5File::create_frames(const std::string& name, hid_t type, int components
                              int compression) {
   const int rank = components > 1 ? 3 : 2;
   const hsize_t dims[3] = {0, static_cast<hsize_t>(rows), static_cast<hsize_t>(components)};
-  const hsize_t maxdims[3] = {H5S_UNLIMITED, static_cast<hsize_t>(rows),
-                              static_cast<hsize_t>(components)};
+  const hsize_t maxdims[3] = {H5S_UNLIMITED, H5S_UNLIMITED, static_cast<hsize_t>(components)};
   // One chunk per frame (split beyond 64 Ki rows): a frame is written and read as a whole.
-  const hsize_t chunk[3] = {1, static_cast<hsize_t>(std::clamp<std::int64_t>(rows, 1, 65536)),
-                            static_cast<hsize_t>(components)};
+  const hsize_t chunk[3] = {1, chunk_rows(rows), static_cast<hsize_t>(components)};
   Handle space(H5Screate_simple(rank, dims, maxdims), H5Sclose);
   Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
   H5Pset_chunk(dcpl.get(), rank, chunk);
@@ -255,6 +270,21 @@ void Hdf5File::create_frames(const std::string& name, hid_t type, int components
   if (!d.ok()) fail("cannot create dataset " + name);
 }
 
+void Hdf5File::extend_rows(const std::string& name, std::int64_t rows) {
+  Handle d(H5Dopen2(id_, name.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!d.ok()) fail("no dataset " + name);
+  Handle space(H5Dget_space(d.get()), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  hsize_t dims[3] = {0, 0, 0}, maxdims[3] = {0, 0, 0};
+  H5Sget_simple_extent_dims(space.get(), dims, maxdims);
+  // A frame dataset's first dimension is unlimited too: its rows are the second.
+  const int row_dim = rank >= 2 && maxdims[1] == H5S_UNLIMITED ? 1 : 0;
+  if (maxdims[row_dim] != H5S_UNLIMITED) fail("dataset " + name + " cannot grow in rows");
+  if (dims[row_dim] >= static_cast<hsize_t>(rows)) return;
+  dims[row_dim] = static_cast<hsize_t>(rows);
+  if (H5Dset_extent(d.get(), dims) < 0) fail("cannot extend " + name);
+}
+
 void Hdf5File::write_rows(const std::string& name, std::int64_t frame, std::int64_t first_row,
                           std::int64_t count, const void* data, hid_t type) {
   Handle d(H5Dopen2(id_, name.c_str(), H5P_DEFAULT), H5Dclose);
@@ -264,14 +294,15 @@ void Hdf5File::write_rows(const std::string& name, std::int64_t frame, std::int6
   hsize_t dims[3] = {0, 0, 0};
   H5Sget_simple_extent_dims(fspace0.get(), dims, nullptr);
   hsize_t start[3] = {0, 0, 0}, size[3] = {1, 1, 1};
+  if (frame >= 0 && dims[0] < static_cast<hsize_t>(frame + 1)) {
+    // The frame exists even when it has no rows (no bonds yet), so frames stay aligned.
+    dims[0] = static_cast<hsize_t>(frame + 1);
+    if (H5Dset_extent(d.get(), dims) < 0) fail("cannot extend " + name);
+  }
   // An empty dataset (no contact springs, say): nothing to write on any rank.
   if (frame < 0 && dims[0] == 0) return;
   if (frame >= 0 && rank >= 2 && dims[1] == 0) return;
   if (frame >= 0) {
-    if (dims[0] < static_cast<hsize_t>(frame + 1)) {
-      dims[0] = static_cast<hsize_t>(frame + 1);
-      if (H5Dset_extent(d.get(), dims) < 0) fail("cannot extend " + name);
-    }
     start[0] = static_cast<hsize_t>(frame);
     start[1] = static_cast<hsize_t>(first_row);
     size[1] = static_cast<hsize_t>(count);
@@ -348,24 +379,31 @@ void Hdf5File::check_layout(const std::string& name, std::int64_t frame, int com
     fail("dataset " + name + " has no frame " + std::to_string(frame));
 }
 
-void Hdf5File::read_raw(const std::string& name, std::int64_t frame, void* out, hid_t type) const {
+void Hdf5File::read_raw(const std::string& name, std::int64_t frame, std::int64_t first_row,
+                        std::int64_t count, void* out, hid_t type) const {
   Handle d(H5Dopen2(id_, name.c_str(), H5P_DEFAULT), H5Dclose);
   if (!d.ok()) fail("cannot open dataset " + name);
   Handle fspace(H5Dget_space(d.get()), H5Sclose);
   const int rank = H5Sget_simple_extent_ndims(fspace.get());
   hsize_t dims[3] = {0, 0, 0};
   H5Sget_simple_extent_dims(fspace.get(), dims, nullptr);
-  herr_t status;
+  const int row_dim = frame >= 0 ? 1 : 0;
+  if (first_row < 0 || count < 0 ||
+      static_cast<hsize_t>(first_row + count) > dims[static_cast<std::size_t>(row_dim)])
+    fail("dataset " + name + " has no rows " + std::to_string(first_row) + ".." +
+         std::to_string(first_row + count - 1));
+  hsize_t start[3] = {0, 0, 0};
+  hsize_t size[3] = {dims[0], dims[1], dims[2]};
   if (frame >= 0) {
-    hsize_t start[3] = {static_cast<hsize_t>(frame), 0, 0};
-    hsize_t size[3] = {1, dims[1], rank == 3 ? dims[2] : 1};
-    H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start, nullptr, size, nullptr);
-    Handle mspace(H5Screate_simple(rank, size, nullptr), H5Sclose);
-    status = H5Dread(d.get(), type, mspace.get(), fspace.get(), H5P_DEFAULT, out);
-  } else {
-    status = H5Dread(d.get(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out);
+    start[0] = static_cast<hsize_t>(frame);
+    size[0] = 1;
   }
-  if (status < 0) fail("cannot read dataset " + name + " (corrupted?)");
+  start[row_dim] = static_cast<hsize_t>(first_row);
+  size[row_dim] = static_cast<hsize_t>(count);
+  H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start, nullptr, size, nullptr);
+  Handle mspace(H5Screate_simple(rank, size, nullptr), H5Sclose);
+  if (H5Dread(d.get(), type, mspace.get(), fspace.get(), H5P_DEFAULT, out) < 0)
+    fail("cannot read dataset " + name + " (corrupted?)");
 }
 
 void Hdf5File::read_block_raw(const std::string& name, std::int64_t first_row, std::int64_t count,

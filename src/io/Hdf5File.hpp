@@ -100,14 +100,19 @@ class Hdf5File {
   std::string attribute_string(const std::string& object, const std::string& name) const;
   bool has_attribute(const std::string& object, const std::string& name) const;
 
-  /// Fixed [rows, comps] dataset (collective create).
-  void create_rows(const std::string& name, hid_t type, int components, std::int64_t rows);
-  /// Extendible [0, rows, comps], one chunk per frame (at most chunk_rows rows), deflate level
-  /// `compression` (0: none), no fill values written.
+  /// [rows, comps] dataset (collective create): contiguous, or chunked and extendible in rows
+  /// (extend_rows) when `extendible`.
+  void create_rows(const std::string& name, hid_t type, int components, std::int64_t rows,
+                   bool extendible = false);
+  /// Per-frame [0, rows, comps], extendible in frames and rows, one chunk per frame (of at
+  /// most 64 Ki rows), deflate level `compression` (0: none), no fill values written.
   void create_frames(const std::string& name, hid_t type, int components, std::int64_t rows,
                      int compression);
+  /// Collective: grows the row dimension of an extendible dataset (a frame dataset's second,
+  /// an extendible fixed one's first) to `rows` when it is smaller.
+  void extend_rows(const std::string& name, std::int64_t rows);
   /// Collective write of rows [first_row, first_row + count) of frame `frame` (-1: a fixed
-  /// dataset). Extends a frame dataset as needed (every rank passes the same frame).
+  /// dataset). Extends a frame dataset's frames as needed (every rank passes the same frame).
   void write_rows(const std::string& name, std::int64_t frame, std::int64_t first_row,
                   std::int64_t count, const void* data, hid_t type);
   template <class T>
@@ -127,9 +132,15 @@ class Hdf5File {
   std::vector<T> read_rows(const std::string& name, std::int64_t frame = -1) const {
     const auto d = dims(name);
     const std::int64_t rows = frame >= 0 ? (d.size() > 1 ? d[1] : 0) : (d.empty() ? 0 : d[0]);
+    return read_rows<T>(name, frame, 0, rows);
+  }
+  /// Reads rows [first_row, first_row + count) of a fixed dataset, or of frame `frame`.
+  template <class T>
+  std::vector<T> read_rows(const std::string& name, std::int64_t frame, std::int64_t first_row,
+                           std::int64_t count) const {
     check_layout(name, frame, H5Layout<T>::components);
-    std::vector<T> out(static_cast<std::size_t>(rows));
-    if (!out.empty()) read_raw(name, frame, out.data(), H5Layout<T>::type());
+    std::vector<T> out(static_cast<std::size_t>(count));
+    if (!out.empty()) read_raw(name, frame, first_row, count, out.data(), H5Layout<T>::type());
     return out;
   }
   /// Rows [first_row, first_row + count) of a fixed dataset, checking the row layout;
@@ -152,7 +163,8 @@ class Hdf5File {
   Hdf5File(hid_t id, std::string path, bool parallel, int rank)
       : id_(id), path_(std::move(path)), parallel_(parallel), rank_(rank) {}
   void check_layout(const std::string& name, std::int64_t frame, int components) const;
-  void read_raw(const std::string& name, std::int64_t frame, void* out, hid_t type) const;
+  void read_raw(const std::string& name, std::int64_t frame, std::int64_t first_row,
+                std::int64_t count, void* out, hid_t type) const;
   void read_block_raw(const std::string& name, std::int64_t first_row, std::int64_t count,
                       void* out, hid_t type) const;
   [[noreturn]] void fail(const std::string& what) const;

@@ -1,9 +1,12 @@
 // The comm layer's reductions, checked with rank-encoded data (value = rank + 1) against
-// closed forms, exactly (integers, or doubles that are exact integers).
+// closed forms and serial references, exactly.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <cmath>
+#include <limits>
 #include <numeric>
+#include <random>
 #include <vector>
 
 #include "comm/Communicator.hpp"
@@ -49,59 +52,56 @@ TEST_F(CommunicatorTest, AnyIsTrueWhenOneRankSaysSo) {
   EXPECT_TRUE(c.any(c.rank() == c.size() - 1));
 }
 
-// Order-independent sum: every rank contributes terms keyed by a global id; the result is
-// the same bits as summing all terms in key order on one process, whatever the rank count.
-TEST_F(CommunicatorTest, SumByKeyEqualsTheSerialSumInKeyOrder) {
+// Exact sums over the ranks (ExactSum + one all-reduce): the terms are dealt out so that each
+// rank count splits them differently, and the result must equal a serial reference that does
+// not depend on the rank count, so the bits are the same at 1, 2 and 3 ranks.
+TEST_F(CommunicatorTest, ExactSumsDoNotDependOnTheRankCount) {
+  __extension__ typedef __int128 Int128;
   const Communicator c(comm_);
-  const int n_terms = 1000;
+  const int n_terms = 3000;
+  // The same terms on every rank (one seed): multiples of 2^-40 below 2^60 of both signs, whose
+  // exact sum, scaled by 2^40, a 128-bit integer holds (the serial reference).
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> mant(1.0, 2.0);
+  std::uniform_int_distribution<int> expo(-30, 59);
   std::vector<double> all(n_terms);
-  for (int k = 0; k < n_terms; ++k)
-    all[static_cast<std::size_t>(k)] = 1.0 / (k + 1) * (k % 2 ? 1 : -1) * 1e3;
-  double serial = 0.0;
-  for (double v : all)
-    serial += v;
-  // Terms dealt out round-robin in reverse, so no rank holds them in key order.
-  std::vector<std::int64_t> keys;
-  std::vector<double> values;
+  Int128 scaled = 0;
+  for (auto& x : all) {
+    x = std::ldexp(std::nearbyint(std::ldexp(mant(rng), expo(rng) + 40)), -40) *
+        (rng() % 2 ? 1.0 : -1.0);
+    scaled += static_cast<Int128>(std::ldexp(x, 40));
+  }
+  const double reference = std::ldexp(static_cast<double>(scaled), -40);
+  // Reverse round-robin: each rank count gives every rank other terms in another order.
+  std::vector<double> mine, owner;
   for (int k = n_terms - 1; k >= 0; --k)
     if (k % c.size() == c.rank()) {
-      keys.push_back(k);
-      values.push_back(all[static_cast<std::size_t>(k)]);
-    }
-  EXPECT_EQ(c.sum_by_key(keys, values), serial);
-  // Rank-encoded: each rank adds rank + 1 under key rank.
-  EXPECT_EQ(c.sum_by_key({c.rank()}, {c.rank() + 1.0}), c.size() * (c.size() + 1) / 2.0);
-}
-
-// Column sums over dense rows: the same bits as summing each column in row order on one
-// process; rank-encoded columns give closed forms.
-TEST_F(CommunicatorTest, SumColumnsByRowEqualsTheSerialSumInRowOrder) {
-  const Communicator c(comm_);
-  const std::int64_t n_rows = 1000;
-  double serial = 0.0;
-  for (std::int64_t k = 0; k < n_rows; ++k)
-    serial += 1e3 / static_cast<double>(k + 1) * (k % 2 ? 1 : -1);
-  std::vector<std::int64_t> rows;
-  std::vector<double> harmonic, row_plus_one, owner;
-  for (std::int64_t k = n_rows - 1; k >= 0; --k)  // reverse round-robin: no rank in row order
-    if (k % c.size() == c.rank()) {
-      rows.push_back(k);
-      harmonic.push_back(1e3 / static_cast<double>(k + 1) * (k % 2 ? 1 : -1));
-      row_plus_one.push_back(static_cast<double>(k + 1));
+      mine.push_back(all[static_cast<std::size_t>(k)]);
       owner.push_back(c.rank() + 1.0);
     }
-  const auto sums = c.sum_columns_by_row(rows, n_rows, {&harmonic, &row_plus_one, &owner});
+  // Rank-encoded cancellation: rank 0 adds 1e16, every rank adds (rank + 1) 2^-1074, the last
+  // rank adds -1e16: P (P + 1) / 2 2^-1074 exactly, which plain summation would lose.
+  std::vector<double> cancel{(c.rank() + 1) * std::numeric_limits<double>::denorm_min()};
+  if (c.rank() == 0) cancel.push_back(1e16);
+  if (c.rank() == c.size() - 1) cancel.push_back(-1e16);
+  const auto sums = c.sum_columns({&mine, &owner, &cancel});
   ASSERT_EQ(sums.size(), 3u);
-  EXPECT_EQ(sums[0], serial);
-  EXPECT_EQ(sums[1], n_rows * (n_rows + 1) / 2.0);
-  // Row k is held by rank k mod P, which adds rank + 1.
+  EXPECT_EQ(sums[0], reference);
+  // Term k is held by rank k mod P, which adds rank + 1: an exact integer sum.
   double expected_owner = 0.0;
-  for (std::int64_t k = 0; k < n_rows; ++k)
+  for (int k = 0; k < n_terms; ++k)
     expected_owner += static_cast<double>(k % c.size() + 1);
-  EXPECT_EQ(sums[2], expected_owner);
-  EXPECT_EQ(sums[0], c.sum_by_key(rows, harmonic)) << "both orders are row order";
-  const std::vector<double> one{1.0};  // every rank throws before the collective
-  EXPECT_THROW(c.sum_columns_by_row({n_rows}, n_rows, {&one}), std::invalid_argument);
+  EXPECT_EQ(sums[1], expected_owner);
+  EXPECT_EQ(sums[2], c.size() * (c.size() + 1) / 2 * std::numeric_limits<double>::denorm_min());
+  // The same through partial ExactSums, and an empty rank contributes nothing.
+  std::vector<ExactSum> partial(2);
+  for (double x : mine)
+    partial[0].add(x);
+  if (c.rank() == c.size() - 1) partial[1].add(std::numeric_limits<double>::infinity());
+  const auto again = c.sum_exact(partial);
+  EXPECT_EQ(again[0], reference);
+  EXPECT_EQ(again[1], std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(c.sum_exact({}).empty());
 }
 
 }  // namespace

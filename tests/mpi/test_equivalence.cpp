@@ -91,7 +91,7 @@ void expect_identical(const State& ref, const State& got) {
   EXPECT_EQ(ref.body_forces, got.body_forces);
 }
 
-/// The energies both runs report: every term is summed by gid (the energy ledger's tallies and
+/// The energies both runs report: every term is summed exactly (the energy ledger's tallies and
 /// each particle's share of its contacts' elastic energy included), so it is the same to the bit.
 void expect_identical_energies(const Energies& ref, const Energies& got) {
   EXPECT_EQ(ref.kinetic, got.kinetic);

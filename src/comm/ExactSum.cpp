@@ -1,0 +1,151 @@
+#include "comm/ExactSum.hpp"
+
+#include <bit>
+#include <cmath>
+#include <limits>
+
+namespace ringdem {
+
+namespace {
+
+constexpr std::int64_t kDigit = std::int64_t{1} << 32;
+constexpr std::uint64_t kDigitMask = 0xffffffffu;
+/// Terms between carry propagations: a limb then stays below 2^32 (1 + 2^24) < 2^57.
+constexpr std::int64_t kMaxPending = std::int64_t{1} << 24;
+
+}  // namespace
+
+void ExactSum::add(double x) {
+  const auto bits = std::bit_cast<std::uint64_t>(x);
+  const auto exponent = static_cast<int>((bits >> 52) & 0x7ff);
+  std::uint64_t mantissa = bits & ((std::uint64_t{1} << 52) - 1);
+  if (exponent == 0x7ff) {
+    if (mantissa != 0)
+      ++nan_;
+    else if (x > 0)
+      ++pos_inf_;
+    else
+      ++neg_inf_;
+    return;
+  }
+  if (exponent == 0 && mantissa == 0) return;  // +-0
+  // x = mantissa 2^(exponent - 1075) (normal) or mantissa 2^-1074 (subnormal); its lowest bit
+  // lies at `position` counted from 2^-1074.
+  int position = 0;
+  if (exponent != 0) {
+    mantissa |= std::uint64_t{1} << 52;
+    position = exponent - 1;
+  }
+  const int first = position / 32, shift = position % 32;
+  // mantissa 2^shift < 2^85, cut into three 32-bit digits.
+  const std::uint64_t d0 = (mantissa << shift) & kDigitMask;
+  const std::uint64_t d1 = (shift == 0 ? mantissa >> 32 : mantissa >> (32 - shift)) & kDigitMask;
+  const std::uint64_t d2 = shift == 0 ? 0 : mantissa >> (64 - shift);
+  const auto i = static_cast<std::size_t>(first);
+  if (std::signbit(x)) {
+    limb_[i] -= static_cast<std::int64_t>(d0);
+    limb_[i + 1] -= static_cast<std::int64_t>(d1);
+    limb_[i + 2] -= static_cast<std::int64_t>(d2);
+  } else {
+    limb_[i] += static_cast<std::int64_t>(d0);
+    limb_[i + 1] += static_cast<std::int64_t>(d1);
+    limb_[i + 2] += static_cast<std::int64_t>(d2);
+  }
+  if (++pending_ >= kMaxPending) normalise();
+}
+
+ExactSum& ExactSum::operator+=(const ExactSum& o) {
+  for (std::size_t i = 0; i < limb_.size(); ++i)
+    limb_[i] += o.limb_[i];
+  nan_ += o.nan_;
+  pos_inf_ += o.pos_inf_;
+  neg_inf_ += o.neg_inf_;
+  // Each limb is below 2^32 (1 + pending) in magnitude: the bounds add.
+  pending_ += o.pending_ + 1;
+  if (pending_ >= kMaxPending) normalise();
+  return *this;
+}
+
+void ExactSum::normalise() {
+  // Floor division by 2^32 (arithmetic shift): every limb but the top one ends in [0, 2^32),
+  // the top one carries the sign. The result is the one representation of the value.
+  for (std::size_t i = 0; i + 1 < limb_.size(); ++i) {
+    const std::int64_t carry = limb_[i] >> 32;
+    limb_[i] -= carry * kDigit;
+    limb_[i + 1] += carry;
+  }
+  pending_ = 0;
+}
+
+std::array<std::int64_t, ExactSum::kWords> ExactSum::export_words() const {
+  ExactSum c = *this;
+  c.normalise();
+  std::array<std::int64_t, kWords> w{};
+  for (std::size_t i = 0; i < c.limb_.size(); ++i)
+    w[i] = c.limb_[i];
+  w[kLimbs] = nan_;
+  w[kLimbs + 1] = pos_inf_;
+  w[kLimbs + 2] = neg_inf_;
+  return w;
+}
+
+ExactSum ExactSum::from_words(const std::int64_t* words) {
+  ExactSum s;
+  for (std::size_t i = 0; i < s.limb_.size(); ++i)
+    s.limb_[i] = words[i];
+  s.nan_ = words[kLimbs];
+  s.pos_inf_ = words[kLimbs + 1];
+  s.neg_inf_ = words[kLimbs + 2];
+  s.normalise();
+  return s;
+}
+
+double ExactSum::value() const {
+  if (nan_ > 0 || (pos_inf_ > 0 && neg_inf_ > 0)) return std::numeric_limits<double>::quiet_NaN();
+  if (pos_inf_ > 0) return std::numeric_limits<double>::infinity();
+  if (neg_inf_ > 0) return -std::numeric_limits<double>::infinity();
+  ExactSum m = *this;
+  m.normalise();
+  const bool negative = m.limb_.back() < 0;
+  if (negative) {
+    for (auto& l : m.limb_)
+      l = -l;
+    m.normalise();
+  }
+  // Now a magnitude: limbs 0..kLimbs-2 are digits in [0, 2^32), the top limb is >= 0 and may
+  // hold more than 32 bits.
+  int top = kLimbs - 1;
+  while (top >= 0 && m.limb_[static_cast<std::size_t>(top)] == 0)
+    --top;
+  if (top < 0) return 0.0;
+  const auto limb = [&](int i) {
+    return static_cast<std::uint64_t>(m.limb_[static_cast<std::size_t>(i)]);
+  };
+  const auto bit = [&](int p) {
+    const int i = std::min(p / 32, kLimbs - 1);
+    return (limb(i) >> (p - 32 * i)) & 1u;
+  };
+  // Whether any bit below position p is set.
+  const auto any_below = [&](int p) {
+    if (p <= 0) return false;
+    const int i = std::min(p / 32, kLimbs - 1);
+    const int within = p - 32 * i;
+    if (within > 0 && (limb(i) & ((std::uint64_t{1} << within) - 1)) != 0) return true;
+    for (int j = 0; j < i; ++j)
+      if (limb(j) != 0) return true;
+    return false;
+  };
+  const int msb = 32 * top + 63 - std::countl_zero(limb(top));
+  // Keep 53 bits from the highest one down. Below 2^-1021 every bit is kept: such a sum is a
+  // multiple of 2^-1074 below 2^53 2^-1074, a double (subnormal or not) exactly.
+  const int lsb = std::max(msb - 52, 0);
+  std::uint64_t mantissa = 0;
+  for (int p = msb; p >= lsb; --p)
+    mantissa = (mantissa << 1) | bit(p);
+  if (lsb > 0 && bit(lsb - 1) != 0 && (any_below(lsb - 1) || (mantissa & 1u) != 0))
+    ++mantissa;  // round half to even; 2^53 stays exact and ldexp moves the exponent
+  const double v = std::ldexp(static_cast<double>(mantissa), lsb - 1074);
+  return negative ? -v : v;
+}
+
+}  // namespace ringdem

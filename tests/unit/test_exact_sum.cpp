@@ -1,0 +1,195 @@
+// The exact sum (comm/ExactSum) against independent references: sums known in closed form
+// (cancellations that plain summation gets wrong, subnormals, ties of the final rounding,
+// overflow, NaN and infinities), a 128-bit integer fixed-point sum converted by the compiler,
+// and a sorted quad-precision sum; and the same bits whatever the order or the split.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "comm/ExactSum.hpp"
+
+namespace ringdem {
+namespace {
+
+__extension__ typedef __int128 Int128;
+__extension__ typedef __float128 Quad;
+
+double exact_sum(const std::vector<double>& v) {
+  ExactSum s;
+  for (double x : v)
+    s.add(x);
+  return s.value();
+}
+
+/// Bits of a double, for bitwise comparisons that tell +0 from -0 and NaN from NaN.
+std::uint64_t bits(double x) {
+  return std::bit_cast<std::uint64_t>(x);
+}
+
+TEST(ExactSum, CancellationsThatPlainSummationLoses) {
+  EXPECT_EQ(exact_sum({1e16, 1.0, -1e16}), 1.0);  // plain: 0
+  EXPECT_EQ(exact_sum({1.0, 1e100, 1.0, -1e100}), 2.0);
+  EXPECT_EQ(exact_sum({DBL_MAX, DBL_MAX, -DBL_MAX}), DBL_MAX);  // no intermediate overflow
+  EXPECT_EQ(exact_sum({1e308, 1e-308, -1e308}), 1e-308);
+  EXPECT_EQ(exact_sum({}), 0.0);
+  EXPECT_EQ(exact_sum({0.1, -0.1}), 0.0);
+  // +x and -x pairs over the whole exponent range with residues k 2^-1074 in between: the
+  // sum is the residues' sum, 15 2^-1074, exactly.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> mant(1.0, 2.0);
+  std::uniform_int_distribution<int> expo(-1070, 1020);
+  std::vector<double> v;
+  for (int k = 0; k < 2000; ++k) {
+    const double x = std::ldexp(mant(rng), expo(rng));
+    v.push_back(x);
+    v.push_back(-x);
+  }
+  for (int k = 1; k <= 5; ++k)
+    v.push_back(k * std::numeric_limits<double>::denorm_min());
+  std::shuffle(v.begin(), v.end(), rng);
+  EXPECT_EQ(exact_sum(v), 15 * std::numeric_limits<double>::denorm_min());
+}
+
+TEST(ExactSum, SubnormalsAndTheNormalBoundary) {
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  std::vector<double> v(1000, tiny);
+  EXPECT_EQ(exact_sum(v), 1000 * tiny);
+  EXPECT_EQ(exact_sum({DBL_MIN - tiny, tiny}), DBL_MIN);
+  EXPECT_EQ(exact_sum({DBL_MIN, -tiny}), DBL_MIN - tiny);
+  EXPECT_EQ(exact_sum({-3 * tiny, tiny}), -2 * tiny);
+  // 2^-1022 + 2^-1074 needs 53 bits: exact; 2^-1021 + 2^-1074 is a tie, to even (down).
+  EXPECT_EQ(exact_sum({DBL_MIN, tiny}), DBL_MIN + tiny);
+  EXPECT_EQ(exact_sum({2 * DBL_MIN, tiny}), 2 * DBL_MIN);
+  EXPECT_EQ(exact_sum({2 * DBL_MIN, tiny, tiny, tiny}), 2 * DBL_MIN + 4 * tiny);  // 3 ulp/2: up
+}
+
+TEST(ExactSum, RoundsOnceToNearestTiesToEven) {
+  const double two53 = 9007199254740992.0;
+  EXPECT_EQ(exact_sum({two53, 1.0}), two53);                    // tie, even below
+  EXPECT_EQ(exact_sum({two53, 3.0}), two53 + 4.0);              // tie, even above
+  EXPECT_EQ(exact_sum({two53, 1.0, 1e-300}), two53 + 2.0);      // sticky bit: above the tie
+  EXPECT_EQ(exact_sum({two53, 1.0, -1e-300}), two53);           // just below the tie
+  EXPECT_EQ(exact_sum({-two53, -1.0, -1e-300}), -two53 - 2.0);  // symmetric for negatives
+  EXPECT_EQ(exact_sum({1.0, std::ldexp(1.0, -53)}), 1.0);
+  EXPECT_EQ(exact_sum({1.0, std::ldexp(1.0, -53), std::ldexp(1.0, -1074)}),
+            std::nextafter(1.0, 2.0));
+  // A sum whose rounding carries into the next binade.
+  EXPECT_EQ(exact_sum({two53 - 1.0, 0.5}), two53);
+}
+
+TEST(ExactSum, OverflowNanAndInfinities) {
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(exact_sum({DBL_MAX, DBL_MAX}), inf);
+  EXPECT_EQ(exact_sum({-DBL_MAX, -DBL_MAX}), -inf);
+  // DBL_MAX + ulp/2 is a tie whose even neighbour is 2^1024: infinity, as IEEE addition.
+  EXPECT_EQ(exact_sum({DBL_MAX, std::ldexp(1.0, 970)}), inf);
+  EXPECT_EQ(exact_sum({DBL_MAX, std::ldexp(1.0, 969)}), DBL_MAX);
+  EXPECT_EQ(exact_sum({1.0, inf, 1e300}), inf);
+  EXPECT_EQ(exact_sum({-inf, 1.0}), -inf);
+  EXPECT_TRUE(std::isnan(exact_sum({inf, -inf})));
+  EXPECT_TRUE(std::isnan(exact_sum({1.0, std::nan(""), 2.0})));
+  EXPECT_EQ(bits(exact_sum({-0.0, 0.0})), bits(0.0));
+}
+
+/// Random terms that are multiples of 2^-40 below 2^60: their exact sum, scaled by 2^40, fits a
+/// 128-bit integer, and the compiler's int128 -> double conversion rounds it to nearest.
+TEST(ExactSum, EqualsAn128BitFixedPointReference) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> mant(1.0, 2.0);
+  std::uniform_int_distribution<int> expo(-30, 59);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<double> v;
+    Int128 scaled = 0;
+    for (int k = 0; k < 5000; ++k) {
+      // Rounded to a multiple of 2^-40 (exact: a scaling, an integer rounding, a scaling).
+      const double x = std::ldexp(std::nearbyint(std::ldexp(mant(rng), expo(rng) + 40)), -40) *
+                       (rng() % 2 ? 1 : -1);
+      v.push_back(x);
+      scaled += static_cast<Int128>(std::ldexp(x, 40));  // exact: an integer below 2^100
+    }
+    const double reference = std::ldexp(static_cast<double>(scaled), -40);
+    EXPECT_EQ(bits(exact_sum(v)), bits(reference)) << "trial " << trial;
+  }
+}
+
+/// Positive terms over 600 binades: a quad-precision sum in increasing order is within
+/// 2^-100 of the exact sum relative, so the correctly rounded double is within half an ulp
+/// (and a little) of it.
+TEST(ExactSum, WithinHalfAnUlpOfASortedQuadSum) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> mant(1.0, 2.0);
+  std::uniform_int_distribution<int> expo(-300, 300);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<double> v;
+    for (int k = 0; k < 3000; ++k)
+      v.push_back(std::ldexp(mant(rng), expo(rng) - trial % 3 * 20));
+    std::vector<double> sorted = v;
+    std::sort(sorted.begin(), sorted.end());
+    Quad q = 0;
+    for (double x : sorted)
+      q += x;
+    const double got = exact_sum(v);
+    const Quad half_ulp = static_cast<Quad>(std::nextafter(got, DBL_MAX) - got) / 2;
+    const Quad err = q > got ? q - got : got - q;
+    EXPECT_LE(static_cast<double>(err / half_ulp), 1.0 + 1e-9) << "trial " << trial;
+  }
+}
+
+TEST(ExactSum, OrderAndSplitDoNotChangeTheBits) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> mant(-2.0, 2.0);
+  std::uniform_int_distribution<int> expo(-60, 60);
+  std::vector<double> v;
+  for (int k = 0; k < 10000; ++k)
+    v.push_back(std::ldexp(mant(rng), expo(rng)));
+  const double first = exact_sum(v);
+  double plain = 0.0, plain_shuffled = 0.0;
+  for (double x : v)
+    plain += x;
+  for (int trial = 0; trial < 5; ++trial) {
+    std::shuffle(v.begin(), v.end(), rng);
+    EXPECT_EQ(bits(exact_sum(v)), bits(first));
+    // Split into three partial sums, merged through the exported words (as the all-reduce).
+    ExactSum a, b, c;
+    for (std::size_t k = 0; k < v.size(); ++k)
+      (k % 3 == 0 ? a : k % 3 == 1 ? b : c).add(v[k]);
+    auto words = a.export_words();
+    for (const ExactSum* s : {&b, &c}) {
+      const auto w = s->export_words();
+      for (std::size_t i = 0; i < words.size(); ++i)
+        words[i] += w[i];
+    }
+    EXPECT_EQ(bits(ExactSum::from_words(words.data()).value()), bits(first));
+    a += b;
+    a += c;
+    EXPECT_EQ(bits(a.value()), bits(first));
+  }
+  for (double x : v)
+    plain_shuffled += x;
+  // The check has teeth: plain summation does depend on the order here.
+  EXPECT_NE(bits(plain), bits(plain_shuffled));
+}
+
+// More terms than the carry interval (2^24): 2^25 copies of a full 53-bit mantissa (all
+// ones) spread over three digits, so a missed carry would lose bits. The sum is 2^25 x.
+TEST(ExactSum, CarriesOverManyTerms) {
+  const double x = std::ldexp(9007199254740991.0, 17);  // (2^53 - 1) 2^17
+  ExactSum s, neg;
+  const int n = 1 << 25;
+  for (int k = 0; k < n; ++k) {
+    s.add(x);
+    neg.add(-x);
+  }
+  EXPECT_EQ(s.value(), std::ldexp(x, 25));
+  EXPECT_EQ(neg.value(), -std::ldexp(x, 25));
+  s += neg;
+  EXPECT_EQ(s.value(), 0.0);
+}
+
+}  // namespace
+}  // namespace ringdem
