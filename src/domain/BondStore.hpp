@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -17,9 +18,16 @@ namespace ringdem {
 ///
 /// The columns are those of the co-rotational beam laws (physics.md §1): the stiffness
 /// coefficients the kernel reads, the reference frames and the strengths. A law with more
-/// per-bond state adds it in its own term's store.
+/// per-bond state (a plastic law's plastic deformations, say) declares it as model columns:
+/// named double columns that the registry lists after the common ones, so migration,
+/// checkpoints and frames carry them without knowing the law.
 class BondStore {
  public:
+  /// A per-bond double column declared by the bond model, with its registry flags.
+  struct ModelColumn {
+    std::string name;
+    unsigned flags = 0;
+  };
   // --- identity ---
   std::vector<std::int64_t> id;  ///< global bond id in creation order (file row)
   std::vector<std::int64_t> gid_a, gid_b;
@@ -70,7 +78,16 @@ class BondStore {
     f(FieldInfo{"bending_moment", kOutput}, bending_moment);
     f(FieldInfo{"utilisation", kOutput}, utilisation);
     f(FieldInfo{"energy", kOutput}, energy);
+    for (std::size_t c = 0; c < model_columns_.size(); ++c)
+      f(FieldInfo{model_columns_[c].name, model_columns_[c].flags}, model_values_[c]);
   }
+
+  /// Declares the bond model's columns (once, while the store is empty).
+  void declare_model_columns(const std::vector<ModelColumn>& columns);
+  std::size_t n_model_columns() const { return model_columns_.size(); }
+  /// Column c of the model's columns, in declaration order: one value per bond.
+  std::vector<double>& model_column(std::size_t c) { return model_values_[c]; }
+  const std::vector<double>& model_column(std::size_t c) const { return model_values_[c]; }
 
   /// Local indices of the two ends (not a field: resolved from the gids).
   std::vector<std::uint32_t> index_a, index_b;
@@ -90,6 +107,10 @@ class BondStore {
   }
 
   std::size_t count_broken() const;
+
+ private:
+  std::vector<ModelColumn> model_columns_;
+  std::vector<std::vector<double>> model_values_;
 };
 
 }  // namespace ringdem

@@ -135,6 +135,8 @@ ModelPlan plan_model(const CaseConfig& c) {
     model.bond_model = b.model;
   }
   model.contact_model = c.simulation.contact_model;
+  if (const BondModelEntry* law = find_bond_model(model.bond_model))
+    model.bonds.declare_model_columns(law->state_columns);
 
   const auto bond_type_of = [&](const std::string& name) {
     const auto it = std::find(model.bond_type_names.begin(), model.bond_type_names.end(), name);

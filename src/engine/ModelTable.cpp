@@ -14,7 +14,8 @@ const std::vector<BondModelEntry>& bond_models() {
           std::vector<BondTimoshenko::Params> types) -> std::unique_ptr<BondTerm> {
          return std::make_unique<TimoshenkoBondTerm>(bonds, std::move(types));
        },
-       &TimoshenkoBondTerm::create},
+       &TimoshenkoBondTerm::create,
+       {}},
   };
   return table;
 }

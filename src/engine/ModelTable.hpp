@@ -21,6 +21,9 @@ struct BondModelEntry {
   /// (seed, gid pair); returns its index in the store.
   std::size_t (*create)(BondStore& bonds, const BondTimoshenko::Params& params, std::int32_t type,
                         std::int64_t id, const BondEnd& a, const BondEnd& b, std::uint64_t seed);
+  /// The per-bond state columns the law adds to the bond store (BondStore::ModelColumn), or
+  /// none.
+  std::vector<BondStore::ModelColumn> state_columns = {};
 };
 
 /// The one table of contact laws selectable by name (`simulation.contact_model`): each makes

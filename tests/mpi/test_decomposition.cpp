@@ -28,6 +28,8 @@ class Decomposition : public ::testing::Test {
 /// gid = rank mod ranks and the bonds with id = rank mod ranks: a spread unlike the blocks',
 /// in which a rank may hold a bond but neither of its particles, as after reading a checkpoint.
 void make_lattice(ParticleStore& p, BondStore& bonds, int rank = 0, int ranks = 1) {
+  // A bond model's own state column travels like the common ones.
+  bonds.declare_model_columns({{"model_state", field_flag::kMigrate | field_flag::kCheckpoint}});
   std::int64_t gid = 0;
   for (int k = 0; k < 2; ++k)
     for (int j = 0; j < 12; ++j)
@@ -47,8 +49,11 @@ void make_lattice(ParticleStore& p, BondStore& bonds, int rank = 0, int ranks = 
   std::int64_t id = 0;
   for (std::int64_t g = 0; g + 1 < gid; ++g)
     if ((g + 1) % 12 != 0) {
-      if (id % ranks == rank)
-        TimoshenkoBondTerm::store(bonds, bonds.append(id, g, g + 1, 0), s, ref, {1, 1, 1});
+      if (id % ranks == rank) {
+        const std::size_t b = bonds.append(id, g, g + 1, 0);
+        TimoshenkoBondTerm::store(bonds, b, s, ref, {1, 1, 1});
+        bonds.model_column(0)[b] = 0.5 * static_cast<double>(id);
+      }
       ++id;
     }
   p.rebuild_index();
@@ -201,6 +206,8 @@ TEST_F(Decomposition, FirstDistributionSendsBondsAndSpringsHeldAnywhereToTheirPa
     EXPECT_TRUE(held.emplace(bonds.gid_a[b], bonds.gid_b[b]).second) << "bond held twice";
     // Bond ids of the lattice: the gid pair determines it (11 bonds per row of 12).
     EXPECT_EQ(bonds.id[b], bonds.gid_a[b] - bonds.gid_a[b] / 12) << "bond id lost";
+    EXPECT_EQ(bonds.model_column(0)[b], 0.5 * static_cast<double>(bonds.id[b]))
+        << "model column lost";
   }
   EXPECT_EQ(held, expected);
   // Springs: each on the owners of its two particles, with its value.
