@@ -117,9 +117,11 @@ void RunControl::before_step(Simulation& sim) const {
   sim.request_stop(stop);
 }
 
-void RunControl::write_frame(Simulation& sim) {
+void RunControl::write_frame(Simulation& sim, bool for_inspection) {
   if (!writes_files()) return;
-  if (config_.output.frame_interval <= 0.0 && config_.output.frame_interval_steps <= 0) return;
+  if (!for_inspection && config_.output.frame_interval <= 0.0 &&
+      config_.output.frame_interval_steps <= 0)
+    return;
   if (sim.time() == last_frame_time_) return;
   if (!frames_) {
     const std::string base = fmt::format("{}/frames_{:04d}", options_.output_dir, segment_);

@@ -15,6 +15,8 @@ namespace ringdem {
 
 /// Exit code of a run that wrote a checkpoint on request (SIGUSR1, --max-walltime) and stopped.
 inline constexpr int kExitCheckpointed = 3;
+/// Exit status of a run that diverged (DivergenceError), as of any runtime error.
+inline constexpr int kExitDiverged = 1;
 
 /// Installs the SIGUSR1 handler (what mpirun and SLURM --signal forward); idempotent.
 void install_stop_signal_handler();
@@ -56,8 +58,9 @@ class RunControl {
   /// After each step: frames and checkpoints that are due. Returns true when all ranks agreed to
   /// stop; a checkpoint has then been written. `driver` supplies the driver's state to save.
   bool after_step(Simulation& sim, const std::function<DriverState()>& driver);
-  /// A frame now, whatever the schedule (first and last state). Collective.
-  void write_frame(Simulation& sim);
+  /// A frame now, whatever the schedule (first and last state), when the case writes frames;
+  /// `for_inspection` writes one even then (the state a diverged run ended in). Collective.
+  void write_frame(Simulation& sim, bool for_inspection = false);
   /// A checkpoint now. Collective.
   std::string write_checkpoint(Simulation& sim, const std::function<DriverState()>& driver);
 

@@ -10,6 +10,7 @@
 
 #include "app/RunCommand.hpp"
 #include "app/RunControl.hpp"
+#include "engine/DivergenceError.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 
@@ -51,11 +52,24 @@ int run_scenario(ScenarioDriver& driver, const ScenarioRunOptions& options,
   const std::int64_t first_step = sim.steps();
   while (!done) {
     const std::int64_t steps = std::max<std::int64_t>(1, driver.steps_to_advance(sim));
-    for (std::int64_t k = 0; k < steps; ++k) {
-      control.before_step(sim);
-      sim.step();
-      // A stop agreed by all ranks ends the batch here; after_step below checkpoints it.
-      if (sim.stop_agreed()) break;
+    try {
+      for (std::int64_t k = 0; k < steps; ++k) {
+        control.before_step(sim);
+        sim.step();
+        // A stop agreed by all ranks ends the batch here; after_step below checkpoints it.
+        if (sim.stop_agreed()) break;
+      }
+    } catch (const DivergenceError& e) {
+      // Every rank threw at the same step. The diverged state goes into a last frame for
+      // inspection, never into a checkpoint.
+      control.write_frame(sim, /*for_inspection=*/true);
+      if (comm.is_root()) {
+        fmt::print(stderr, "ringdem: {}\n", e.what());
+        if (control.frames())
+          fmt::print(stderr, "ringdem: the state at the divergence is the last frame of {}\n",
+                     control.frames()->xdmf_path());
+      }
+      return kExitDiverged;
     }
     done = driver.after_steps(sim);
     if (control.after_step(sim, driver_state)) return kExitCheckpointed;

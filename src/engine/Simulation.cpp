@@ -1,10 +1,13 @@
 #include "engine/Simulation.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/DivergenceError.hpp"
 #include "engine/ModelTable.hpp"
 #include "engine/PairContactTerm.hpp"
 #include "physics/Integrator.hpp"
@@ -202,8 +205,14 @@ bool Simulation::needs_rebuild() {
   }
   // One reduction per step for both triggers — the largest move, and whether a bond broke
   // anywhere in the last force evaluation (its pair may now touch) — and for stop requests.
-  const auto global = comm_.max(std::array<double, 3>{
-      std::sqrt(max_move2_), topology_changed ? 1.0 : 0.0, stop_local_ ? 1.0 : 0.0});
+  // A non-finite body state counts as a runaway too.
+  double runaway = drift_.worst_runaway;
+  for (const RigidBody& b : model_.bodies)
+    if (!std::isfinite(norm2(b.position) + norm2(b.velocity) + norm2(b.omega)))
+      runaway = Integrator::kRunaway;
+  const auto global = comm_.max(std::array<double, 4>{
+      std::sqrt(max_move2_), topology_changed ? 1.0 : 0.0, stop_local_ ? 1.0 : 0.0, runaway});
+  if (global[3] > 1.0) report_divergence();
   const double particle_move = global[0];
   const bool bond_broke = global[1] > 0.0;
   stop_agreed_ = global[2] > 0.0;
@@ -212,6 +221,76 @@ bool Simulation::needs_rebuild() {
   // sum of the two.
   return force_rebuild_ || bond_broke || 2.0 * particle_move > settings_.skin ||
          particle_move + body_move > settings_.skin;
+}
+
+void Simulation::report_divergence() const {
+  // Every rank offers its worst particle; all pick the same one (largest ratio, then lowest
+  // gid) and throw the same message.
+  struct Offender {
+    double ratio;
+    std::int64_t gid;
+    std::int32_t group, rank;
+    Vec3 position, velocity, omega;
+  };
+  const ParticleStore& p = model_.particles;
+  Offender mine{0.0, -1, -1, comm_.rank(), {}, {}, {}};
+  if (drift_.worst_runaway > 1.0 && drift_.worst_index < p.n_local()) {
+    const std::size_t k = drift_.worst_index;
+    mine = {drift_.worst_runaway, p.gid[k],      p.group[k], comm_.rank(),
+            p.position[k],        p.velocity[k], p.omega[k]};
+  }
+  const auto all = comm_.allgather(std::vector<Offender>{mine});
+  const Offender* worst = nullptr;
+  for (const Offender& o : all)
+    if (o.gid >= 0 &&
+        (!worst || o.ratio > worst->ratio || (o.ratio == worst->ratio && o.gid < worst->gid)))
+      worst = &o;
+  std::string what;
+  if (worst) {
+    const std::string group =
+        worst->group >= 0 && static_cast<std::size_t>(worst->group) < model_.group_names.size()
+            ? model_.group_names[static_cast<std::size_t>(worst->group)]
+            : std::string("?");
+    const bool finite =
+        std::isfinite(norm2(worst->position) + norm2(worst->velocity) + norm2(worst->omega));
+    what = fmt::format(
+        "particle {} (group {}, rank {}) at ({:.6g}, {:.6g}, {:.6g}) m, velocity ({:.6g}, "
+        "{:.6g}, {:.6g}) m/s, angular velocity |omega| = {:.6g} rad/s: ",
+        worst->gid, group, worst->rank, worst->position.x, worst->position.y, worst->position.z,
+        worst->velocity.x, worst->velocity.y, worst->velocity.z, norm(worst->omega));
+    what += finite ? fmt::format(
+                         "it moved {:.3g} m in one step (the neighbour skin is {:.3g} m) "
+                         "or turned {:.3g} rad (limit {:.3g})",
+                         norm(worst->velocity) * dt_, settings_.skin, norm(worst->omega) * dt_,
+                         kMaxTurn)
+                   : std::string("its state is not finite (NaN or infinity)");
+  } else {
+    for (const RigidBody& b : model_.bodies)
+      if (!std::isfinite(norm2(b.position) + norm2(b.velocity) + norm2(b.omega))) {
+        what = "rigid body '" + b.name + "': its state is not finite (NaN or infinity)";
+        break;
+      }
+  }
+  const double stable = limits_.min();
+  std::string cause;
+  if (dt_ > stable)
+    cause = fmt::format(
+        "the time step {:.4g} s is {:.3g} times the stable estimate {:.4g} s: "
+        "lower simulation.dt (or leave it out to take the estimate)",
+        dt_, dt_ / stable, stable);
+  else if (steps_ < 100)
+    cause =
+        "a blow-up right at the start: particles overlapping at creation (two at the same "
+        "place give NaN), or a body placed inside the particles";
+  else
+    cause = fmt::format(
+        "an interaction too stiff for dt = {:.4g} s (stable estimate {:.4g} s), "
+        "or a driven body pushed through the particles",
+        dt_, stable);
+  throw DivergenceError(fmt::format("the run diverged at step {}, t = {:.9g} s: {}. Likely "
+                                    "cause: {}.",
+                                    steps_ + 1, time_, what, cause),
+                        steps_ + 1, time_);
 }
 
 void Simulation::compute_forces() {
@@ -255,7 +334,9 @@ void Simulation::step() {
   ParticleStore& p = model_.particles;
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
-    max_move2_ = Integrator::first_half(p, dt_, position_at_rebuild_);
+    drift_ = Integrator::first_half(p, dt_, position_at_rebuild_, kMaxStepFraction * settings_.skin,
+                                    kMaxTurn);
+    max_move2_ = drift_.max_move2;
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);
   }
   time_ += dt_;

@@ -15,6 +15,7 @@
 #include "engine/ModelBuilder.hpp"
 #include "engine/RestartState.hpp"
 #include "io/CaseConfig.hpp"
+#include "physics/Integrator.hpp"
 #include "physics/TimeStep.hpp"
 
 namespace ringdem {
@@ -108,6 +109,12 @@ class Simulation {
   void request_stop(bool local) { stop_local_ = local; }
   bool stop_agreed() const { return stop_agreed_; }
 
+  /// The divergence guard's limits: a particle may move at most max_step_fraction of the
+  /// skin and turn at most max_turn radians in one step; beyond that (or with a non-finite
+  /// state) step() throws DivergenceError on every rank.
+  static constexpr double kMaxStepFraction = 1.0;
+  static constexpr double kMaxTurn = 0.5;
+
   std::int64_t global_particles() const;
   std::int64_t global_bonds() const;
   std::int64_t global_broken_bonds() const;
@@ -130,6 +137,9 @@ class Simulation {
   void compute_forces();
   void reduce_body_loads();
   bool needs_rebuild();
+  /// Names the particle (or body) that ran away and the likely cause; throws
+  /// DivergenceError on every rank. Collective.
+  [[noreturn]] void report_divergence() const;
   /// The force terms of the model's bond and contact models (engine/ModelTable).
   static std::vector<std::unique_ptr<ForceTerm>> make_terms(Model& m);
   /// Sets bond_term_ and body_term_, the terms the simulation asks more of than compute().
@@ -162,7 +172,8 @@ class Simulation {
   bool stop_local_ = false;
   bool stop_agreed_ = false;
   std::vector<Vec3> position_at_rebuild_;
-  double max_move2_ = 0.0;  ///< largest squared particle move since the rebuild (this rank)
+  double max_move2_ = 0.0;   ///< largest squared particle move since the rebuild (this rank)
+  Integrator::Drift drift_;  ///< the last drift pass (this rank), for the divergence guard
   std::vector<Vec3> body_position_at_rebuild_;
   std::vector<Quat> body_orientation_at_rebuild_;
   std::array<double, kPhaseCount> phase_seconds_{};

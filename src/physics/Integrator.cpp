@@ -48,7 +48,9 @@ inline void kick_rotation(RigidBody& b, double half_dt) {
 // A fixed particle has zero velocity and angular velocity (the model builder sets them), so
 // scaling its drift by 0 only guards against stray values.
 
-double Integrator::first_half(ParticleStore& p, double dt, const std::vector<Vec3>& reference) {
+Integrator::Drift Integrator::first_half(ParticleStore& p, double dt,
+                                         const std::vector<Vec3>& reference, double max_step,
+                                         double max_turn) {
   const double half = 0.5 * dt;
   const std::size_t n = p.n_local();
   const Motion* const motion = p.motion.data();
@@ -61,8 +63,11 @@ double Integrator::first_half(ParticleStore& p, double dt, const std::vector<Vec
   Vec3* const w = p.omega.data();
   Vec3* const x = p.position.data();
   Quat* const q = p.orientation.data();
+  const double step_scale = dt * dt / (max_step * max_step);
+  const double turn_scale = dt * dt / (max_turn * max_turn);
   double max_move2 = 0.0;
-#pragma omp simd reduction(max : max_move2)
+  double worst = 0.0;
+#pragma omp simd reduction(max : max_move2, worst)
   for (std::size_t k = 0; k < n; ++k) {
     const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
     const double moving = motion[k] == Motion::kFixed ? 0.0 : 1.0;
@@ -72,8 +77,24 @@ double Integrator::first_half(ParticleStore& p, double dt, const std::vector<Vec
     q[k] = rotated(q[k], w[k] * moving, dt);
     const double move2 = norm2(x[k] - x_ref[k]);
     max_move2 = move2 > max_move2 ? move2 : max_move2;
+    const double s = norm2(v[k]) * step_scale, t = norm2(w[k]) * turn_scale;
+    double r = s > t ? s : t;
+    r = r <= kRunaway ? r : kRunaway;  // NaN and inf compare false: they count as runaway
+    worst = r > worst ? r : worst;
   }
-  return max_move2;
+  Drift d{max_move2, worst, 0};
+  // Only when something ran away: which particle (the first of the largest ratio).
+  if (worst > 1.0)
+    for (std::size_t k = 0; k < n; ++k) {
+      const double s = norm2(v[k]) * step_scale, t = norm2(w[k]) * turn_scale;
+      double r = s > t ? s : t;
+      r = r <= kRunaway ? r : kRunaway;
+      if (r == worst) {
+        d.worst_index = k;
+        break;
+      }
+    }
+  return d;
 }
 
 void Integrator::second_half(ParticleStore& p, double dt) {

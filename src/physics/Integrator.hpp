@@ -13,10 +13,21 @@ namespace ringdem {
 /// quaternion turning by 2 atan(|omega dt|/2) = |omega dt| (1 - |omega dt|^2/12 + ...) about
 /// omega, inverted exactly by cay(-omega dt), so the update stays time-reversible.
 struct Integrator {
-  /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles. Returns the
-  /// largest squared distance of a particle from its position in `reference` (the
-  /// neighbour-list displacement test, folded into this pass over the particles).
-  static double first_half(ParticleStore& p, double dt, const std::vector<Vec3>& reference);
+  /// What the drift pass saw, folded into its one pass over the particles.
+  struct Drift {
+    /// Largest squared distance of a particle from its position at the last rebuild (the
+    /// neighbour-list displacement test).
+    double max_move2 = 0.0;
+    /// Largest (|v| dt / max_step)^2 or (|omega| dt / max_turn)^2 of this step, and
+    /// kRunaway for a non-finite velocity: above 1, a particle moved farther in one step than
+    /// a contact can be tracked (the divergence guard).
+    double worst_runaway = 0.0;
+    std::size_t worst_index = 0;  ///< the particle of worst_runaway
+  };
+  static constexpr double kRunaway = 1e300;
+  /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles.
+  static Drift first_half(ParticleStore& p, double dt, const std::vector<Vec3>& reference,
+                          double max_step, double max_turn);
   /// Applies the global damping to the new loads (physics.md §4), then v += F/m dt/2,
   /// omega += T/I dt/2 for owned free particles; the damped loads stay for the next step.
   /// Adds the energy the damping took out (its power at the new velocities, times dt) to the
