@@ -9,6 +9,10 @@ namespace ringdem {
 
 namespace {
 
+double norm2d(double x, double y) {  // |(x, y)| of O(1) values: no scaling needed (unlike hypot)
+  return std::sqrt(x * x + y * y);
+}
+
 // The closest-point problem of one step, in the resultants normalised by the plastic limits,
 // n = N / N_p and mu_i = M_i / M_p (chord y, z components of the moment at end i = a, b):
 //   minimise 1/2 |s - s_tr|_C^2 over s = (n, mu_a, mu_b) subject to t(n, |mu_i|) <= Y,
@@ -78,7 +82,7 @@ Eval evaluate(const Problem& pb, const double nu[2]) {
   e.ms = moments(pb, nu);
   double dm[2][2];  // d m_i / d nu_j
   for (int i = 0; i < 2; ++i) {
-    e.m[i] = std::hypot(e.ms.mu[i][0], e.ms.mu[i][1]);
+    e.m[i] = norm2d(e.ms.mu[i][0], e.ms.mu[i][1]);
     for (int j = 0; j < 2; ++j)
       dm[i][j] =
           e.m[i] > 0.0
@@ -115,13 +119,14 @@ constexpr int kMaxIterations = 60;
 // Newton's method on f_i(nu) = 0 for the active ends (nu_i = 0 at the other), from nu, with a
 // backtracking line search on |f|^2 and the multipliers kept above a floor that keeps A
 // positive definite. Returns true when converged.
-bool newton(const Problem& pb, const bool active[2], double nu[2]) {
+bool newton(const Problem& pb, const bool active[2], double nu[2],
+            int max_iterations = kMaxIterations) {
   const double floor = -0.5 * (pb.cs - std::abs(pb.cc));  // C_mu's eigenvalues: c_s +- c_c
   auto merit = [&](const Eval& e) {
     return (active[0] ? e.f[0] * e.f[0] : 0.0) + (active[1] ? e.f[1] * e.f[1] : 0.0);
   };
   Eval e = evaluate(pb, nu);
-  for (int it = 0; it < kMaxIterations; ++it) {
+  for (int it = 0; it < max_iterations; ++it) {
     // Converged to round-off (f_i is a difference of terms of order Y).
     if (merit(e) <= 1e-28 * e.y * e.y) return true;
     double d[2] = {0.0, 0.0};
@@ -164,16 +169,16 @@ bool newton(const Problem& pb, const bool active[2], double nu[2]) {
 // (zero for an end that does not flow). Returns false where Newton's method did not converge.
 bool project(const Problem& pb, double s[5], double lambda[2]) {
   const double n_tr = pb.n_tr;
-  const double m_tr[2] = {std::hypot(pb.mu_tr[0][0], pb.mu_tr[0][1]),
-                          std::hypot(pb.mu_tr[1][0], pb.mu_tr[1][1])};
+  const double m_tr[2] = {norm2d(pb.mu_tr[0][0], pb.mu_tr[0][1]),
+                          norm2d(pb.mu_tr[1][0], pb.mu_tr[1][1])};
   // Apex of full axial yield, N = +-Y N_p, M_a = M_b = 0, in closed form: the axial row gives
   // Lambda = (|n_tr| - Y0) / (1/c_n + w); the moments vanish if the rotations they release,
   // (C mu_tr)_i / M_p, fit the subdifferential of t at mu = 0, a disc of radius 1/2:
   // 2 |(C mu_tr)_i| <= lambda_i for some lambda_a + lambda_b = Lambda.
-  const double g[2] = {std::hypot(pb.cs * pb.mu_tr[0][0] + pb.cc * pb.mu_tr[1][0],
-                                  pb.cs * pb.mu_tr[0][1] + pb.cc * pb.mu_tr[1][1]),
-                       std::hypot(pb.cc * pb.mu_tr[0][0] + pb.cs * pb.mu_tr[1][0],
-                                  pb.cc * pb.mu_tr[0][1] + pb.cs * pb.mu_tr[1][1])};
+  const double g[2] = {norm2d(pb.cs * pb.mu_tr[0][0] + pb.cc * pb.mu_tr[1][0],
+                              pb.cs * pb.mu_tr[0][1] + pb.cc * pb.mu_tr[1][1]),
+                       norm2d(pb.cc * pb.mu_tr[0][0] + pb.cs * pb.mu_tr[1][0],
+                              pb.cc * pb.mu_tr[0][1] + pb.cs * pb.mu_tr[1][1])};
   if (std::abs(n_tr) > pb.y0) {
     const double big = (std::abs(n_tr) - pb.y0) / (1.0 / pb.cn + pb.w);
     if (2.0 * (g[0] + g[1]) <= big) {
@@ -217,6 +222,13 @@ bool project(const Problem& pb, double s[5], double lambda[2]) {
     lambda[1] = active[1] ? e.lambda[1] : 0.0;
     return true;
   };
+  // Both ends beyond: most often both stay on the surface (a step of a bond that flows at both
+  // hinges), which a few iterations from nu = 0 find.
+  const bool both[2] = {true, true};
+  if (t_tr[0] > pb.y0 * tol && t_tr[1] > pb.y0 * tol) {
+    double nu[2] = {0.0, 0.0};
+    if (newton(pb, both, nu, 8) && accept(both, nu)) return true;
+  }
   double start[2] = {0.0, 0.0};
   const int first = t_tr[0] >= t_tr[1] ? 0 : 1;
   for (const int i : {first, 1 - first}) {
@@ -230,7 +242,6 @@ bool project(const Problem& pb, double s[5], double lambda[2]) {
   // Both ends, from the single-end solution, then from the near-apex estimate: for large
   // multipliers mu_i ~ g_i / nu_i with g_i = (C_mu mu_tr)_i, so sum_i nu_i m_i ~ |g_a| + |g_b|
   // fixes n and Y, both ends sit at m = Y - n^2 / Y, and nu_i ~ |g_i| / m.
-  const bool both[2] = {true, true};
   if ((start[0] != 0.0 || start[1] != 0.0) && newton(pb, both, start) && accept(both, start))
     return true;
   const double y_apex = pb.y0 + 2.0 * pb.w * (g[0] + g[1]);  // lambda_i ~ 2 nu_i m_i ~ 2 |g_i|
@@ -314,8 +325,8 @@ BondTimoshenkoPlastic::Deformation BondTimoshenkoPlastic::return_map(const Secti
   bool scaled = false;  // the last resort below: kappa then follows from the work
   if (!project(pb, sol, lambda)) {
     const double alpha =
-        pb.y0 / std::max(interaction(pb.n_tr, std::hypot(pb.mu_tr[0][0], pb.mu_tr[0][1])),
-                         interaction(pb.n_tr, std::hypot(pb.mu_tr[1][0], pb.mu_tr[1][1])));
+        pb.y0 / std::max(interaction(pb.n_tr, norm2d(pb.mu_tr[0][0], pb.mu_tr[0][1])),
+                         interaction(pb.n_tr, norm2d(pb.mu_tr[1][0], pb.mu_tr[1][1])));
     const double tr[5] = {pb.n_tr, pb.mu_tr[0][0], pb.mu_tr[0][1], pb.mu_tr[1][0], pb.mu_tr[1][1]};
     bool done = false;
     for (int parts = 2; !done && parts <= 1024; parts *= 2) {
