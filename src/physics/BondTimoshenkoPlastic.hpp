@@ -31,6 +31,12 @@ namespace ringdem {
 /// Torsion and shear stay elastic (the bundle's wires carry little of them in a ring; Eq. 5
 /// still limits them). Rigid motion changes no deformation, so it gives no force and no flow.
 /// The result depends only on the arguments: the same bits on every rank.
+///
+/// For a force term: Params per bond type, State per bond (State::kNames, one column each,
+/// zero at creation, migrated and checkpointed with the bond), compute() every step,
+/// evaluate() for output columns and break energies, check_failure() for the failure rule,
+/// State::work summed for the ledger's plastic-work column. A vectorised loop can run the
+/// elastic predictor and beyond_yield() for all bonds and call compute() only where it is true.
 struct BondTimoshenkoPlastic {
   using Section = BondTimoshenko::Section;
   using Reference = BondTimoshenko::Reference;
@@ -116,6 +122,16 @@ struct BondTimoshenkoPlastic {
             {q.tb.x, q.tb.y - st.rotation_by, q.tb.z - st.rotation_bz}};
   }
 
+  /// Yield test of the elastic predictor f (end loads of elastic_part()): whether an end is
+  /// beyond Y (1 + kYieldTolerance). t(n, m) <= Y is n^2 + Y m <= Y^2, no square root of t.
+  static bool beyond_yield(const Params& p, const EndLoads& f, const State& st) {
+    const double n = f.fx_b / p.axial_yield;
+    const double ma = std::sqrt(f.my_a * f.my_a + f.mz_a * f.mz_a) / p.plastic_moment;
+    const double mb = std::sqrt(f.my_b * f.my_b + f.mz_b * f.mz_b) / p.plastic_moment;
+    const double y = yield_factor(p, st) * (1.0 + kYieldTolerance);
+    return !(n * n + y * ma <= y * y && n * n + y * mb <= y * y);
+  }
+
   /// Gauge of the interaction n^2 + m = 1 (m >= 0): the t > 0 with (n/t)^2 + m/t = 1.
   static double interaction(double n, double m) { return 0.5 * (m + std::sqrt(m * m + 4 * n * n)); }
   /// Current yield limit factor Y = 1 + h kappa.
@@ -158,14 +174,9 @@ template <class Rotation>
   double work = 0.0;
   const BondTimoshenko::Result r =
       BondTimoshenko::compute(s, ref, x_a, rot_a, x_b, rot_b, [&](const Deformation& q) {
+        // Elastic predictor and yield test at both ends.
         const Deformation e = elastic_part(q, state);
-        // Elastic predictor and yield test at both ends: t(n, m) <= Y is n^2 + Y m <= Y^2.
-        const EndLoads f = BondTimoshenko::end_loads(s, e);
-        const double n = f.fx_b / p.axial_yield;
-        const double ma = std::sqrt(f.my_a * f.my_a + f.mz_a * f.mz_a) / p.plastic_moment;
-        const double mb = std::sqrt(f.my_b * f.my_b + f.mz_b * f.mz_b) / p.plastic_moment;
-        const double y = yield_factor(p, state) * (1.0 + kYieldTolerance);
-        if (n * n + y * ma <= y * y && n * n + y * mb <= y * y) return e;
+        if (!beyond_yield(p, BondTimoshenko::end_loads(s, e), state)) return e;
         return return_map(s, p, q, state, work);
       });
   return Result{r, work};

@@ -495,7 +495,7 @@ TEST(BondPlastic, BelowYieldIsBitwiseTheElasticBond) {
 // 9. General 3-D steps of any size: the return is the closest point. With no hardening it is
 // the projection onto a fixed convex set in the compliance metric, characterised by the
 // maximum-dissipation inequality dq_p . (s* - s) <= 0 for every admissible s* (Simo & Hughes
-// 1998, §2.2), checked on random admissible points. With hardening: on the surface, positive
+// 1998, ch. 2), checked on random admissible points. With hardening: on the surface, positive
 // dissipation, work-consistent kappa (dW_p = Y_{n+1} N_p L0 dkappa), and no flow at a second
 // call.
 TEST(BondPlastic, ReturnMappingIsTheClosestPointForLargeSteps) {
