@@ -82,6 +82,17 @@ struct BondTimoshenko {
   static Result compute(const Section& s, const Reference& ref, const Vec3& x_a,
                         const Rotation& rot_a, const Vec3& x_b, const Rotation& rot_b);
 
+  /// The same co-rotational kernel with a constitutive hook, shared with the elastoplastic bond
+  /// (BondTimoshenkoPlastic): the chord frame and the local deformations q of the ends, then
+  /// `elastic_part(q)` returns the part of q that K maps to loads (compute() passes all of q;
+  /// the plastic bond, q minus its plastic deformations after the return mapping). The
+  /// energy is 1/2 q_e^T K q_e of that part.
+  struct Deformation;
+  template <class Rotation, class ElasticPart>
+  static Result compute(const Section& s, const Reference& ref, const Vec3& x_a,
+                        const Rotation& rot_a, const Vec3& x_b, const Rotation& rot_b,
+                        ElasticPart&& elastic_part);
+
   /// Small rotation taking the chord frame C = (cx, cy, cz) to an end frame A = (ax, ay, az),
   /// in chord components: the axial vector of the skew part of C^T A is sin(theta) * axis;
   /// the cubic asin series restores the angle, exact to O(theta^5) for the per-bond angles
@@ -89,6 +100,22 @@ struct BondTimoshenko {
   struct LocalRotation {
     double x, y, z;
   };
+
+  /// Local deformations (physics.md §1 DOF order, q = [0,0,0, th_a, du,0,0, th_b]): change of
+  /// length du and the end rotations ta, tb relative to the chord frame, in its components.
+  struct Deformation {
+    double du;
+    LocalRotation ta, tb;
+  };
+
+  /// K q in the chord frame: the external end loads holding a deformation (tension positive).
+  struct EndLoads {
+    double fx_b;        ///< axial force, K[6,6] u_bx
+    double mx_b;        ///< torque, K[9,9], K[9,3]
+    double my_a, mz_a;  ///< bending moments at end a, K[4,*], K[5,*]
+    double my_b, mz_b;  ///< bending moments at end b, K[10,*], K[11,*]
+  };
+  static EndLoads end_loads(const Section& s, const Deformation& q);
   static LocalRotation relative_rotation(const Vec3& cx, const Vec3& cy, const Vec3& cz,
                                          const Vec3& ax, const Vec3& ay, const Vec3& az);
 
@@ -123,10 +150,29 @@ struct BondTimoshenko {
   return {sx * f, sy * f, sz * f};
 }
 
+[[gnu::always_inline]] inline BondTimoshenko::EndLoads BondTimoshenko::end_loads(
+    const Section& s, const Deformation& q) {
+  // K q, rows of physics.md §1 (external end loads holding the deformation).
+  return EndLoads{s.k_axial * q.du,                                   // K[6,6] u_bx
+                  s.k_torsion * (q.tb.x - q.ta.x),                    // K[9,9], K[9,3]
+                  s.k_bend_self * q.ta.y + s.k_bend_cross * q.tb.y,   // K[4,4], K[4,10]
+                  s.k_bend_self * q.ta.z + s.k_bend_cross * q.tb.z,   // K[5,5], K[5,11]
+                  s.k_bend_cross * q.ta.y + s.k_bend_self * q.tb.y,   // K[10,4], K[10,10]
+                  s.k_bend_cross * q.ta.z + s.k_bend_self * q.tb.z};  // K[11,5], K[11,11]
+}
+
 template <class Rotation>
 [[gnu::always_inline]] inline BondTimoshenko::Result BondTimoshenko::compute(
     const Section& s, const Reference& ref, const Vec3& x_a, const Rotation& rot_a, const Vec3& x_b,
     const Rotation& rot_b) {
+  return compute(s, ref, x_a, rot_a, x_b, rot_b,
+                 [](const Deformation& q) [[gnu::always_inline]] { return q; });
+}
+
+template <class Rotation, class ElasticPart>
+[[gnu::always_inline]] inline BondTimoshenko::Result BondTimoshenko::compute(
+    const Section& s, const Reference& ref, const Vec3& x_a, const Rotation& rot_a, const Vec3& x_b,
+    const Rotation& rot_b, ElasticPart&& elastic_part) {
   // Current end frames: particle orientation times the bond frame stored at creation.
   const Quat frame_a = as_quat(rot_a) * ref.frame_a;
   const Quat frame_b = as_quat(rot_b) * ref.frame_b;
@@ -144,17 +190,16 @@ template <class Rotation>
   const Vec3 cz = cross(cx, cy);
 
   // Local deformations: q = [0,0,0, th_a, dL,0,0, th_b] (physics.md §1 DOF order).
-  const LocalRotation ta = relative_rotation(cx, cy, cz, ax, ay, az);
-  const LocalRotation tb = relative_rotation(cx, cy, cz, bx, by, bz);
-  const double du = length - s.length0;
-
-  // K q, rows of physics.md §1 (external end loads holding the deformation).
-  const double fx_b = s.k_axial * du;                                // K[6,6] u_bx
-  const double mx_b = s.k_torsion * (tb.x - ta.x);                   // K[9,9], K[9,3]
-  const double my_a = s.k_bend_self * ta.y + s.k_bend_cross * tb.y;  // K[4,4], K[4,10]
-  const double mz_a = s.k_bend_self * ta.z + s.k_bend_cross * tb.z;  // K[5,5], K[5,11]
-  const double my_b = s.k_bend_cross * ta.y + s.k_bend_self * tb.y;  // K[10,4], K[10,10]
-  const double mz_b = s.k_bend_cross * ta.z + s.k_bend_self * tb.z;  // K[11,5], K[11,11]
+  // The part K acts on: all of q for the elastic bond (elastic_part is then the identity).
+  const Deformation q =
+      elastic_part(Deformation{length - s.length0, relative_rotation(cx, cy, cz, ax, ay, az),
+                               relative_rotation(cx, cy, cz, bx, by, bz)});
+  const double du = q.du;
+  const LocalRotation& ta = q.ta;
+  const LocalRotation& tb = q.tb;
+  const EndLoads k = end_loads(s, q);
+  const double fx_b = k.fx_b, mx_b = k.mx_b, my_a = k.my_a, mz_a = k.mz_a, my_b = k.my_b,
+               mz_b = k.mz_b;
   // Shear rows K[7,*], K[8,*] equal -(M_a + M_b) / L0; dividing by the current length
   // instead makes the end loads balance exactly, so angular momentum is conserved.
   const double fy_b = -(mz_a + mz_b) * inv_length;
