@@ -19,6 +19,7 @@ struct RunOptions {
   bool quiet = false;
   std::string restart;        ///< "", "auto" or a checkpoint path
   double max_walltime = 0.0;  ///< seconds; checkpoint and exit 3 when reached (0: no limit)
+  bool force_size = false;    ///< run even beyond the memory estimate
 };
 
 /// `ringdem run`: the case's scenario driver (app/ScenarioDriver.hpp) run by the one scenario

@@ -13,6 +13,8 @@
 #include "engine/DivergenceError.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
+#include "io/InputError.hpp"
+#include "io/SizeEstimate.hpp"
 
 namespace ringdem {
 
@@ -32,6 +34,24 @@ int run_scenario(ScenarioDriver& driver, const ScenarioRunOptions& options,
   if (comm.is_root() && !options.output_dir.empty())
     std::filesystem::create_directories(options.output_dir);
   if (print) print_banner(config, options.output_dir, comm);
+
+  // Before anything is built: refuse a case that cannot fit (every rank judges its node).
+  {
+    const SizeEstimate size = estimate_size(config);
+    const double need = size.bytes_per_rank(comm.size()) * comm.ranks_on_this_node();
+    const double have = available_memory_bytes();
+    const bool too_big = have > 0.0 && need > have;
+    if (print) fmt::print("size estimate: {}\n", describe(size, comm.size()));
+    if (comm.any(too_big) && !options.force_size) {
+      Diagnostic d;
+      d.file = config.source_path.empty() ? config.name : config.source_path;
+      d.message = fmt::format(
+          "the case needs about {:.0f} MiB per node ({}), more than the {:.0f} MiB available; "
+          "run on more ranks or nodes, or give --force-size to try anyway",
+          need / (1024.0 * 1024.0), describe(size, comm.size()), have / (1024.0 * 1024.0));
+      throw InputError({d});
+    }
+  }
 
   RunControlOptions control_options;
   control_options.output_dir = options.output_dir;

@@ -15,6 +15,8 @@ struct ScenarioRunOptions {
   /// SIGUSR1 and --max-walltime checkpoint and stop the run. Off for the many short runs of a
   /// sweep or a calibration, which cannot be continued as a whole.
   bool handle_stop_requests = true;
+  /// Run even when the size estimate exceeds the memory available on a node.
+  bool force_size = false;
 };
 
 /// The one run loop of every scenario (app/ScenarioDriver.hpp): banner, simulation (fresh or

@@ -15,6 +15,7 @@
 #include "comm/Communicator.hpp"
 #include "core/Version.hpp"
 #include "io/CaseLoader.hpp"
+#include "io/SizeEstimate.hpp"
 
 namespace {
 
@@ -41,6 +42,8 @@ int main(int argc, char** argv) {
       ->take_all()
       ->allow_extra_args(false);
   run->add_flag("-q,--quiet", run_opts.quiet, "no banner or progress lines");
+  run->add_flag("--force-size", run_opts.force_size,
+                "run even when the size estimate exceeds the memory available on a node");
   run->add_option("--restart", run_opts.restart,
                   "continue from a checkpoint: its path, or 'auto' for the newest valid one in "
                   "<output>/checkpoints (a fresh start when there is none)");
@@ -141,6 +144,13 @@ int main(int argc, char** argv) {
           "scenario {})\n",
           check_path, config.materials.size(), config.bonds.size(), config.rings.size(),
           config.nets.size(), config.rigid_bodies.size(), config.scenario.type);
+      const ringdem::SizeEstimate size = ringdem::estimate_size(config);
+      const double have = ringdem::available_memory_bytes();
+      fmt::print(
+          "size estimate: {}{}\n", ringdem::describe(size, 1),
+          have > 0.0 && size.bytes_per_rank(1) > have
+              ? fmt::format(" (more than the {:.0f} MiB available here)", have / (1024.0 * 1024.0))
+              : std::string());
       return 0;
     } catch (const ringdem::InputError& e) {
       std::cerr << e.format();

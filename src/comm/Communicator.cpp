@@ -142,4 +142,13 @@ void Communicator::barrier() const {
   MPI_Barrier(comm_);
 }
 
+int Communicator::ranks_on_this_node() const {
+  MPI_Comm node;
+  MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node);
+  int n = 1;
+  MPI_Comm_size(node, &n);
+  MPI_Comm_free(&node);
+  return n;
+}
+
 }  // namespace ringdem

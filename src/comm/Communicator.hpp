@@ -81,6 +81,8 @@ class Communicator {
 
   /// True on every rank when any rank passes true.
   bool any(bool v) const;
+  /// How many ranks of this communicator share this rank's node (its memory).
+  int ranks_on_this_node() const;
   void barrier() const;
 
  private:

@@ -9,6 +9,7 @@
 
 #include "TestCases.hpp"
 #include "engine/ModelBuilder.hpp"
+#include "io/SizeEstimate.hpp"
 
 namespace ringdem {
 namespace {
@@ -146,6 +147,34 @@ TEST(ParticleSources, RingBondsJoinConsecutiveParticlesOfOneRing) {
     EXPECT_TRUE(d == 1 || d == ring_size - 1) << "bond " << k << " spans " << d;
     EXPECT_NEAR(m.bonds.length0[k], norm(p.position[b] - p.position[a]), 1e-15);
   }
+}
+
+}  // namespace
+}  // namespace ringdem
+
+namespace ringdem {
+namespace {
+
+TEST(SizeEstimate, ClosedFormsCountWhatTheSourcesBuild) {
+  // Against the built model (a different code path: the net generator and the sources),
+  // for nets with even and odd rows and columns, with and without shackles.
+  for (const auto& [rows, columns, shackles] :
+       {std::tuple{4, 5, true}, std::tuple{5, 5, true}, std::tuple{6, 4, false},
+        std::tuple{3, 7, true}, std::tuple{2, 2, true}}) {
+    CaseConfig c = every_source();
+    c.nets[0].rows = rows;
+    c.nets[0].columns = columns;
+    c.nets[0].shackles.enabled = shackles;
+    const Model m = build_model(c);
+    const SizeEstimate e = estimate_size(c);
+    EXPECT_EQ(e.particles, m.initial_particles) << rows << " x " << columns;
+    EXPECT_EQ(e.bonds, m.initial_bonds) << rows << " x " << columns;
+  }
+  // Memory per rank falls with the ranks, ghosts and the base aside.
+  SizeEstimate big;
+  big.particles = 1000000;
+  EXPECT_NEAR(big.bytes_per_rank(1), SizeEstimate::kBaseBytes + 2.0e9, 1.0);
+  EXPECT_LT(big.bytes_per_rank(4), 0.4 * big.bytes_per_rank(1));
 }
 
 }  // namespace

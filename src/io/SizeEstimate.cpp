@@ -1,0 +1,69 @@
+#include "io/SizeEstimate.hpp"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace ringdem {
+
+namespace {
+
+/// Sites k in [0, length) of a row or column starting at a with a + k odd (the net's ring
+/// sites are those with column + row odd, domain/RingNet.hpp).
+std::int64_t odd_sites(std::int64_t a, std::int64_t length) {
+  return a % 2 == 0 ? length / 2 : (length + 1) / 2;
+}
+
+}  // namespace
+
+double SizeEstimate::bytes_per_rank(int ranks) const {
+  const double share = 1.0 / ranks;
+  const double ghosts = ranks > 1 ? kGhostFactor : 1.0;
+  return kBaseBytes + ghosts * share *
+                          (static_cast<double>(particles) * kBytesPerParticle +
+                           static_cast<double>(bonds) * kBytesPerBond);
+}
+
+SizeEstimate estimate_size(const CaseConfig& c) {
+  SizeEstimate e;
+  for (const RingConfig& r : c.rings) {
+    e.particles += r.n_particles;
+    e.bonds += r.n_particles;
+  }
+  for (const RingNetConfig& n : c.nets) {
+    const std::int64_t rows = n.rows, columns = n.columns;
+    const std::int64_t rings = rows * columns / 2;
+    e.particles += rings * n.n_particles;
+    e.bonds += rings * n.n_particles;
+    if (n.shackles.enabled) {
+      const std::int64_t shackles = odd_sites(0, rows) + odd_sites(columns - 1, rows) +
+                                    odd_sites(0, columns) + odd_sites(rows - 1, columns);
+      e.particles += shackles * n.shackles.n_particles;
+    }
+  }
+  for (const LatticeConfig& l : c.lattices)
+    e.particles += std::int64_t{l.count[0]} * l.count[1] * l.count[2];
+  e.particles += static_cast<std::int64_t>(c.spheres.size());
+  return e;
+}
+
+double available_memory_bytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    std::string key;
+    double kib = 0.0;
+    if (s >> key >> kib && key == "MemAvailable:") return kib * 1024.0;
+  }
+  return 0.0;
+}
+
+std::string describe(const SizeEstimate& e, int ranks) {
+  return fmt::format("{} particles, {} bonds: about {:.0f} MiB per rank on {} rank{}", e.particles,
+                     e.bonds, e.bytes_per_rank(ranks) / (1024.0 * 1024.0), ranks,
+                     ranks == 1 ? "" : "s");
+}
+
+}  // namespace ringdem
