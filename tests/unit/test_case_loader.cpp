@@ -534,3 +534,27 @@ TEST(CaseLoader, CliCheckExitsWithCode2AndPrintsLocation) {
 
 }  // namespace
 }  // namespace ringdem
+
+namespace ringdem {
+namespace {
+
+TEST(CaseLoader, LargeNetIsCheckedOnAPatchOfTheSameParity) {
+  // A net of 3000 x 21 rings loads in a blink (its periodic layout is checked on a patch) and
+  // counts every particle; the same net with nearly flat rings (linked rings intersect) is
+  // still refused, as a small one is.
+  const std::string net = replaced(kValidCase, "  lattices:",
+                                   "  nets:\n    - {rows: 3000, columns: 21, material: steel, "
+                                   "bond: ring}\n  lattices:");
+  const CaseConfig c = load_case_from_string(net, "case.yaml", {});
+  ASSERT_EQ(c.nets.size(), 1u);
+  EXPECT_EQ(c.nets[0].rows, 3000);
+  const auto flat = errors_of(replaced(net, "bond: ring}", "bond: ring, tilt: 0.02}"));
+  EXPECT_NE(all(flat).find("rings touch at creation"), std::string::npos) << all(flat);
+  const auto flat_small =
+      errors_of(replaced(replaced(net, "rows: 3000, columns: 21", "rows: 4, columns: 5"),
+                         "bond: ring}", "bond: ring, tilt: 0.02}"));
+  EXPECT_NE(all(flat_small).find("rings touch at creation"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ringdem
