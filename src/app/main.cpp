@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <new>
 
 #include "app/BuildInfo.hpp"
 #include "app/Calibration.hpp"
@@ -148,6 +149,10 @@ int main(int argc, char** argv) {
     }
   }
 
+  // The input the run was started with, for errors that do not name it themselves.
+  const std::string input_file = *sweep       ? sweep_opts.sweep_path
+                                 : *calibrate ? cal_opts.case_path
+                                              : run_opts.case_path;
   MPI_Init(&argc, &argv);
   int code = 0;
   {
@@ -166,8 +171,19 @@ int main(int argc, char** argv) {
     } catch (const ringdem::InputError& e) {
       if (comm.is_root()) std::cerr << e.format();
       code = kExitInputError;
+    } catch (const std::bad_alloc&) {
+      // Out of memory has no message of its own ("std::bad_alloc"): say which input was too big.
+      std::cerr << fmt::format(
+          "ringdem: error on rank {}: out of memory (std::bad_alloc) while running {}: the model "
+          "needs more memory than this process may use; make it smaller (fewer particles) or "
+          "spread it over more ranks on more nodes\n",
+          comm.rank(), input_file);
+      std::cerr.flush();
+      if (comm.size() > 1) MPI_Abort(world, kExitRuntimeError);
+      code = kExitRuntimeError;
     } catch (const std::exception& e) {
-      std::cerr << fmt::format("ringdem: error on rank {}: {}\n", comm.rank(), e.what());
+      std::cerr << fmt::format("ringdem: error on rank {} while running {}: {}\n", comm.rank(),
+                               input_file, e.what());
       std::cerr.flush();
       // The other ranks may be waiting in a collective: end the whole job.
       if (comm.size() > 1) MPI_Abort(world, kExitRuntimeError);

@@ -4,18 +4,17 @@
 // the series add up to a constant ledger, and the dissipation tallies grow.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
 
+#include "CommandLine.hpp"
 #include "TestCases.hpp"
 #include "app/RunCommand.hpp"
 #include "io/CaseLoader.hpp"
@@ -163,19 +162,6 @@ scenario:
   fs::remove_all(dir);
 }
 
-/// Runs `command`, returns its stdout and sets `status` (the exit code).
-std::string run_command(const std::string& command, int* status) {
-  std::string out;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) throw std::runtime_error("popen failed: " + command);
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr)
-    out += buffer;
-  const int raw = pclose(pipe);
-  *status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return out;
-}
-
 TEST(Rockfall, LogNeverPrintsPlaceholderValues) {
   // A 2 x 3 net and a 5 kg boulder, cut off 2 ms after the first contact: the boulder is still
   // moving down at the end, so there is no stopping time (issue 15 saw "stopped after -1.0000
@@ -201,10 +187,10 @@ scenario:
              sag_damping: 0.9, sag_kinetic_energy: 0.05, sag_min_time: 0.01,
              sag_check_interval: 0.005, duration: 0.002, record_interval: 5.0e-4}
 )";
-  int status = -1;
-  const std::string log = run_command(
-      fmt::format("'{}' run '{}' -o '{}/out'", RINGDEM_BINARY, case_path, dir), &status);
-  ASSERT_EQ(status, 0) << log;
+  const testing::CommandResult r = testing::run_command(
+      fmt::format("'{}' run '{}' -o '{}/out'", RINGDEM_BINARY, case_path, dir));
+  const std::string& log = r.output;
+  ASSERT_EQ(r.status, 0) << log;
   EXPECT_EQ(log.find("inf J"), std::string::npos) << log;
   EXPECT_EQ(log.find("-1.0000"), std::string::npos) << log;
   EXPECT_NE(log.find("net kinetic energy: first rest check at t = 0.01 s"), std::string::npos)
