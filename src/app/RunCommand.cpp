@@ -89,6 +89,7 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
   run.verbose = !options.quiet;
   run.restart = options.restart;
   run.max_walltime = options.max_walltime;
+  run.break_lock = options.break_lock;
   std::unique_ptr<ScenarioDriver> driver = make_scenario_driver(config);
   return run_scenario(*driver, run, comm);
 }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/OutputLock.hpp"
 #include "app/RunCommand.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "app/TensileTest.hpp"
@@ -243,7 +244,8 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
   const std::string out_dir =
       options.output_dir.empty() ? "results/" + sweep.name : options.output_dir;
   const bool root = world.is_root() && !options.quiet;
-  if (world.is_root()) std::filesystem::create_directories(out_dir);
+  // Held to the end of the study: no second sweep into this folder (app/OutputLock.hpp).
+  const OutputLock lock = lock_output_folder(out_dir, world, options.break_lock);
   if (root)
     fmt::print("sweep {} ({}): {} cases of {} over {} rank{}, output in {}\n", sweep.name,
                sweep.source_path, cases.size(), sweep.case_path, world.size(),

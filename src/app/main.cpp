@@ -45,6 +45,10 @@ int main(int argc, char** argv) {
   run->add_option("--restart", run_opts.restart,
                   "continue from a checkpoint: its path, or 'auto' for the newest valid one in "
                   "<output>/checkpoints (a fresh start when there is none)");
+  const char* const break_lock_help =
+      "take over the output folder's lock (ringdem.lock) even though it names a run on another "
+      "host: only when you know that run has ended (e.g. its node failed)";
+  run->add_flag("--break-lock", run_opts.break_lock, break_lock_help);
   std::string max_walltime;
   run->add_option("--max-walltime", max_walltime,
                   "write a checkpoint and exit with code 3 after this wall time (seconds, or "
@@ -69,6 +73,7 @@ int main(int argc, char** argv) {
       ->take_all()
       ->allow_extra_args(false);
   sweep->add_flag("-q,--quiet", sweep_opts.quiet, "no progress lines");
+  sweep->add_flag("--break-lock", sweep_opts.break_lock, break_lock_help);
 
   ringdem::CalibrationOptions cal_opts;
   std::vector<double> lambda_range, modulus_range;
@@ -106,6 +111,7 @@ int main(int argc, char** argv) {
   calibrate->add_option("--max-evaluations", cal_opts.max_evaluations,
                         "most tensile tests to run (default 40)");
   calibrate->add_flag("-q,--quiet", cal_opts.quiet, "no progress lines");
+  calibrate->add_flag("--break-lock", cal_opts.break_lock, break_lock_help);
 
   try {
     app.parse(argc, argv);
