@@ -131,6 +131,14 @@ SweepConfig load_sweep_from_string(const std::string& yaml_text, const std::stri
                             zip_count, n));
     zip_count = n;
   }
+  if (ctx.given("name") && !ctx.failed("name")) {
+    const std::string problem = schema::folder_name_problem(config.name);
+    if (!problem.empty())
+      ctx.error(ctx.where("name"), "name",
+                fmt::format("'{}' {}: the name is the output folder results/<name>, so it may "
+                            "not contain '/' or '\\' nor be '.' or '..'",
+                            config.name, problem));
+  }
   if (config.parameters.empty() && ctx.given("parameters") && !ctx.failed("parameters"))
     ctx.error(ctx.where("parameters"), "parameters", "must list at least one parameter");
   if (!ctx.diagnostics().empty()) throw InputError(ctx.sorted_diagnostics());
