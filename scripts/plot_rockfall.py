@@ -44,7 +44,8 @@ def snapshot(folder, summary, series, out):
     import h5py
 
     t_contact = summary["first_contact_time_s"]
-    t_deep = t_contact + summary["stopping_time_s"] if summary["stopping_time_s"] > 0 else None
+    stop = summary.get("stopping_time_s")  # null: the boulder had not turned by the end
+    t_deep = t_contact + stop if stop is not None and stop > 0 else None
     best = None
     for path in frames:
         with h5py.File(path, "r") as f:

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/OutputLock.hpp"
 #include "app/RunCommand.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "app/TensileTest.hpp"
@@ -410,6 +411,8 @@ CalibrationResult run_calibration(const CalibrationOptions& options, const Commu
   const std::string out_dir =
       options.output_dir.empty() ? "results/" + base.name + "_calibration" : options.output_dir;
   const bool print = world.is_root() && !options.quiet;
+  // Held to the end of the fit: no second calibration into this folder (app/OutputLock.hpp).
+  const OutputLock lock = lock_output_folder(out_dir, world, options.break_lock);
   if (world.is_root()) std::filesystem::create_directories(out_dir + "/evaluations");
   if (print) {
     fmt::print(

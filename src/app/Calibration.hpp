@@ -92,6 +92,7 @@ struct CalibrationOptions {
   double misfit_tolerance = 2e-3;
   int max_evaluations = 40;
   bool quiet = false;
+  bool break_lock = false;  ///< take over a lock of the output folder held on another host
 };
 
 /// One trial of the calibration.

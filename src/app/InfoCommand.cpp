@@ -4,16 +4,40 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <string_view>
+#include <system_error>
 
 #include "io/Checkpoint.hpp"
 #include "io/Hdf5File.hpp"
 
 namespace ringdem {
 
+namespace {
+
+constexpr const char* kDurationForms =
+    "give seconds (3600), H:MM:SS (1:00:00) or numbers with units h, m, s (1h30m)";
+
+/// The non-negative number at the start of `s` (from_chars: no sign, no spaces); sets `used`.
+/// Throws std::invalid_argument naming the whole `text` when there is none or it is not finite.
+double leading_number(std::string_view s, const std::string& text, std::size_t* used) {
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec == std::errc::result_out_of_range)
+    throw std::invalid_argument("'" + text + "': number out of range");
+  if (ec != std::errc() || end == s.data() || !std::isfinite(v) || v < 0.0)
+    throw std::invalid_argument("'" + text + "' is not a duration: " + kDurationForms);
+  *used = static_cast<std::size_t>(end - s.data());
+  return v;
+}
+
+}  // namespace
+
 double parse_duration(const std::string& text) {
-  if (text.empty()) throw std::invalid_argument("empty duration");
+  if (text.empty()) throw std::invalid_argument(std::string("empty duration: ") + kDurationForms);
   if (text.find(':') != std::string::npos) {
     double total = 0.0;
     std::size_t start = 0;
@@ -23,7 +47,9 @@ double parse_duration(const std::string& text) {
       const std::string part = text.substr(start, end - start);
       if (part.empty() || part.find_first_not_of("0123456789.") != std::string::npos)
         throw std::invalid_argument("'" + text + "' is not H:MM:SS");
-      total = total * 60.0 + std::stod(part);
+      std::size_t used = 0;
+      total = total * 60.0 + leading_number(part, text, &used);
+      if (used != part.size()) throw std::invalid_argument("'" + text + "' is not H:MM:SS");
       ++parts;
       if (end == std::string::npos) break;
       start = end + 1;
@@ -35,8 +61,7 @@ double parse_duration(const std::string& text) {
   std::size_t k = 0;
   while (k < text.size()) {
     std::size_t used = 0;
-    const double v = std::stod(text.substr(k), &used);
-    if (used == 0) throw std::invalid_argument("'" + text + "' is not a duration");
+    const double v = leading_number(std::string_view(text).substr(k), text, &used);
     k += used;
     double unit = 1.0;
     if (k < text.size()) {
@@ -48,12 +73,13 @@ double parse_duration(const std::string& text) {
       else if (c == 's')
         unit = 1.0;
       else
-        throw std::invalid_argument("'" + text + "': unknown unit '" + text[k] + "'");
+        throw std::invalid_argument("'" + text + "': unknown unit '" + text[k] + "' (h, m or s)");
       ++k;
     }
     total += v * unit;
   }
-  if (!(total > 0.0)) throw std::invalid_argument("'" + text + "' is not a positive duration");
+  if (!(total > 0.0) || !std::isfinite(total))
+    throw std::invalid_argument("'" + text + "' is not a positive duration");
   return total;
 }
 

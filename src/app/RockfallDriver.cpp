@@ -397,7 +397,9 @@ void RockfallDriver::record(Simulation& sim) {
 
 std::string RockfallDriver::progress(const Simulation& sim, double rate) const {
   std::string extra;
-  if (phase_ == kSag)
+  if (phase_ == kSag && !std::isfinite(kinetic_))  // no rest check yet in this run segment
+    extra = fmt::format("net kinetic energy: first rest check at t = {:.4g} s", next_sag_check_);
+  else if (phase_ == kSag)
     extra = fmt::format("net kinetic energy {:.4g} J (rest below {:.3g} J)", kinetic_,
                         rf_.sag_kinetic_energy);
   else if (contact_time_ < 0)
@@ -434,7 +436,8 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("time_of_peak_s", time_of_peak_)
         .set("peak_acceleration_single_step_m_s2", peak_instant_)
         .set("max_deflection_m", contact_z_ - lowest_z_)
-        .set("stopping_time_s", stopping_time_)
+        // null (NaN) while the boulder had not turned by the end of the run.
+        .set("stopping_time_s", stopping_time_ >= 0.0 ? stopping_time_ : std::nan(""))
         .set("broken_bonds", static_cast<long long>(broken))
         .set("max_frame_force_N", max_frame_force_)
         .set("energy_balance_error", max_balance_error_ / impact_energy_)
@@ -475,13 +478,21 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
   }
   if (print_) {
     print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size());
+    // stopping_time_ stays negative while the boulder still moves down: it never turned within
+    // `duration`, so there is no stopping time to report.
+    const std::string stopped =
+        stopping_time_ >= 0.0
+            ? fmt::format("stopped after {:.4f} s", stopping_time_)
+            : fmt::format(
+                  "still moving down at the end ({:.4g} s after contact, vz {:.3f} m/s; "
+                  "raise scenario.rockfall.duration to see it stop)",
+                  sim.time() - contact_time_, sim.model().bodies[boulder_].velocity.z);
     fmt::print(
         "rockfall: peak acceleration {:.4g} m/s^2 ({:.3g} g) at {:.4f} s after contact, "
-        "deflection {:.4f} m, stopped after {:.4f} s, {} broken bonds, frame force up to {:.4g} "
-        "kN, energy balance within {:.3g} % of the impact energy\n",
-        peak_acceleration_, peak_acceleration_ / g_, time_of_peak_, contact_z_ - lowest_z_,
-        stopping_time_, broken, 1e-3 * max_frame_force_,
-        100.0 * max_balance_error_ / impact_energy_);
+        "deflection {:.4f} m, {}, {} broken bonds, frame force up to {:.4g} kN, energy balance "
+        "within {:.3g} % of the impact energy\n",
+        peak_acceleration_, peak_acceleration_ / g_, time_of_peak_, contact_z_ - lowest_z_, stopped,
+        broken, 1e-3 * max_frame_force_, 100.0 * max_balance_error_ / impact_energy_);
     fmt::print("results: {0}/summary.json, {0}/series.csv, {0}/sag.csv\n", output_dir_);
     if (frames)
       fmt::print("frames: open {} in ParaView ({} frames)\n", frames->xdmf_path(),

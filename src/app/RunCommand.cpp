@@ -90,6 +90,7 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
   run.restart = options.restart;
   run.max_walltime = options.max_walltime;
   run.force_size = options.force_size;
+  run.break_lock = options.break_lock;
   std::unique_ptr<ScenarioDriver> driver = make_scenario_driver(config);
   return run_scenario(*driver, run, comm);
 }

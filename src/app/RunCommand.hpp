@@ -20,6 +20,7 @@ struct RunOptions {
   std::string restart;        ///< "", "auto" or a checkpoint path
   double max_walltime = 0.0;  ///< seconds; checkpoint and exit 3 when reached (0: no limit)
   bool force_size = false;    ///< run even beyond the memory estimate
+  bool break_lock = false;    ///< take over a lock of the output folder held on another host
 };
 
 /// `ringdem run`: the case's scenario driver (app/ScenarioDriver.hpp) run by the one scenario

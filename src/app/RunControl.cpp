@@ -7,9 +7,11 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <system_error>
 
 #include "engine/ModelBuilder.hpp"
 #include "io/Hdf5File.hpp"
+#include "io/InputError.hpp"
 
 namespace ringdem {
 
@@ -65,6 +67,14 @@ std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings
       fmt::print("restart auto: no checkpoint in {}, starting from the beginning\n",
                  checkpoints_.dir());
   } else if (!options_.restart.empty()) {
+    // A folder is a likely mistake (the output folder, or its checkpoints/): an input error
+    // that says what to give instead, on every rank alike (they all see the same path).
+    std::error_code ec;
+    if (std::filesystem::is_directory(options_.restart, ec))
+      throw InputError({Diagnostic{
+          options_.restart, 0, 0, "",
+          "--restart: is a directory, not a checkpoint file; give a checkpoint_NNNNNN.h5 "
+          "file, or --restart auto for the newest valid one in <output>/checkpoints"}});
     candidates.push_back(options_.restart);
   }
   for (const std::string& path : candidates) {

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 
+#include "app/OutputLock.hpp"
 #include "app/RunCommand.hpp"
 #include "app/RunControl.hpp"
 #include "engine/DivergenceError.hpp"
@@ -31,8 +32,11 @@ int run_scenario(ScenarioDriver& driver, const ScenarioRunOptions& options,
   const auto wall_start = Clock::now();
   const CaseConfig& config = driver.config();
   const bool print = comm.is_root() && options.verbose;
-  if (comm.is_root() && !options.output_dir.empty())
-    std::filesystem::create_directories(options.output_dir);
+  // Before anything is read or written: no second run into this folder, and a folder that
+  // cannot be written is found now rather than when the results are due.
+  OutputLock lock;
+  if (!options.output_dir.empty())
+    lock = lock_output_folder(options.output_dir, comm, options.break_lock);
   if (print) print_banner(config, options.output_dir, comm);
 
   // Before anything is built: refuse a case that cannot fit (every rank judges its node).

@@ -17,9 +17,12 @@ struct ScenarioRunOptions {
   bool handle_stop_requests = true;
   /// Run even when the size estimate exceeds the memory available on a node.
   bool force_size = false;
+  /// Take over the output folder's lock even when it names a run on another host (--break-lock).
+  bool break_lock = false;
 };
 
-/// The one run loop of every scenario (app/ScenarioDriver.hpp): banner, simulation (fresh or
+/// The one run loop of every scenario (app/ScenarioDriver.hpp): the output folder's lock
+/// (app/OutputLock.hpp, held to the end of the run), banner, simulation (fresh or
 /// from a checkpoint), pre-flight, driver.start(), then steps, driver.after_steps(), frames and
 /// checkpoints when due, stop requests and progress lines until the driver is done, then
 /// driver.finish(). Returns 0, or kExitCheckpointed after a requested stop.

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/OutputLock.hpp"
 #include "app/RunCommand.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "app/TensileTest.hpp"
@@ -130,6 +131,14 @@ SweepConfig load_sweep_from_string(const std::string& yaml_text, const std::stri
                             zip_count, n));
     zip_count = n;
   }
+  if (ctx.given("name") && !ctx.failed("name")) {
+    const std::string problem = schema::folder_name_problem(config.name);
+    if (!problem.empty())
+      ctx.error(ctx.where("name"), "name",
+                fmt::format("'{}' {}: the name is the output folder results/<name>, so it may "
+                            "not contain '/' or '\\' nor be '.' or '..'",
+                            config.name, problem));
+  }
   if (config.parameters.empty() && ctx.given("parameters") && !ctx.failed("parameters"))
     ctx.error(ctx.where("parameters"), "parameters", "must list at least one parameter");
   if (!ctx.diagnostics().empty()) throw InputError(ctx.sorted_diagnostics());
@@ -243,7 +252,8 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
   const std::string out_dir =
       options.output_dir.empty() ? "results/" + sweep.name : options.output_dir;
   const bool root = world.is_root() && !options.quiet;
-  if (world.is_root()) std::filesystem::create_directories(out_dir);
+  // Held to the end of the study: no second sweep into this folder (app/OutputLock.hpp).
+  const OutputLock lock = lock_output_folder(out_dir, world, options.break_lock);
   if (root)
     fmt::print("sweep {} ({}): {} cases of {} over {} rank{}, output in {}\n", sweep.name,
                sweep.source_path, cases.size(), sweep.case_path, world.size(),

@@ -57,6 +57,7 @@ struct SweepOptions {
   std::string output_dir;              ///< empty: results/<sweep name>
   std::vector<std::string> overrides;  ///< applied to every case after the sweep's own `set`
   bool quiet = false;
+  bool break_lock = false;  ///< take over a lock of the output folder held on another host
 };
 
 /// Runs the study; returns the exit code. Writes OUT/case_NNN/{summary.json, series.csv} per

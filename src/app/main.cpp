@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <new>
 
 #include "app/BuildInfo.hpp"
 #include "app/Calibration.hpp"
@@ -47,6 +48,10 @@ int main(int argc, char** argv) {
   run->add_option("--restart", run_opts.restart,
                   "continue from a checkpoint: its path, or 'auto' for the newest valid one in "
                   "<output>/checkpoints (a fresh start when there is none)");
+  const char* const break_lock_help =
+      "take over the output folder's lock (ringdem.lock) even though it names a run on another "
+      "host: only when you know that run has ended (e.g. its node failed)";
+  run->add_flag("--break-lock", run_opts.break_lock, break_lock_help);
   std::string max_walltime;
   run->add_option("--max-walltime", max_walltime,
                   "write a checkpoint and exit with code 3 after this wall time (seconds, or "
@@ -71,6 +76,7 @@ int main(int argc, char** argv) {
       ->take_all()
       ->allow_extra_args(false);
   sweep->add_flag("-q,--quiet", sweep_opts.quiet, "no progress lines");
+  sweep->add_flag("--break-lock", sweep_opts.break_lock, break_lock_help);
 
   ringdem::CalibrationOptions cal_opts;
   std::vector<double> lambda_range, modulus_range;
@@ -108,6 +114,7 @@ int main(int argc, char** argv) {
   calibrate->add_option("--max-evaluations", cal_opts.max_evaluations,
                         "most tensile tests to run (default 40)");
   calibrate->add_flag("-q,--quiet", cal_opts.quiet, "no progress lines");
+  calibrate->add_flag("--break-lock", cal_opts.break_lock, break_lock_help);
 
   try {
     app.parse(argc, argv);
@@ -158,6 +165,10 @@ int main(int argc, char** argv) {
     }
   }
 
+  // The input the run was started with, for errors that do not name it themselves.
+  const std::string input_file = *sweep       ? sweep_opts.sweep_path
+                                 : *calibrate ? cal_opts.case_path
+                                              : run_opts.case_path;
   MPI_Init(&argc, &argv);
   int code = 0;
   {
@@ -176,8 +187,19 @@ int main(int argc, char** argv) {
     } catch (const ringdem::InputError& e) {
       if (comm.is_root()) std::cerr << e.format();
       code = kExitInputError;
+    } catch (const std::bad_alloc&) {
+      // Out of memory has no message of its own ("std::bad_alloc"): say which input was too big.
+      std::cerr << fmt::format(
+          "ringdem: error on rank {}: out of memory (std::bad_alloc) while running {}: the model "
+          "needs more memory than this process may use; make it smaller (fewer particles) or "
+          "spread it over more ranks on more nodes\n",
+          comm.rank(), input_file);
+      std::cerr.flush();
+      if (comm.size() > 1) MPI_Abort(world, kExitRuntimeError);
+      code = kExitRuntimeError;
     } catch (const std::exception& e) {
-      std::cerr << fmt::format("ringdem: error on rank {}: {}\n", comm.rank(), e.what());
+      std::cerr << fmt::format("ringdem: error on rank {} while running {}: {}\n", comm.rank(),
+                               input_file, e.what());
       std::cerr.flush();
       // The other ranks may be waiting in a collective: end the whole job.
       if (comm.size() > 1) MPI_Abort(world, kExitRuntimeError);

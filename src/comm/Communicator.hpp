@@ -54,7 +54,9 @@ class Communicator {
     const std::vector<char> bytes =
         allgather_bytes(reinterpret_cast<const char*>(local.data()), local.size() * sizeof(T));
     std::vector<T> out(bytes.size() / sizeof(T));
-    std::memcpy(out.data(), bytes.data(), bytes.size());
+    // memcpy with a null pointer is undefined even for zero bytes, and an empty vector's
+    // data() may be null (every rank gathering nothing, e.g. no rigid-body contacts).
+    if (!bytes.empty()) std::memcpy(out.data(), bytes.data(), bytes.size());
     return out;
   }
   /// Rank `root`'s `items` on every rank: the other ranks' `items` are replaced (resized to

@@ -512,7 +512,9 @@ const schema::Table<CaseConfig>& case_schema() {
           schema::integer("schema_version", &C::schema_version, schema::exactly(1),
                           "Version of this file format")
               .required(),
-          schema::text("name", &C::name, Type::kString, "Case name (output, banner)")
+          schema::text("name", &C::name, Type::kString,
+                       "Case name: the output folder results/<name> (no '/', '\\', '.' or "
+                       "'..') and the banner")
               .default_text("file name without extension"),
           schema::text("description", &C::description, Type::kString, "Free text"),
           schema::section("simulation", &C::simulation, simulation_table(),

@@ -23,6 +23,7 @@
 #include "domain/LinkingNumber.hpp"
 #include "domain/RingGenerator.hpp"
 #include "domain/RingNet.hpp"
+#include "io/CaseMagnitudes.hpp"
 #include "io/SizeEstimate.hpp"
 
 namespace ringdem {
@@ -364,6 +365,15 @@ void validate_rockfall(const CaseConfig& c, Context& ctx, const std::set<std::st
 }  // namespace
 
 void cross_validate_case(CaseConfig& c, Context& ctx) {
+  // The name is the output folder results/<name>: it must stay inside results/.
+  if (ctx.given("name") && !ctx.failed("name")) {
+    const std::string problem = schema::folder_name_problem(c.name);
+    if (!problem.empty())
+      ctx.error(ctx.where("name"), "name",
+                fmt::format("'{}' {}: the name is the output folder results/<name>, so it may "
+                            "not contain '/' or '\\' nor be '.' or '..'",
+                            c.name, problem));
+  }
   // Names and references.
   bool materials_ok = true, bonds_ok = true, bodies_ok = true;
   const auto materials =
@@ -517,6 +527,8 @@ void cross_validate_case(CaseConfig& c, Context& ctx) {
   }
   validate_scenario(c, ctx, bodies_ok);
   validate_rockfall(c, ctx, groups, materials, materials_ok);
+  // Last: it computes from the values the checks above resolved (bond moduli, net sizes).
+  check_case_magnitudes(c, ctx);
 }
 
 }  // namespace ringdem

@@ -1,6 +1,8 @@
 #include "io/Hdf5File.hpp"
 
 #include <algorithm>
+#include <filesystem>
+#include <system_error>
 #include <utility>
 
 namespace ringdem {
@@ -83,6 +85,14 @@ Hdf5File Hdf5File::open_parallel(const std::string& path, const Communicator& co
 
 Hdf5File Hdf5File::open_read(const std::string& path) {
   silence_hdf5();
+  // Say what the path is when it is not a file at all; HDF5 would only say "not an HDF5 file".
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) throw Hdf5Error(path + ": no such file");
+  if (std::filesystem::is_directory(status))
+    throw Hdf5Error(path + ": is a directory, not an HDF5 file");
+  if (!std::filesystem::is_regular_file(status))
+    throw Hdf5Error(path + ": not a regular file, so not an HDF5 file");
   if (H5Fis_hdf5(path.c_str()) <= 0)
     throw Hdf5Error(path + ": not an HDF5 file, or it is truncated or unreadable");
   const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);

@@ -151,6 +151,15 @@ std::string join_names(const std::vector<std::string>& names) {
   return out;
 }
 
+std::string folder_name_problem(const std::string& name) {
+  if (name.find('/') != std::string::npos || name.find('\\') != std::string::npos)
+    return "contains a path separator";
+  if (name == "." || name == "..") return "names the current or the parent folder";
+  for (char ch : name)
+    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) return "contains a control character";
+  return {};
+}
+
 std::string value_text(const Value& v) {
   struct Visitor {
     std::string operator()(std::monostate) const { return "none"; }

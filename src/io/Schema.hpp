@@ -172,6 +172,9 @@ std::optional<std::string> closest_match(std::string_view word,
 /// "; did you mean 'x'?" or "".
 std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);
 std::string join_names(const std::vector<std::string>& names);
+/// Why `name` cannot name a folder inside results/ (a path separator, "." or "..", a control
+/// character); empty when it can.
+std::string folder_name_problem(const std::string& name);
 
 /// Reads and checks a leaf value. `at` locates errors about the node itself (the key when the
 /// value is empty). Returns nothing (and reports) if the value is invalid.

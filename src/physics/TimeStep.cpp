@@ -23,9 +23,8 @@ StabilityLimits stability_limits(const ParticleStore& p, const BondStore& bonds,
   StabilityLimits s{inf, inf, inf, inf};
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     const Material& m = materials[static_cast<std::size_t>(p.material[k])];
-    const double t = M_PI * p.radius[k] * std::sqrt(m.density / m.shear_modulus()) /
-                     (0.1631 * m.poisson_ratio + 0.8766);
-    s.rayleigh = std::min(s.rayleigh, t);
+    s.rayleigh = std::min(
+        s.rayleigh, rayleigh_time_step(p.radius[k], m.density, m.shear_modulus(), m.poisson_ratio));
   }
   for (std::size_t k = 0; k < bonds.size(); ++k) {
     const std::int64_t a = p.index_of(bonds.gid_a[k]);
@@ -33,10 +32,11 @@ StabilityLimits stability_limits(const ParticleStore& p, const BondStore& bonds,
     if (a < 0 || b < 0) continue;
     const double mass = std::min(p.mass[a], p.mass[b]);
     const double inertia = std::min(p.inertia[a], p.inertia[b]);
-    s.bond_axial = std::min(s.bond_axial, std::sqrt(mass / bonds.k_axial[k]));
-    s.bond_shear = std::min(s.bond_shear, std::sqrt(mass / bonds.k_shear[k]));
-    s.bond_rotation = std::min(
-        s.bond_rotation, std::sqrt(inertia / std::max(bonds.k_bend_self[k], bonds.k_torsion[k])));
+    s.bond_axial = std::min(s.bond_axial, spring_time_step(mass, bonds.k_axial[k]));
+    s.bond_shear = std::min(s.bond_shear, spring_time_step(mass, bonds.k_shear[k]));
+    s.bond_rotation =
+        std::min(s.bond_rotation,
+                 spring_time_step(inertia, std::max(bonds.k_bend_self[k], bonds.k_torsion[k])));
   }
   return s;
 }

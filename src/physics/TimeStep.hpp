@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,17 @@ struct StabilityLimits {
   /// (name, value) of each limit, for the pre-flight report.
   std::vector<std::pair<std::string, double>> named() const;
 };
+
+/// Rayleigh limit of one sphere: pi R sqrt(rho/G) / (0.1631 nu + 0.8766) (physics.md §4).
+inline double rayleigh_time_step(double radius, double density, double shear_modulus,
+                                 double poisson_ratio) {
+  return M_PI * radius * std::sqrt(density / shear_modulus) / (0.1631 * poisson_ratio + 0.8766);
+}
+
+/// Period-type limit of a mass (or moment of inertia) on a spring: sqrt(m / k) (physics.md §4).
+inline double spring_time_step(double mass, double stiffness) {
+  return std::sqrt(mass / stiffness);
+}
 
 StabilityLimits stability_limits(const ParticleStore& p, const BondStore& bonds,
                                  const MaterialTable& materials);

@@ -10,14 +10,18 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "app/SweepCommand.hpp"
 #include "io/CaseLoader.hpp"
 
 namespace ringdem {
 namespace {
+
+namespace fs = std::filesystem;
 
 constexpr const char* kValidCase = R"(schema_version: 1
 description: "a ring, debris and a boulder"
@@ -530,6 +534,72 @@ TEST(CaseLoader, CliCheckExitsWithCode2AndPrintsLocation) {
   stderr_text << in.rdbuf();
   std::filesystem::remove(err);
   EXPECT_NE(stderr_text.str().find(bad + ":19:"), std::string::npos) << stderr_text.str();
+}
+
+TEST(CaseLoader, BadCasesAreRefusedWhereTheirHeadersSay) {
+  // Every file in tests/data/bad_cases states in "# expect: LINE:COL KEY: TEXT" lines the
+  // diagnostics it must give, all of them: the loader must report exactly those (TEXT a part of
+  // the message), and `ringdem check` must exit with code 2 and print them with file:line:col.
+  const std::regex expect_line(R"(^# expect: (\d+):(\d+) (\S+): (.*)$)");
+  const fs::path dir = fs::path(RINGDEM_SOURCE_DIR) / "tests/data/bad_cases";
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().extension() == ".yaml") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  ASSERT_GE(files.size(), 13u);
+  for (const fs::path& file : files) {
+    SCOPED_TRACE(file.filename().string());
+    struct Expected {
+      int line, column;
+      std::string key, text;
+    };
+    std::vector<Expected> expected;
+    std::ifstream in(file);
+    for (std::string line; std::getline(in, line);) {
+      std::smatch m;
+      if (std::regex_match(line, m, expect_line))
+        expected.push_back({std::stoi(m[1]), std::stoi(m[2]), m[3], m[4]});
+    }
+    ASSERT_FALSE(expected.empty()) << "no '# expect:' line";
+    try {
+      load_case(file.string());
+      ADD_FAILURE() << "accepted";
+      continue;
+    } catch (const InputError& e) {
+      ASSERT_EQ(e.diagnostics.size(), expected.size()) << e.format();
+      for (std::size_t k = 0; k < expected.size(); ++k) {
+        const Diagnostic& d = e.diagnostics[k];
+        EXPECT_EQ(d.file, file.string());
+        EXPECT_EQ(d.line, expected[k].line) << e.format();
+        EXPECT_EQ(d.column, expected[k].column) << e.format();
+        EXPECT_EQ(d.key_path, expected[k].key) << e.format();
+        EXPECT_NE(d.message.find(expected[k].text), std::string::npos) << e.format();
+      }
+    }
+    const std::string command =
+        "'" + std::string(RINGDEM_BINARY) + "' check '" + file.string() + "' > /dev/null 2>&1";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 2);
+  }
+}
+
+TEST(CaseLoader, SweepNameMustStayInsideResults) {
+  // The study's name is its output folder results/<name>, as a case's (bad_cases/
+  // name_outside_results.yaml): no path separators, no '..'.
+  const std::string text =
+      "schema_version: 1\nname: ../../X\ncase: c.yaml\n"
+      "parameters:\n  - {key: simulation.dt, values: [1e-6]}\n";
+  try {
+    load_sweep_from_string(text, "s.yaml");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    ASSERT_EQ(e.diagnostics.size(), 1u) << e.format();
+    EXPECT_EQ(e.diagnostics[0].key_path, "name");
+    EXPECT_EQ(e.diagnostics[0].line, 2);
+    EXPECT_NE(e.diagnostics[0].message.find("contains a path separator"), std::string::npos);
+  }
+  EXPECT_EQ(load_sweep_from_string(replaced(text, "../../X", "ok_X"), "s.yaml").name, "ok_X");
 }
 
 }  // namespace

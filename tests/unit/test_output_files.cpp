@@ -259,6 +259,15 @@ TEST(Duration, ParsesTheUsualForms) {
   EXPECT_THROW(parse_duration("ten"), std::invalid_argument);
   EXPECT_THROW(parse_duration("5x"), std::invalid_argument);
   EXPECT_THROW(parse_duration(""), std::invalid_argument);
+  // The message quotes the argument (never the bare "stod" of std::stod) and names the forms.
+  for (const std::string bad : {"ten", "1e999", "inf", "-5", "1:xx", "h"}) {
+    try {
+      parse_duration(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("'" + bad + "'"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // formulas: the boulder's recorded free fall is ballistic, its trajectory peaks the drop height
 // above the sagged net (so it was released as if dropped from rest there), the energy terms of
 // the series add up to a constant ledger, and the dissipation tallies grow.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -13,6 +14,7 @@
 #include <sstream>
 #include <string>
 
+#include "CommandLine.hpp"
 #include "TestCases.hpp"
 #include "app/RunCommand.hpp"
 #include "io/CaseLoader.hpp"
@@ -157,6 +159,56 @@ scenario:
   EXPECT_GT(at(last, "global_damping_J") + at(last, "friction_J") - at(0, "global_damping_J") -
                 at(0, "friction_J"),
             0.01 * drop_energy);
+  fs::remove_all(dir);
+}
+
+TEST(Rockfall, LogNeverPrintsPlaceholderValues) {
+  // A 2 x 3 net and a 5 kg boulder, cut off 2 ms after the first contact: the boulder is still
+  // moving down at the end, so there is no stopping time (issue 15 saw "stopped after -1.0000
+  // s"). Progress lines every millisecond of wall time come before the first rest check at
+  // t = sag_min_time, when the net's kinetic energy is not known yet (it printed "inf J").
+  std::string dir = (fs::temp_directory_path() / "ringdem_rockfall_log_XXXXXX").string();
+  ASSERT_NE(mkdtemp(dir.data()), nullptr);
+  const std::string case_path = dir + "/tiny.yaml";
+  std::ofstream(case_path) << R"(schema_version: 1
+simulation: {dt: 2.0e-6, end_time: 5.0, progress_interval: 1.0e-3}
+materials:
+  - {name: steel, density: 7800, youngs_modulus: 200.0e9, poisson_ratio: 0.3, restitution: 0.5, friction: 0.3}
+  - {name: rock, density: 2600, youngs_modulus: 30.0e9, poisson_ratio: 0.25, restitution: 0.3, friction: 0.5}
+bonds:
+  - {name: ring, derive_from: {windings: 12, wire_diameter: 0.003}, radius_multiplier: 0.43}
+particles:
+  nets:
+    - {group: net, rows: 2, columns: 3, bond: ring, material: steel, mass: 0.647, n_particles: 40,
+       shackles: {n_particles: 12}}
+scenario:
+  type: rockfall
+  rockfall: {boulder_mass: 5, boulder_density: 2600, boulder_material: rock, drop_height: 0.2,
+             sag_damping: 0.9, sag_kinetic_energy: 0.05, sag_min_time: 0.01,
+             sag_check_interval: 0.005, duration: 0.002, record_interval: 5.0e-4}
+)";
+  const testing::CommandResult r = testing::run_command(
+      fmt::format("'{}' run '{}' -o '{}/out'", RINGDEM_BINARY, case_path, dir));
+  const std::string& log = r.output;
+  ASSERT_EQ(r.status, 0) << log;
+  EXPECT_EQ(log.find("inf J"), std::string::npos) << log;
+  EXPECT_EQ(log.find("-1.0000"), std::string::npos) << log;
+  EXPECT_NE(log.find("net kinetic energy: first rest check at t = 0.01 s"), std::string::npos)
+      << log;
+  EXPECT_NE(log.find("still moving down at the end"), std::string::npos) << log;
+
+  // Independently of the driver's bookkeeping: the last row of the series has the boulder
+  // still going down, and the summary has no stopping time.
+  std::vector<std::string> header;
+  const auto rows = read_csv(dir + "/out/series.csv", header);
+  ASSERT_FALSE(rows.empty());
+  const auto vz = std::find(header.begin(), header.end(), "boulder_vz_m_s");
+  ASSERT_NE(vz, header.end());
+  EXPECT_LT(rows.back()[static_cast<std::size_t>(vz - header.begin())], 0.0);
+  std::ifstream in(dir + "/out/summary.json");
+  std::stringstream summary;
+  summary << in.rdbuf();
+  EXPECT_NE(summary.str().find("\"stopping_time_s\": null"), std::string::npos) << summary.str();
   fs::remove_all(dir);
 }
 

@@ -1,6 +1,7 @@
 // Ring reduction factors (physics.md §2), the tensile-test bookkeeping (load, displacement,
 // stopping) and the stage-transition detection on synthetic curves (validation.md §2).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -269,7 +270,8 @@ TEST(TensileRig, WritesSummaryAndSeries) {
       kTensileCase, "t.yaml",
       {"scenario.tensile_test.loading_rate=1.0", "scenario.tensile_test.max_displacement=0.004",
        "scenario.tensile_test.record_interval=0.001"});
-  const auto dir = std::filesystem::temp_directory_path() / "ringdem_tensile_outputs";
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("ringdem_tensile_outputs_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   TensileRunOptions options;
   options.output_dir = dir.string();
@@ -327,7 +329,8 @@ TEST(TensileRestart, ContinuesFromACheckpointBitForBit) {
   with_checkpoints.push_back("output.checkpoints_kept=100");
   const CaseConfig checkpointed = load_case_from_string(kTensileCase, "t.yaml", with_checkpoints);
 
-  const auto dir = std::filesystem::temp_directory_path() / "ringdem_tensile_restart";
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("ringdem_tensile_restart_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   TensileRunOptions quiet;
   quiet.verbose = false;

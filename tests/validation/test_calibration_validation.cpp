@@ -6,6 +6,7 @@
 // the paper-rate curve within a few per cent (docs/tensile.md, "Loading rate"), and reference
 // and trials use the same rate, so the rate cannot bias the recovered lambda.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -34,7 +35,8 @@ TEST(CalibrationValidation, RecoversTheRadiusMultiplierOfARingdemCurve) {
   const std::string case_path =
       std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_derived.yaml";
   const std::vector<std::string> fast{"scenario.tensile_test.loading_rate=0.5"};
-  const auto dir = std::filesystem::temp_directory_path() / "ringdem_calibration_validation";
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("ringdem_calibration_validation_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
 
   std::vector<std::string> reference_overrides = fast;

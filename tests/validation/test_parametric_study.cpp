@@ -12,6 +12,7 @@
 // gives neither the pin diameter nor the ring-pin friction, and two of the trends depend on
 // them; docs/tensile.md, "The studies of Table 2", has the map over both.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -48,7 +49,8 @@ std::vector<std::string> split(const std::string& line) {
 
 /// Runs inputs/sweeps/NAME.yaml on one rank into a temporary folder and reads its output.
 std::vector<SweepCaseResult> run_study(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("ringdem_" + name);
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("ringdem_" + name + "_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   SweepOptions options;
   options.sweep_path = std::string(RINGDEM_SOURCE_DIR) + "/inputs/sweeps/" + name + ".yaml";

@@ -1,0 +1,33 @@
+#pragma once
+
+/// Range and finiteness of the quantities a case derives from its keys. Every key may be a
+/// finite number in its own range and still give a derived value that overflows to infinity,
+/// underflows to zero, or counts more steps than a run can: `end_time: 1e308` planned
+/// -9223372036854775808 steps, a particle radius of 1e-200 m gives a particle of mass 0.
+/// These checks compute what the model builder and the time-step estimate will compute
+/// (particle volumes, masses and moments of inertia, densities from ring masses, bond moduli,
+/// sections and stiffnesses, the stability limits, the step and frame counts, rigid-body masses,
+/// the extent of the model against the block grid of the domain decomposition) and report a
+/// value out of range at the key that sets it, with file:line:col.
+
+#include "io/CaseConfig.hpp"
+#include "io/Schema.hpp"
+
+namespace ringdem {
+
+/// Most steps (and frames, checkpoints) one run may count. The time advances by t += dt: a dt
+/// below about 2^-52 t no longer moves it, and step counts are stored as doubles (exact to
+/// 2^53 ~ 9e15). 1e15 keeps dt above 4 ulp of the end time; at 10^7 steps per second such a
+/// run would take three years.
+inline constexpr double kMaxStepsPerRun = 1e15;
+
+/// Blocks of the domain decomposition and cells of the neighbour search are numbered with 21
+/// bits per axis, 2^20 each way from the origin; particles must start within half of that
+/// (2^19 cells of 2 * largest particle radius + skin) so that they can still move.
+inline constexpr double kMaxCellsFromOrigin = 524288.0;
+
+/// Reports derived quantities out of range to `ctx`. Runs after the other cross-key checks
+/// (cross_validate_case calls it last); entries with errors already are skipped.
+void check_case_magnitudes(const CaseConfig& config, schema::Context& ctx);
+
+}  // namespace ringdem

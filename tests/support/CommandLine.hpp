@@ -1,0 +1,92 @@
+#pragma once
+
+// Running the ringdem binary (or any command) from a test: in the foreground with its output
+// captured, or in the background to be signalled and waited for.
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ringdem::testing {
+
+struct CommandResult {
+  int status = -1;     ///< exit code; -1 if the command did not exit normally
+  std::string output;  ///< stdout and stderr together
+};
+
+/// Runs `command` with /bin/sh, stderr merged into stdout.
+inline CommandResult run_command(const std::string& command) {
+  CommandResult r;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) throw std::runtime_error("popen failed: " + command);
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr)
+    r.output += buffer;
+  const int raw = pclose(pipe);
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return r;
+}
+
+/// Starts `argv` (argv[0] the program path) in the background, stdout and stderr to `log`.
+/// Returns its pid.
+inline pid_t spawn(const std::vector<std::string>& argv, const std::string& log) {
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      dup2(fd, 1);
+      dup2(fd, 2);
+      close(fd);
+    }
+    std::vector<char*> args;
+    for (const std::string& a : argv)
+      args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    execv(args[0], args.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+/// Waits for `pid`; its exit code, or 128 + the signal that ended it.
+inline int wait_for(pid_t pid) {
+  int raw = 0;
+  if (waitpid(pid, &raw, 0) != pid) return -1;
+  if (WIFEXITED(raw)) return WEXITSTATUS(raw);
+  if (WIFSIGNALED(raw)) return 128 + WTERMSIG(raw);
+  return -1;
+}
+
+/// A process started by spawn(): killed and reaped on destruction unless waited for, so that a
+/// failed assertion does not leave it running.
+class BackgroundProcess {
+ public:
+  BackgroundProcess(const std::vector<std::string>& argv, const std::string& log)
+      : pid_(spawn(argv, log)) {}
+  BackgroundProcess(const BackgroundProcess&) = delete;
+  BackgroundProcess& operator=(const BackgroundProcess&) = delete;
+  ~BackgroundProcess() {
+    if (pid_ <= 0) return;
+    kill(pid_, SIGKILL);
+    waitpid(pid_, nullptr, 0);
+  }
+  pid_t pid() const { return pid_; }
+  /// Its exit code, or 128 + the signal that ended it.
+  int wait() {
+    const int code = wait_for(pid_);
+    pid_ = 0;
+    return code;
+  }
+
+ private:
+  pid_t pid_;
+};
+
+}  // namespace ringdem::testing

@@ -1,0 +1,85 @@
+// Errors of the command line that must name what they are about (issue 15, item 9): running out
+// of memory names the case file, a folder given as a restart file or to `info` is called a
+// folder, a bad --max-walltime quotes the value. Each runs the ringdem binary.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "CommandLine.hpp"
+
+namespace ringdem {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::run_command;
+
+const std::string kBinary = RINGDEM_BINARY;
+const std::string kCase = std::string(RINGDEM_SOURCE_DIR) + "/tests/data/restart_net.yaml";
+
+std::string temp_dir(const std::string& tag) {
+  std::string templ = (fs::temp_directory_path() / ("ringdem_" + tag + "_XXXXXX")).string();
+  if (!mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
+  return templ;
+}
+
+TEST(CliErrors, OutOfMemoryNamesTheCaseFile) {
+#ifdef __SANITIZE_ADDRESS__
+  GTEST_SKIP() << "AddressSanitizer needs far more address space than the limit set here, and "
+                  "its allocator reports running out of memory itself";
+#endif
+  // 8 million spheres need about 3 GB; with the address space limited to 1 GB the build runs
+  // out of memory within a second.
+  const std::string dir = temp_dir("cli_oom");
+  const std::string case_path = dir + "/big.yaml";
+  std::ofstream(case_path) << R"(schema_version: 1
+simulation: {end_time: 1.0e-4}
+materials:
+  - {name: rock, density: 2600, youngs_modulus: 30.0e9}
+particles:
+  lattices:
+    - {origin: [0, 0, 0], count: [200, 200, 200], spacing: 0.02, particle_radius: 0.005, material: rock}
+)";
+  const testing::CommandResult r = run_command(
+      fmt::format("ulimit -v 1000000 && '{}' run '{}' -o '{}/out' -q", kBinary, case_path, dir));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("out of memory (std::bad_alloc) while running " + case_path),
+            std::string::npos)
+      << r.output;
+  fs::remove_all(dir);
+}
+
+TEST(CliErrors, FolderAsRestartFileIsCalledAFolder) {
+  const std::string dir = temp_dir("cli_restart_dir");
+  const testing::CommandResult r = run_command(
+      fmt::format("'{}' run '{}' -o '{}/out' -q --restart '{}'", kBinary, kCase, dir, dir));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find(dir + ": error: --restart: is a directory, not a checkpoint file"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("not an HDF5 file"), std::string::npos) << r.output;
+
+  const testing::CommandResult info = run_command(fmt::format("'{}' info '{}'", kBinary, dir));
+  EXPECT_EQ(info.status, 2) << info.output;
+  EXPECT_NE(info.output.find(dir + ": is a directory, not an HDF5 file"), std::string::npos)
+      << info.output;
+  fs::remove_all(dir);
+}
+
+TEST(CliErrors, BadMaxWalltimeQuotesTheValue) {
+  const std::string dir = temp_dir("cli_walltime");
+  for (const std::string value : {"ten", "1e999"}) {
+    const testing::CommandResult r = run_command(
+        fmt::format("'{}' run '{}' -o '{}/out' -q --max-walltime {}", kBinary, kCase, dir, value));
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("--max-walltime: '" + value + "'"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("stod"), std::string::npos) << r.output;
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace ringdem
