@@ -2,7 +2,8 @@
 # Runs the test suite: installs missing Debian packages, configures, builds, runs ctest.
 #   scripts/test.sh            fast tests (unit + MPI at 1, 2, 3 ranks); the CI set
 #   scripts/test.sh --all      also the long validation runs (ctest label "long")
-#   scripts/test.sh --preset asan   the same under AddressSanitizer + UBSan
+#   scripts/test.sh --preset asan   under AddressSanitizer + UBSan: the fast tests but the
+#                                   5-minute rockfall run, MPI tests at 2 ranks (.ci/run does it)
 #   extra arguments after -- go to ctest (e.g. -- -R Bond)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -15,7 +16,7 @@ while [ $# -gt 0 ]; do
     --all) label_args=(); shift ;;
     --preset) preset="$2"; shift 2 ;;
     --) shift; ctest_extra=("$@"); break ;;
-    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,8p' "$0"; exit 0 ;;
     *) ringdem_log "unknown option $1"; exit 2 ;;
   esac
 done
