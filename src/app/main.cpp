@@ -44,6 +44,9 @@ int main(int argc, char** argv) {
   run->add_option("--restart", run_opts.restart,
                   "continue from a checkpoint: its path, or 'auto' for the newest valid one in "
                   "<output>/checkpoints (a fresh start when there is none)");
+  run->add_flag("--allow-changes", run_opts.allow_changes,
+                "on a restart, apply changed keys that can be applied to the saved state (time "
+                "step, damping, contact coefficients; docs/output.md) instead of refusing them");
   std::string max_walltime;
   run->add_option("--max-walltime", max_walltime,
                   "write a checkpoint and exit with code 3 after this wall time (seconds, or "
