@@ -69,6 +69,7 @@ std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings
   } else if (!options_.restart.empty()) {
     candidates.push_back(options_.restart);
   }
+  std::string newest_error;  // why the newest checkpoint was skipped, for the final message
   // Every rank reads the same file; agree anyway (a rank may fail to read it). Returns false
   // when `auto` is to try the next one.
   const auto agreed = [&](const std::string& path, const std::string& error) {
@@ -76,6 +77,7 @@ std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings
     if (options_.restart != "auto")
       throw Hdf5Error(error.empty() ? path + ": another rank could not read it" : error);
     if (root) fmt::print("restart auto: skipping {}\n", error.empty() ? path : error);
+    if (newest_error.empty()) newest_error = error.empty() ? path : error;
     return false;
   };
   for (const std::string& path : candidates) {
@@ -119,7 +121,8 @@ std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings
     return sim;
   }
   if (options_.restart == "auto" && !candidates.empty())
-    throw Hdf5Error("restart auto: no readable checkpoint in " + checkpoints_.dir());
+    throw Hdf5Error("restart auto: no readable checkpoint in " + checkpoints_.dir() +
+                    " (the newest: " + newest_error + ")");
   // The drivers write the frame of the initial state themselves (write_frame()).
   next_frame_time_ = config_.output.frame_interval;
   next_frame_step_ = config_.output.frame_interval_steps;
