@@ -13,7 +13,7 @@
 namespace ringdem {
 
 std::int64_t FreeRunDriver::total_steps(const Simulation& sim) const {
-  return static_cast<std::int64_t>(std::ceil(config_.simulation.end_time / sim.dt() - 1e-9));
+  return sim.steps_until(config_.simulation.end_time);
 }
 
 std::int64_t FreeRunDriver::planned_steps(const Simulation& sim) const {

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <system_error>
 
+#include "io/CaseText.hpp"
 #include "io/Checkpoint.hpp"
 #include "io/Hdf5File.hpp"
 
@@ -108,13 +109,14 @@ int print_file_info(const std::string& path, std::ostream& out) {
           "{}: ringdem checkpoint (written by ringdem {} on {} rank{})\n"
           "  case {}, t = {:.9g} s, step {}, dt = {:.6g} s, {} neighbour rebuilds, frame "
           "segment {}\n"
-          "  {} particles, {} bonds, {} rigid bodies, {} contact springs\n",
+          "  {} particles, {} bonds, {} rigid bodies, {} contact springs\n"
+          "  model fingerprint {} ({} case keys in /case/text)\n",
           path, info.version, info.ranks, info.ranks == 1 ? "" : "s", info.case_name, info.time,
           info.step, info.dt, info.rebuilds, info.segment, info.particles, info.bonds, info.bodies,
-          info.history_entries);
+          info.history_entries, info.model_fingerprint, case_text_keys(info.case_text).size());
       const auto checked = verify_checkpoint(path);
       out << fmt::format("  checksums: {} datasets verified\n", checked.size());
-      for (const char* g : {"/particles", "/bonds", "/history", "/bodies", "/driver"})
+      for (const char* g : {"/particles", "/bonds", "/history", "/bodies", "/driver", "/case"})
         print_datasets(f, g, out);
       return 0;
     }

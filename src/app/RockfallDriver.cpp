@@ -163,9 +163,15 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
   }
   segment_start_ = impact_start_ = Clock::now();
 
-  if (control_->restarted())
+  if (control_->restarted()) {
+    // The net's damping of this phase, from the case (a restart may have applied a change).
+    const std::optional<double> net_damping =
+        phase_ == kSag ? rf_.sag_damping
+                       : (rf_.impact_damping ? rf_.impact_damping : rf_.sag_damping);
+    if (net_damping) sim.set_group_damping(net_, *net_damping);
     // The checkpoint was written after between_steps(): nothing is due before the next step.
     return phase_ == kImpact && impact_over(sim);
+  }
 
   // Centre of the net, its initial top, and the reference of the energy ledger.
   const GroupExtent e = group_extent(sim, net_, 0, 0, 0);

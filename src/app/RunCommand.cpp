@@ -29,7 +29,7 @@ void print_banner(const CaseConfig& config, const std::string& out_dir, const Co
 }
 
 void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64_t planned_steps,
-                     bool print) {
+                     bool print, const std::string& time_step_origin) {
   const std::int64_t particles = sim.global_particles();
   const std::int64_t bonds = sim.global_bonds();
   const auto ranks = sim.decomposition().report(sim.model().particles, sim.model().bonds);
@@ -58,10 +58,11 @@ void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64
         1e3 * f.equivalent_radius, 1e3 * b.derived_particle_radius, b.radius_multiplier, f.gamma,
         f.eta, f.bending_reduction(), 1e-9 * f.bond_youngs_modulus);
   }
-  fmt::print(
-      "time step {:.4g} s ({}), {} steps planned\n", sim.dt(),
-      config.simulation.dt ? "fixed" : fmt::format("auto, safety {}", config.simulation.dt_safety),
-      planned_steps);
+  const std::string origin = config.simulation.dt
+                                 ? std::string("fixed")
+                                 : fmt::format("auto, safety {}", config.simulation.dt_safety);
+  fmt::print("time step {:.4g} s ({}), {} steps planned\n", sim.dt(),
+             time_step_origin.empty() ? origin : origin + ", " + time_step_origin, planned_steps);
   for (const auto& [name, limit] : sim.limits().named())
     if (std::isfinite(limit))
       fmt::print("  {:<14} limit {:.4g} s: dt is {:.3f} of it\n", name, limit, sim.dt() / limit);
@@ -91,6 +92,7 @@ int run_case(const CaseConfig& config, const RunOptions& options, const Communic
   run.max_walltime = options.max_walltime;
   run.force_size = options.force_size;
   run.break_lock = options.break_lock;
+  run.allow_changes = options.allow_changes;
   std::unique_ptr<ScenarioDriver> driver = make_scenario_driver(config);
   return run_scenario(*driver, run, comm);
 }

@@ -17,10 +17,11 @@ struct RunOptions {
   std::string output_dir;  ///< empty: results/<case name>
   std::vector<std::string> overrides;
   bool quiet = false;
-  std::string restart;        ///< "", "auto" or a checkpoint path
-  double max_walltime = 0.0;  ///< seconds; checkpoint and exit 3 when reached (0: no limit)
-  bool force_size = false;    ///< run even beyond the memory estimate
-  bool break_lock = false;    ///< take over a lock of the output folder held on another host
+  std::string restart;         ///< "", "auto" or a checkpoint path
+  double max_walltime = 0.0;   ///< seconds; checkpoint and exit 3 when reached (0: no limit)
+  bool force_size = false;     ///< run even beyond the memory estimate
+  bool break_lock = false;     ///< take over a lock of the output folder held on another host
+  bool allow_changes = false;  ///< --allow-changes: a restart applies changed keys it may apply
 };
 
 /// `ringdem run`: the case's scenario driver (app/ScenarioDriver.hpp) run by the one scenario
@@ -36,9 +37,10 @@ std::string format_duration(double seconds);
 /// Banner, case, ranks, output folder and the resolved configuration.
 void print_banner(const CaseConfig& config, const std::string& out_dir, const Communicator& comm);
 /// Particles, bonds, bodies, time step against its stability limits, derived bond moduli.
-/// Collective (every rank calls it); prints only if `print`.
+/// `time_step_origin` says where a restart's time step comes from (RunControl); empty: the
+/// case's (fixed or auto). Collective (every rank calls it); prints only if `print`.
 void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64_t planned_steps,
-                     bool print);
+                     bool print, const std::string& time_step_origin = {});
 /// Steps, particle-steps/s and the time per phase (rank 0 of the simulation).
 void print_timing(const Simulation& sim, double loop_seconds, double particle_steps_per_s,
                   int ranks);

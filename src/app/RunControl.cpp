@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "engine/ModelBuilder.hpp"
+#include "io/CaseText.hpp"
 #include "io/Hdf5File.hpp"
 #include "io/InputError.hpp"
 
@@ -77,24 +78,41 @@ std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings
           "file, or --restart auto for the newest valid one in <output>/checkpoints"}});
     candidates.push_back(options_.restart);
   }
+  std::string newest_error;  // why the newest checkpoint was skipped, for the final message
+  // Every rank reads the same file; agree anyway (a rank may fail to read it). Returns false
+  // when `auto` is to try the next one.
+  const auto agreed = [&](const std::string& path, const std::string& error) {
+    if (!comm_.any(!error.empty())) return true;
+    if (options_.restart != "auto")
+      throw Hdf5Error(error.empty() ? path + ": another rank could not read it" : error);
+    if (root) fmt::print("restart auto: skipping {}\n", error.empty() ? path : error);
+    if (newest_error.empty()) newest_error = error.empty() ? path : error;
+    return false;
+  };
   for (const std::string& path : candidates) {
+    CheckpointInfo info;
+    std::string error;
+    try {
+      info = read_checkpoint_info(path);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    if (!agreed(path, error)) continue;
+    // The case the checkpoint was written by against this one: a readable checkpoint of a
+    // changed case is refused, never skipped for an older one (they hold the same case).
+    const std::vector<CaseChange> changes =
+        case_changes(info.case_text, canonical_case_text(config_));
+    check_restart_changes(changes, options_.allow_changes,
+                          config_.source_path.empty() ? config_.name : config_.source_path, path);
     Model model = build_model_without_particles(config_);
     DriverState driver;
-    CheckpointInfo info;
     RestartState state;
-    std::string error;
     try {
       state = read_checkpoint(comm_, path, model, driver, &info);
     } catch (const std::exception& e) {
       error = e.what();
     }
-    // Every rank read the same file; agree anyway (a rank may fail to read it).
-    if (comm_.any(!error.empty())) {
-      if (options_.restart != "auto")
-        throw Hdf5Error(error.empty() ? path + ": another rank could not read it" : error);
-      if (root) fmt::print("restart auto: skipping {}\n", error.empty() ? path : error);
-      continue;
-    }
+    if (!agreed(path, error)) continue;
     if (root)
       fmt::print("restart from {}: t = {:.6g} s, step {}, written by {} rank{}\n", path, info.time,
                  info.step, info.ranks, info.ranks == 1 ? "" : "s");
@@ -106,15 +124,110 @@ std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings
     next_frame_step_ = static_cast<std::int64_t>(driver.get("run.next_frame_step", 0.0));
     next_checkpoint_time_ = driver.get("run.next_checkpoint_time", 0.0);
     last_frame_time_ = -1.0;
-    return std::make_unique<Simulation>(std::move(model), comm_, settings, state);
+    auto sim = std::make_unique<Simulation>(std::move(model), comm_, settings, state);
+    time_step_origin_ = "from the checkpoint";
+    apply_changes(*sim, changes, settings);
+    return sim;
   }
   if (options_.restart == "auto" && !candidates.empty())
-    throw Hdf5Error("restart auto: no readable checkpoint in " + checkpoints_.dir());
+    throw Hdf5Error("restart auto: no readable checkpoint in " + checkpoints_.dir() +
+                    " (the newest: " + newest_error + ")");
   // The drivers write the frame of the initial state themselves (write_frame()).
   next_frame_time_ = config_.output.frame_interval;
   next_frame_step_ = config_.output.frame_interval_steps;
   next_checkpoint_time_ = config_.output.checkpoint_interval;
-  return std::make_unique<Simulation>(build_model(config_, comm_), comm_, settings);
+  auto sim = std::make_unique<Simulation>(build_model(config_, comm_), comm_, settings);
+  if (!config_.simulation.allow_initial_overlap) check_initial_overlaps(*sim);
+  return sim;
+}
+
+void RunControl::apply_changes(Simulation& sim, const std::vector<CaseChange>& changes,
+                               const SimulationSettings& settings) {
+  bool time_step = false, damping = false;
+  for (const CaseChange& c : changes) {
+    if (c.rule->kind != RestartKeyKind::kApplied) continue;
+    time_step = time_step || c.rule->effect == RestartEffect::kTimeStep;
+    damping = damping || c.rule->effect == RestartEffect::kDamping;
+  }
+  // Every group's coefficient from the case (a rockfall driver then sets its net's own again).
+  if (damping) {
+    const auto& groups = sim.model().group_names;
+    for (std::size_t g = 0; g < groups.size(); ++g)
+      sim.set_group_damping(static_cast<int>(g), group_damping(config_, groups[g]));
+  }
+  std::string dt_text;
+  if (time_step) {
+    const double dt = settings.dt > 0.0 ? settings.dt : settings.dt_safety * sim.limits().min();
+    if (dt != sim.dt()) {
+      dt_text = fmt::format("time step {:.6g} s -> {:.6g} s from step {} (t = {:.6g} s) on",
+                            sim.dt(), dt, sim.steps(), sim.time());
+      time_step_origin_ = fmt::format("changed on restart from {:.6g} s", sim.dt());
+      sim.change_time_step(dt);
+    }
+  }
+  if (!comm_.is_root() || changes.empty()) return;
+  std::size_t applied = 0;
+  for (const CaseChange& c : changes)
+    applied += c.rule->kind == RestartKeyKind::kApplied;
+  if (applied > 0) {
+    fmt::print("restart: applied {} changed key{} (--allow-changes):\n", applied,
+               applied == 1 ? "" : "s");
+    for (const CaseChange& c : changes)
+      if (c.rule->kind == RestartKeyKind::kApplied)
+        fmt::print("  {} ({})\n", describe_change(c), c.rule->note);
+    if (!dt_text.empty()) fmt::print("  {}\n", dt_text);
+  }
+  if (options_.verbose && applied < changes.size()) {
+    fmt::print("restart: changed keys that may change on any restart:\n");
+    for (const CaseChange& c : changes)
+      if (c.rule->kind == RestartKeyKind::kFree)
+        fmt::print("  {} ({})\n", describe_change(c), c.rule->note);
+  }
+  std::fflush(stdout);
+}
+
+void RunControl::check_initial_overlaps(const Simulation& sim) const {
+  const double tolerance = config_.simulation.initial_overlap_tolerance;
+  const OverlapReport report = sim.overlaps(tolerance);
+  if (report.count == 0) return;
+  const Model& model = sim.model();
+  const auto vec = [](const Vec3& v) {
+    return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z);
+  };
+  const auto group = [&](std::int32_t g) {
+    return g >= 0 && static_cast<std::size_t>(g) < model.group_names.size()
+               ? model.group_names[static_cast<std::size_t>(g)]
+               : std::string("?");
+  };
+  const std::string file = config_.source_path.empty() ? config_.name : config_.source_path;
+  std::vector<Diagnostic> d;
+  d.push_back({file, 0, 0, "",
+               fmt::format("{} contact{} overlap{} at the start by more than {:g} of the smaller "
+                           "radius (simulation.initial_overlap_tolerance); {} would start with "
+                           "large contact forces and energy:",
+                           report.count, report.count == 1 ? "" : "s", report.count == 1 ? "s" : "",
+                           tolerance, report.count == 1 ? "it" : "they")});
+  for (const OverlapReport::Entry& e : report.deepest) {
+    const std::string partner =
+        e.partner_is_body
+            ? fmt::format("rigid body '{}' (at {})",
+                          model.bodies[static_cast<std::size_t>(e.partner)].name,
+                          vec(e.partner_position))
+            : fmt::format("particle {} (group {}, at {}, radius {:.6g} m)", e.partner,
+                          group(e.partner_group), vec(e.partner_position), e.partner_radius);
+    d.push_back({file, 0, 0, "",
+                 fmt::format("particle {} (group {}, at {}, radius {:.6g} m) and {} overlap by "
+                             "{:.4g} m, {:.3g} % of the smaller radius",
+                             e.gid, group(e.group), vec(e.position), e.radius, partner, e.depth,
+                             100.0 * e.relative_depth)});
+  }
+  if (report.count > static_cast<std::int64_t>(report.deepest.size()))
+    d.push_back({file, 0, 0, "",
+                 fmt::format("... and {} more",
+                             report.count - static_cast<std::int64_t>(report.deepest.size()))});
+  d.push_back({file, 0, 0, "simulation.allow_initial_overlap",
+               "move the particles apart, or set it to true if the overlap is intended"});
+  throw InputError(std::move(d));
 }
 
 void RunControl::before_step(Simulation& sim) const {
@@ -150,8 +263,8 @@ std::string RunControl::write_checkpoint(Simulation& sim,
   state.set("run.next_frame_time", next_frame_time_);
   state.set("run.next_frame_step", static_cast<double>(next_frame_step_));
   state.set("run.next_checkpoint_time", next_checkpoint_time_);
-  const std::string path = checkpoints_.write(sim.comm(), sim.model(), sim.restart_state(), state,
-                                              segment_, config_.name);
+  const std::string path =
+      checkpoints_.write(sim.comm(), sim.model(), sim.restart_state(), state, segment_, config_);
   last_checkpoint_wall_ = std::chrono::steady_clock::now();
   return path;
 }

@@ -10,6 +10,7 @@
 #include "io/CaseConfig.hpp"
 #include "io/Checkpoint.hpp"
 #include "io/FrameWriter.hpp"
+#include "io/RestartChanges.hpp"
 
 namespace ringdem {
 
@@ -31,6 +32,9 @@ struct RunControlOptions {
   std::string restart;        ///< "", "auto" or a checkpoint path
   double max_walltime = 0.0;  ///< seconds; 0: no limit
   bool verbose = true;
+  /// A restart applies changed keys that may be applied (io/RestartChanges) instead of
+  /// refusing them.
+  bool allow_changes = false;
   /// SIGUSR1 and max_walltime checkpoint and stop the run (never without an output folder).
   bool handle_stop_requests = true;
 };
@@ -44,7 +48,9 @@ class RunControl {
   RunControl(const CaseConfig& config, RunControlOptions options, const Communicator& comm);
 
   /// The simulation: fresh, or restored from the checkpoint the options name (driver state in
-  /// driver_state()). Collective.
+  /// driver_state()). Collective. A restart compares the case with the checkpoint's and throws
+  /// InputError for changes it may not take over (io/RestartChanges); a fresh start throws
+  /// InputError for contacts that overlap at creation (unless the case allows them).
   std::unique_ptr<Simulation> make_simulation(const SimulationSettings& settings);
 
   bool restarted() const { return restarted_; }
@@ -52,6 +58,9 @@ class RunControl {
   const DriverState& driver_state() const { return driver_state_; }
   /// Simulated time of the checkpoint restarted from (0 on a fresh start).
   double restart_time() const { return restart_time_; }
+  /// Where the time step comes from on a restart ("from the checkpoint", "changed on restart
+  /// ..."); empty on a fresh start.
+  const std::string& time_step_origin() const { return time_step_origin_; }
 
   /// Before each step: passes this rank's stop request (signal or wall-time) to the step.
   void before_step(Simulation& sim) const;
@@ -74,6 +83,12 @@ class RunControl {
   std::int64_t segment() const { return segment_; }
 
  private:
+  /// Applies the changed keys of kind kApplied to a simulation restored from a checkpoint.
+  void apply_changes(Simulation& sim, const std::vector<CaseChange>& changes,
+                     const SimulationSettings& settings);
+  /// Throws InputError when contacts of the initial state overlap beyond the tolerance.
+  void check_initial_overlaps(const Simulation& sim) const;
+
   const CaseConfig& config_;
   RunControlOptions options_;
   const Communicator& comm_;
@@ -82,6 +97,7 @@ class RunControl {
   std::int64_t segment_ = 0;
   bool restarted_ = false;
   double restart_time_ = 0.0;
+  std::string time_step_origin_;
   DriverState driver_state_;
   double next_frame_time_ = 0.0;
   std::int64_t next_frame_step_ = 0;

@@ -61,12 +61,13 @@ int run_scenario(ScenarioDriver& driver, const ScenarioRunOptions& options,
   control_options.output_dir = options.output_dir;
   control_options.restart = options.restart;
   control_options.max_walltime = options.max_walltime;
+  control_options.allow_changes = options.allow_changes;
   control_options.verbose = options.verbose;
   control_options.handle_stop_requests = options.handle_stop_requests;
   RunControl control(config, control_options, comm);
   std::unique_ptr<Simulation> sim_ptr = control.make_simulation(settings_from_case(config));
   Simulation& sim = *sim_ptr;
-  print_preflight(sim, config, driver.planned_steps(sim), print);
+  print_preflight(sim, config, driver.planned_steps(sim), print, control.time_step_origin());
 
   bool done = driver.start(sim, ScenarioContext{control, options.output_dir, options.verbose});
   // Built once: after_step takes it every step.

@@ -8,10 +8,11 @@
 namespace ringdem {
 
 struct ScenarioRunOptions {
-  std::string output_dir;     ///< empty: write nothing (no series, summary, frames, checkpoints)
-  bool verbose = true;        ///< banner, pre-flight, progress lines, timing table (rank 0)
-  std::string restart;        ///< "", "auto" or a checkpoint path
-  double max_walltime = 0.0;  ///< seconds; checkpoint and exit 3 when reached (0: no limit)
+  std::string output_dir;      ///< empty: write nothing (no series, summary, frames, checkpoints)
+  bool verbose = true;         ///< banner, pre-flight, progress lines, timing table (rank 0)
+  std::string restart;         ///< "", "auto" or a checkpoint path
+  double max_walltime = 0.0;   ///< seconds; checkpoint and exit 3 when reached (0: no limit)
+  bool allow_changes = false;  ///< a restart applies changed keys it may apply (RunControl)
   /// SIGUSR1 and --max-walltime checkpoint and stop the run. Off for the many short runs of a
   /// sweep or a calibration, which cannot be continued as a whole.
   bool handle_stop_requests = true;

@@ -67,7 +67,7 @@ TensileDriver::TensileDriver(const CaseConfig& config)
       stop_(test_.failure_load_fraction, test_.max_displacement) {}
 
 std::int64_t TensileDriver::planned_steps(const Simulation& sim) const {
-  return static_cast<std::int64_t>(std::ceil(end_time_ / sim.dt() - 1e-9));
+  return sim.steps_until(end_time_);
 }
 
 bool TensileDriver::start(Simulation& sim, const ScenarioContext& context) {

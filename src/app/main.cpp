@@ -52,6 +52,9 @@ int main(int argc, char** argv) {
       "take over the output folder's lock (ringdem.lock) even though it names a run on another "
       "host: only when you know that run has ended (e.g. its node failed)";
   run->add_flag("--break-lock", run_opts.break_lock, break_lock_help);
+  run->add_flag("--allow-changes", run_opts.allow_changes,
+                "on a restart, apply changed keys that can be applied to the saved state (time "
+                "step, damping, contact coefficients; docs/output.md) instead of refusing them");
   std::string max_walltime;
   run->add_option("--max-walltime", max_walltime,
                   "write a checkpoint and exit with code 3 after this wall time (seconds, or "

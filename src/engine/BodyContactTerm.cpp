@@ -13,6 +13,15 @@ void BodyContactTerm::export_history(ContactHistory& out) const {
       out.push_back({ContactHistoryEntry::Partner::kRigidBody, gid_[w], body_[w], spring_[w]});
 }
 
+void BodyContactTerm::find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies,
+                                    double fraction, std::vector<ContactOverlap>& out) const {
+  for (std::size_t w = 0; w < particle_.size(); ++w) {
+    const std::uint32_t k = particle_[w];
+    const double depth = p.radius[k] - bodies[body_[w]].closest(p.position[k]).distance;
+    if (depth > fraction * p.radius[k]) out.push_back({k, body_[w], true, depth});
+  }
+}
+
 void BodyContactTerm::rebuild(RebuildContext& ctx) {
   const ParticleStore& p = ctx.particles;
   // Candidates: owned particles within the skin of a body's surface (a body is on every rank,

@@ -18,6 +18,8 @@ class BodyContactTerm final : public ForceTerm {
   void rebuild(RebuildContext& ctx) override;
   void compute(ComputeContext& ctx) override;
   void export_history(ContactHistory& out) const override;
+  void find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies, double fraction,
+                     std::vector<ContactOverlap>& out) const override;
 
   /// One particle's contact load on a rigid body in the last compute(), summed by the
   /// simulation in (body, gid) order over all ranks.

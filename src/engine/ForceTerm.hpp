@@ -46,6 +46,15 @@ struct ComputeContext {
   double dt;
 };
 
+/// A contact that overlaps (Simulation::initial_overlaps): particle `index` and its partner, a
+/// particle (by index) or a rigid body (by number).
+struct ContactOverlap {
+  std::uint32_t index;
+  std::uint32_t partner;
+  bool partner_is_body;
+  double depth;  ///< r_i + r_j - distance, or r_i - distance to the body's surface (m)
+};
+
 /// One kind of interaction (DESIGN §2): bonds of one model, particle pairs, particle–rigid-
 /// body contacts; later ropes and brakes. A term owns its parameters and state, takes its
 /// slot ranges from the allocator at every rebuild, registers each slot with the gather map
@@ -66,6 +75,10 @@ class ForceTerm {
   virtual void compute(ComputeContext& ctx) = 0;
   /// Appends the history (tangential springs) of touching pairs, for migration and checkpoints.
   virtual void export_history(ContactHistory& /*out*/) const {}
+  /// Appends this term's contact candidates (since the last rebuild) that overlap by more than
+  /// `fraction` of the smaller radius (a body's radius counts as infinite).
+  virtual void find_overlaps(const ParticleStore& /*p*/, const std::vector<RigidBody>& /*bodies*/,
+                             double /*fraction*/, std::vector<ContactOverlap>& /*out*/) const {}
   /// Set when the last compute() changed the topology (a bond broke): forces a rebuild.
   virtual bool topology_changed() const { return false; }
 };

@@ -20,6 +20,12 @@ int Model::group_id(const std::string& name) const {
   return it == group_names.end() ? -1 : static_cast<int>(it - group_names.begin());
 }
 
+double group_damping(const CaseConfig& c, const std::string& group) {
+  for (const auto& g : c.damping.groups)
+    if (g.group == group) return g.coefficient;
+  return c.damping.global;
+}
+
 namespace {
 
 int material_index(const MaterialTable& t, const std::string& name) {
@@ -35,12 +41,6 @@ int ensure_group(Model& model, const std::string& name) {
     g = static_cast<int>(model.group_names.size()) - 1;
   }
   return g;
-}
-
-double damping_of(const CaseConfig& c, const std::string& group) {
-  for (const auto& g : c.damping.groups)
-    if (g.group == group) return g.coefficient;
-  return c.damping.global;
 }
 
 /// Rotation taking the body z axis onto the unit vector n.
@@ -63,7 +63,7 @@ RingSpec ring_spec(Model& model, const CaseConfig& c, const RingConfig& ring, in
   const double particle_volume = 4.0 / 3.0 * M_PI * std::pow(ring.particle_radius, 3);
   s.density = ring.mass ? *ring.mass / (ring.n_particles * particle_volume)
                         : model.materials[static_cast<std::size_t>(s.material)].density;
-  s.damping = damping_of(c, ring.group);
+  s.damping = group_damping(c, ring.group);
   s.motion = ring.motion;
   s.velocity = ring.velocity;
   s.bond_type = bond_type;
@@ -204,7 +204,7 @@ ModelPlan plan_model(const CaseConfig& c) {
     s.seed = lat.seed;
     s.velocity = lat.velocity;
     s.density = model.materials[static_cast<std::size_t>(s.material)].density;
-    s.damping = damping_of(c, lat.group);
+    s.damping = group_damping(c, lat.group);
     plan.sources.push_back(std::make_unique<LatticeSource>(s));
   }
 
@@ -219,7 +219,7 @@ ModelPlan plan_model(const CaseConfig& c) {
       np.omega = s.omega;
       np.radius = s.radius;
       np.density = model.materials[static_cast<std::size_t>(np.material)].density;
-      np.damping = damping_of(c, s.group);
+      np.damping = group_damping(c, s.group);
       np.motion = s.motion;
       spheres.push_back(np);
     }

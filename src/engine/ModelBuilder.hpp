@@ -24,6 +24,10 @@ Model build_model(const CaseConfig& config, const Communicator& comm);
 /// checkpoint. initial_particles and initial_bonds still count what the sources create.
 Model build_model_without_particles(const CaseConfig& config);
 
+/// The Cundall coefficient the case gives particle group `group` (damping.groups, else
+/// damping.global).
+double group_damping(const CaseConfig& config, const std::string& group);
+
 /// Adds bond `id` between two particles of the model's bond law, strengths drawn by
 /// (seed, gid pair).
 void add_bond(Model& model, std::int64_t id, const BondEnd& a, const BondEnd& b, int bond_type,

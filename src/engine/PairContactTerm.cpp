@@ -22,6 +22,16 @@ void PairContactTerm::export_history(ContactHistory& out) const {
       out.push_back({ContactHistoryEntry::Partner::kParticle, gid_a_[m], gid_b_[m], spring_[m]});
 }
 
+void PairContactTerm::find_overlaps(const ParticleStore& p, const std::vector<RigidBody>&,
+                                    double fraction, std::vector<ContactOverlap>& out) const {
+  for (std::size_t m = 0; m < pairs_.size(); ++m) {
+    const std::uint32_t a = pairs_.i[m];
+    const std::uint32_t b = pairs_.j[m];
+    const double depth = p.radius[a] + p.radius[b] - norm(p.position[b] - p.position[a]);
+    if (depth > fraction * std::min(p.radius[a], p.radius[b])) out.push_back({a, b, false, depth});
+  }
+}
+
 void PairContactTerm::rebuild(RebuildContext& ctx) {
   const ParticleStore& p = ctx.particles;
   const std::size_t n_total = p.n_total();

@@ -18,6 +18,8 @@ class PairContactTerm final : public ForceTerm {
   void rebuild(RebuildContext& ctx) override;
   void compute(ComputeContext& ctx) override;
   void export_history(ContactHistory& out) const override;
+  void find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies, double fraction,
+                     std::vector<ContactOverlap>& out) const override;
 
   std::size_t n_candidates() const { return pairs_.size(); }
 

@@ -121,6 +121,8 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   time_ = restart.time;
   steps_ = restart.steps;
   rebuilds_ = restart.rebuilds - 1;  // the rebuild below is not a new one of the trajectory
+  dt_origin_step_ = restart.dt_origin_step;
+  dt_origin_time_ = restart.dt_origin_time;
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("restart state has no valid time step");
   // Each rank read a block of the checkpoint's rows: particles go to the owners of their
@@ -131,6 +133,82 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   rebuild(std::move(history));
   // No force evaluation: forces, torques and body loads come from the checkpoint (a new
   // evaluation would advance the tangential springs a second time).
+}
+
+void Simulation::change_time_step(double dt) {
+  if (!(dt > 0.0) || !std::isfinite(dt))
+    throw std::runtime_error("change_time_step: the time step must be positive and finite");
+  // Each accumulator holds tally + dt/2 P of its last power P (ParticleStore::ledger_value):
+  // re-weight that last half step so the tally is unchanged under the new dt.
+  ParticleStore& p = model_.particles;
+  const double shift = 0.5 * (dt - dt_);
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    p.dissipated_damping[k] += shift * p.power_damping[k];
+    p.dissipated_friction[k] += shift * p.power_friction[k];
+    p.dissipated_global[k] += shift * p.power_global[k];
+    p.boundary_work[k] += shift * p.power_boundary[k];
+  }
+  dt_ = dt;
+  dt_origin_step_ = steps_;
+  dt_origin_time_ = time_;
+}
+
+std::int64_t Simulation::steps_until(double end_time) const {
+  return dt_origin_step_ +
+         static_cast<std::int64_t>(std::ceil((end_time - dt_origin_time_) / dt_ - 1e-9));
+}
+
+OverlapReport Simulation::overlaps(double fraction, std::size_t listed) const {
+  const ParticleStore& p = model_.particles;
+  std::vector<ContactOverlap> found;
+  for (const auto& t : terms_)
+    t->find_overlaps(p, model_.bodies, fraction, found);
+  std::vector<OverlapReport::Entry> mine;
+  for (const ContactOverlap& o : found) {
+    OverlapReport::Entry e{};
+    e.depth = o.depth;
+    e.partner_is_body = o.partner_is_body ? 1 : 0;
+    std::uint32_t a = o.index;
+    if (o.partner_is_body) {
+      const RigidBody& body = model_.bodies[o.partner];
+      if (p.motion[a] != Motion::kFree && body.motion != Motion::kFree) continue;
+      e.partner = o.partner;
+      e.partner_group = -1;
+      e.partner_radius = body.shape == RigidShape::kPlane ? 0.0 : body.radius;
+      e.partner_position = body.position;
+      e.relative_depth = o.depth / p.radius[a];
+    } else {
+      std::uint32_t b = o.partner;
+      if (p.gid[b] < p.gid[a]) std::swap(a, b);
+      // Counted where the lower gid is owned: each pair once over the ranks.
+      if (a >= p.n_local()) continue;
+      if (p.motion[a] != Motion::kFree && p.motion[b] != Motion::kFree) continue;
+      e.partner = p.gid[b];
+      e.partner_group = p.group[b];
+      e.partner_radius = p.radius[b];
+      e.partner_position = p.position[b];
+      e.relative_depth = o.depth / std::min(p.radius[a], p.radius[b]);
+    }
+    e.gid = p.gid[a];
+    e.group = p.group[a];
+    e.radius = p.radius[a];
+    e.position = p.position[a];
+    mine.push_back(e);
+  }
+  const auto deeper = [](const OverlapReport::Entry& x, const OverlapReport::Entry& y) {
+    if (x.relative_depth != y.relative_depth) return x.relative_depth > y.relative_depth;
+    if (x.gid != y.gid) return x.gid < y.gid;
+    if (x.partner_is_body != y.partner_is_body) return x.partner_is_body < y.partner_is_body;
+    return x.partner < y.partner;
+  };
+  OverlapReport report;
+  report.count = comm_.sum(static_cast<std::int64_t>(mine.size()));
+  std::sort(mine.begin(), mine.end(), deeper);
+  if (mine.size() > listed) mine.resize(listed);
+  report.deepest = comm_.allgather(mine);
+  std::sort(report.deepest.begin(), report.deepest.end(), deeper);
+  if (report.deepest.size() > listed) report.deepest.resize(listed);
+  return report;
 }
 
 ContactHistory Simulation::owned_contact_history() const {

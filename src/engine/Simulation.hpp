@@ -57,6 +57,23 @@ struct Energies {
   double balance_error(const Energies& initial) const { return ledger() - initial.ledger(); }
 };
 
+/// Contacts of a state that overlap by more than a tolerance (Simulation::overlaps): the count
+/// over all ranks and the deepest, the same on every rank.
+struct OverlapReport {
+  struct Entry {
+    double relative_depth;  ///< depth / the smaller radius (a body's radius counts as infinite)
+    double depth;           ///< m
+    std::int64_t gid;       ///< the particle (the lower gid of a pair)
+    std::int64_t partner;   ///< the other particle's gid, or the rigid body's number
+    std::int32_t partner_is_body;
+    std::int32_t group, partner_group;  ///< particle groups (-1 for a body)
+    double radius, partner_radius;      ///< 0 for a plane
+    Vec3 position, partner_position;    ///< centres (a body's reference point)
+  };
+  std::int64_t count = 0;
+  std::vector<Entry> deepest;  ///< deepest first, ties by gids
+};
+
 /// The time-step loop of DESIGN §3 over one Model.
 class Simulation {
  public:
@@ -72,8 +89,23 @@ class Simulation {
   /// Everything a checkpoint needs besides the model's fields: time, step, dt, rebuilds and
   /// the owned contact history.
   RestartState restart_state() const {
-    return {time_, steps_, dt_, rebuilds_, owned_contact_history()};
+    return {time_,           steps_,         dt_, rebuilds_, owned_contact_history(),
+            dt_origin_step_, dt_origin_time_};
   }
+
+  /// From now on steps of `dt` (a restart that applies a changed time step). The energy
+  /// ledger's trapezoid weights are carried over, so its tallies go on without a jump.
+  void change_time_step(double dt);
+  /// The step at which the time reaches `end_time` (within 1e-9 of a step), counted from the
+  /// step the current dt began at (0, or the restart that changed it).
+  std::int64_t steps_until(double end_time) const;
+
+  /// Contact candidates of the current neighbour lists (particle pairs and particle–rigid-body
+  /// contacts) that overlap by more than `fraction` of the smaller radius, of which at least one
+  /// side is free (two fixed or driven sides never respond to their contact). Each contact is
+  /// counted once over the ranks; the `listed` deepest are listed. Collective; the same report
+  /// on every rank and rank count.
+  OverlapReport overlaps(double fraction, std::size_t listed = 5) const;
 
   /// Advances one step of dt.
   void step();
@@ -167,6 +199,8 @@ class Simulation {
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::int64_t rebuilds_ = 0;
+  std::int64_t dt_origin_step_ = 0;  ///< RestartState::dt_origin_step
+  double dt_origin_time_ = 0.0;
   bool force_rebuild_ = false;
   bool bonds_broke_anywhere_ = false;
   bool stop_local_ = false;

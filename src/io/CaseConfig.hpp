@@ -169,6 +169,10 @@ struct SimulationConfig {
   double series_interval = 1e-3;   ///< simulated seconds between series.csv rows
   std::string contact_model = "hertz_mindlin";
   double imbalance_threshold = 0.1;  ///< repartition when max/mean particles - 1 exceeds it
+  /// A fresh start refuses contacts that overlap by more than this fraction of the smaller
+  /// radius (Simulation::overlaps), unless allow_initial_overlap.
+  double initial_overlap_tolerance = 1e-3;
+  bool allow_initial_overlap = false;
 };
 
 /// Quasi-static tensile test of ring elements (the paper's "DEM Modeling of a Tensile Test"):

@@ -46,6 +46,15 @@ const Table<SimulationConfig>& simulation_table() {
           schema::number("imbalance_threshold", &S::imbalance_threshold, at_least(0), "",
                          "Repartition the ranks (METIS) at a neighbour-list rebuild when the "
                          "largest rank holds more than (1 + this) times the mean particles"),
+          schema::number("initial_overlap_tolerance", &S::initial_overlap_tolerance,
+                         interval(0, true, 1, true), "",
+                         "A fresh start refuses (exit code 2) particles that overlap another "
+                         "particle or a rigid body by more than this fraction of the smaller "
+                         "radius at creation (bonded pairs and pairs of two non-free sides do "
+                         "not count)"),
+          schema::boolean("allow_initial_overlap", &S::allow_initial_overlap,
+                          "Accept overlaps at creation (they start with contact forces and "
+                          "energy)"),
       }};
   return table;
 }

@@ -10,7 +10,9 @@
 
 #include "comm/RowBlocks.hpp"
 #include "core/Version.hpp"
+#include "io/CaseText.hpp"
 #include "io/Hdf5File.hpp"
+#include "io/RestartChanges.hpp"
 
 namespace ringdem {
 
@@ -19,7 +21,9 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kFormat = "ringdem-checkpoint";
-constexpr std::int64_t kFormatVersion = 2;  // 2: bond columns of unread section values dropped
+// 2: bond columns of unread section values dropped; 3: the case it was written by (/case/text,
+// model_fingerprint) and the time-step origin (dt_origin_step, dt_origin_time).
+constexpr std::int64_t kFormatVersion = 3;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
 /// global row index, so partial sums of blocks written by any number of ranks add up to the
@@ -181,7 +185,7 @@ std::vector<std::string> CheckpointStore::list() const {
 
 std::string CheckpointStore::write(const Communicator& comm, Model& model,
                                    const RestartState& state, const DriverState& driver,
-                                   std::int64_t segment, const std::string& case_name) const {
+                                   std::int64_t segment, const CaseConfig& config) const {
   const std::string final_path = fmt::format("{}/checkpoint_{:012d}.h5", dir_, state.steps);
   const std::string tmp_path = final_path + ".tmp";
   if (comm.is_root()) fs::create_directories(dir_);
@@ -198,11 +202,15 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     f.set_attribute("/", "format", std::string(kFormat));
     f.set_attribute("/", "format_version", kFormatVersion);
     f.set_attribute("/", "ringdem_version", std::string(kVersion));
-    f.set_attribute("/", "case", case_name);
+    const std::string case_text = canonical_case_text(config);
+    f.set_attribute("/", "case", config.name);
+    f.set_attribute("/", "model_fingerprint", model_fingerprint(case_text));
     f.set_attribute("/", "time", state.time);
     f.set_attribute("/", "dt", state.dt);
     f.set_attribute("/", "step", state.steps);
     f.set_attribute("/", "rebuilds", state.rebuilds);
+    f.set_attribute("/", "dt_origin_step", state.dt_origin_step);
+    f.set_attribute("/", "dt_origin_time", state.dt_origin_time);
     f.set_attribute("/", "segment", segment);
     f.set_attribute("/", "ranks", static_cast<std::int64_t>(comm.size()));
     f.set_attribute("/", "particles", n_particles);
@@ -278,6 +286,10 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     std::vector<double> values = driver.values;
     if (!comm.is_root()) values.clear();
     write_concatenated(f, comm, "/driver/values", values);
+    f.create_group("/case");
+    std::vector<std::uint8_t> text_bytes(case_text.begin(), case_text.end());
+    if (!comm.is_root()) text_bytes.clear();
+    write_concatenated(f, comm, "/case/text", text_bytes);
     // Written last: a file without it was cut short.
     f.set_attribute("/", "complete", std::int64_t{1});
   }
@@ -297,10 +309,15 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   const Hdf5File f = Hdf5File::open_read(path);
   if (!f.has_attribute("/", "format") || f.attribute_string("/", "format") != kFormat)
     throw Hdf5Error(path + ": not a ringdem checkpoint");
-  if (f.attribute_int("/", "format_version") != kFormatVersion)
-    throw Hdf5Error(path + ": checkpoint format version " +
-                    std::to_string(f.attribute_int("/", "format_version")) +
-                    " is not the one this ringdem reads (" + std::to_string(kFormatVersion) + ")");
+  const std::int64_t version = f.attribute_int("/", "format_version");
+  if (version != kFormatVersion)
+    throw Hdf5Error(fmt::format(
+        "{}: checkpoint format version {} is not the one this ringdem reads ({}){}", path, version,
+        kFormatVersion,
+        version < kFormatVersion
+            ? ": it was written by an older ringdem and lacks the case it belongs to, which a "
+              "restart checks; continue it with that version or start afresh"
+            : ": it was written by a newer ringdem"));
   if (!f.has_attribute("/", "complete"))
     throw Hdf5Error(path + ": incomplete checkpoint (the run stopped while writing it)");
   CheckpointInfo info;
@@ -318,6 +335,14 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   info.bodies = f.attribute_int("/", "bodies");
   const auto d = f.dims("/history/gid");
   info.history_entries = d.empty() ? 0 : d[0];
+  info.dt_origin_step = f.attribute_int("/", "dt_origin_step");
+  info.dt_origin_time = f.attribute_double("/", "dt_origin_time");
+  info.model_fingerprint = f.attribute_string("/", "model_fingerprint");
+  const auto text = f.read_rows<std::uint8_t>("/case/text");
+  if (static_cast<std::uint64_t>(f.attribute_int("/case/text", "checksum")) !=
+      rows_checksum(text, 0))
+    throw Hdf5Error(path + ": dataset /case/text fails its checksum: the checkpoint is corrupted");
+  info.case_text.assign(text.begin(), text.end());
   return info;
 }
 
@@ -382,6 +407,8 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path, 
   state.dt = info.dt;
   state.steps = info.step;
   state.rebuilds = info.rebuilds;
+  state.dt_origin_step = info.dt_origin_step;
+  state.dt_origin_time = info.dt_origin_time;
   const std::int64_t nh = info.history_entries;
   const auto [h_first, h_end] = block_of(nh);
   const auto kind =
@@ -436,7 +463,7 @@ std::vector<std::string> verify_checkpoint(const std::string& path) {
   read_checkpoint_info(path);
   const Hdf5File f = Hdf5File::open_read(path);
   std::vector<std::string> checked;
-  for (const char* group : {"/particles", "/bonds", "/history", "/bodies", "/driver"}) {
+  for (const char* group : {"/particles", "/bonds", "/history", "/bodies", "/driver", "/case"}) {
     for (const std::string& name : f.list(group)) {
       const std::string full = std::string(group) + "/" + name;
       std::size_t row_bytes = 0;

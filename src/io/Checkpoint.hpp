@@ -7,6 +7,7 @@
 #include "comm/Communicator.hpp"
 #include "engine/Model.hpp"
 #include "engine/RestartState.hpp"
+#include "io/CaseConfig.hpp"
 
 namespace ringdem {
 
@@ -34,6 +35,12 @@ struct CheckpointInfo {
   std::int64_t bonds = 0;
   std::int64_t bodies = 0;
   std::int64_t history_entries = 0;
+  std::int64_t dt_origin_step = 0;  ///< RestartState::dt_origin_step
+  double dt_origin_time = 0.0;
+  /// The case it was written by, as canonical text (io/CaseText), checked against its
+  /// checksum, and the model fingerprint of that text (io/RestartChanges).
+  std::string case_text;
+  std::string model_fingerprint;
 };
 
 /// Checkpoints (DESIGN §5): every piece of state the next step reads — particle and bond fields
@@ -46,10 +53,12 @@ class CheckpointStore {
   CheckpointStore(std::string dir, int keep = 2);
 
   /// Collective: writes `model`'s fields and `state` (Simulation::restart_state(), whose
-  /// history holds each rank's owned contacts). Returns the final path.
+  /// history holds each rank's owned contacts), and `config`, the case the model was built
+  /// from, as canonical text with its model fingerprint (a restart compares it with the case
+  /// it is given). Returns the final path.
   std::string write(const Communicator& comm, Model& model, const RestartState& state,
                     const DriverState& driver, std::int64_t segment,
-                    const std::string& case_name) const;
+                    const CaseConfig& config) const;
 
   /// Checkpoints in `dir`, oldest first.
   std::vector<std::string> list() const;
@@ -70,7 +79,8 @@ class CheckpointStore {
 RestartState read_checkpoint(const Communicator& comm, const std::string& path, Model& model,
                              DriverState& driver, CheckpointInfo* info = nullptr);
 
-/// Root attributes only (ringdem info, --restart auto).
+/// Root attributes and the case text (ringdem info, --restart auto). Throws Hdf5Error for a file
+/// that is no complete checkpoint of this format version (older ones lack the case text).
 CheckpointInfo read_checkpoint_info(const std::string& path);
 
 /// Checks every dataset of a checkpoint against its checksum; returns the dataset names checked.

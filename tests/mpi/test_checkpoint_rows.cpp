@@ -55,7 +55,7 @@ TEST(CheckpointRows, SparseGidsRoundTripOnAnyRankCount) {
     RestartState state;
     state.dt = 1e-6;
     const std::string path =
-        CheckpointStore(dir).write(comm, written, state, DriverState{}, 0, "rows");
+        CheckpointStore(dir).write(comm, written, state, DriverState{}, 0, CaseConfig{});
     // Read back by every rank count up to this one (sub-communicators of the first k ranks).
     for (int k = 1; k <= comm.size(); ++k) {
       MPI_Comm sub;

@@ -217,7 +217,7 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
       Simulation sim(build_model(c, comm), comm, s);
       sim.run_steps(2 * kHalf);
       straight = CheckpointStore(dir + "/straight")
-                     .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c.name);
+                     .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
       // Each tangential spring is held by exactly one rank (a contact across ranks is
       // evaluated on both), and the checkpoint holds each once.
       std::vector<SpringKey> springs;
@@ -236,14 +236,14 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
       Simulation sim(build_model(c, comm), comm, s);
       sim.run_steps(kHalf);
       middle = CheckpointStore(dir + "/middle")
-                   .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c.name);
+                   .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
     }
     {
       auto sim = restart(c, middle, comm);
       EXPECT_EQ(sim->steps(), kHalf);
       sim->run_steps(kHalf);
       resumed = CheckpointStore(dir + "/resumed")
-                    .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c.name);
+                    .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c);
     }
     // And on one rank (another rank count whenever this run has more than one).
     std::string resumed_serial;
@@ -251,9 +251,8 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
       const Communicator self = Communicator::self();
       auto sim = restart(c, middle, self);
       sim->run_steps(kHalf);
-      resumed_serial =
-          CheckpointStore(dir + "/serial")
-              .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c.name);
+      resumed_serial = CheckpointStore(dir + "/serial")
+                           .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c);
     }
     comm.barrier();
     if (comm.is_root()) {

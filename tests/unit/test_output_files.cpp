@@ -137,8 +137,8 @@ class CorruptCheckpoint : public ::testing::Test {
     sim.run_steps(5);  // mid-contact
     DriverState d;
     d.set("next_record_time", 0.5);
-    good_ = CheckpointStore(dir_).write(sim.comm(), sim.model(), sim.restart_state(), d, 0,
-                                        config_.name);
+    good_ =
+        CheckpointStore(dir_).write(sim.comm(), sim.model(), sim.restart_state(), d, 0, config_);
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -174,13 +174,14 @@ TEST_F(CorruptCheckpoint, GoodOneRestoresTheState) {
   EXPECT_NEAR(s.time, 5 * 1e-6, 1e-20);
   EXPECT_EQ(d.get("next_record_time"), 0.5);
   EXPECT_GT(s.history.size(), 0u) << "the ring touches the floor";
-  // Every registry field flagged kCheckpoint, the 4 history columns, 7 body rows, the driver.
+  // Every registry field flagged kCheckpoint, the 4 history columns, 7 body rows, the driver,
+  // the case text.
   std::size_t fields = 0;
   model.particles.for_each_field(
       [&](const FieldInfo& i, auto&) { fields += i.has(field_flag::kCheckpoint); });
   model.bonds.for_each_field(
       [&](const FieldInfo& i, auto&) { fields += i.has(field_flag::kCheckpoint); });
-  EXPECT_EQ(verify_checkpoint(good_).size(), fields + 4u + 7u + 1u);
+  EXPECT_EQ(verify_checkpoint(good_).size(), fields + 4u + 7u + 1u + 1u);
 }
 
 TEST_F(CorruptCheckpoint, TruncatedFileIsRefused) {
