@@ -18,8 +18,9 @@ namespace ringdem {
 
 namespace {
 
-const char* const kSeriesColumns[] = {"time_s",       "displacement_m",   "load_N",
-                                      "broken_bonds", "kinetic_energy_J", "bond_energy_J"};
+const char* const kSeriesColumns[] = {"time_s",        "displacement_m",   "load_N",
+                                      "broken_bonds",  "kinetic_energy_J", "bond_energy_J",
+                                      "plastic_work_J"};
 
 /// Earliest break time of any bond, or nothing if none broke. Collective.
 std::optional<double> first_break_time(const Simulation& sim) {
@@ -144,8 +145,8 @@ void TensileDriver::record(Simulation& sim, double displacement, double load) {
   result_.max_kinetic_energy = std::max(result_.max_kinetic_energy, e.kinetic);
   result_.curve.push_back({sim.time(), displacement, load, broken_});
   if (write_)
-    series_.row(
-        {sim.time(), displacement, load, static_cast<double>(broken_), e.kinetic, e.bond_elastic});
+    series_.row({sim.time(), displacement, load, static_cast<double>(broken_), e.kinetic,
+                 e.bond_elastic, e.plastic_work});
 }
 
 bool TensileDriver::after_steps(Simulation& sim) {
