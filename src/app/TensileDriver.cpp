@@ -222,6 +222,7 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
   result_.broken_bonds = sim.global_broken_bonds();
   result_.particles = sim.global_particles();
   const std::int64_t n_bonds = sim.global_bonds();  // collective: on every rank, before `write_`
+  const double plastic_work = sim.energies().plastic_work;  // collective too
   result_.steps = sim.steps();
   result_.final_displacement = meter_->displacement(sim.model().bodies);
   result_.particle_steps_per_s = times.loop_seconds > 0
@@ -254,6 +255,7 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("final_displacement_m", result_.final_displacement)
         .set("end_time_s", sim.time())
         .set("max_kinetic_energy_J", result_.max_kinetic_energy)
+        .set("plastic_work_J", plastic_work)
         .set("steps", static_cast<long long>(result_.steps))
         .set("wall_time_s", result_.wall_time)
         .set("particle_steps_per_s", result_.particle_steps_per_s);
