@@ -137,6 +137,8 @@ def main():
              ("contact_elastic_J", "contact elastic", False), ("contact_damping_J", "contact damping", True),
              ("friction_J", "friction", True), ("global_damping_J", "global damping", True),
              ("broken_bonds_J", "broken bonds", True)]
+    if "plastic_work_J" in ser:  # series of runs before the plastic bond lack it
+        parts.append(("plastic_work_J", "plastic work", True))
     ax.stackplot(t, *[ser[k] - (ser[k][0] if since else 0.0) for k, _, since in parts],
                  labels=[n + (" (dissipated)" if since else "") for _, n, since in parts])
     supplied = ser["kinetic_J"][0] + ser["bond_elastic_J"][0] + ser["contact_elastic_J"][0] \

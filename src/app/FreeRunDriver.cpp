@@ -32,6 +32,7 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
   for (const auto& b : sim.model().bodies)
     for (const char* c : {"fx_N", "fy_N", "fz_N"})
       columns.push_back(b.name + "_" + c);
+  columns.push_back("plastic_work_J");  // appended: the columns before it stay where they were
   if (sim.comm().is_root() && !output_dir_.empty())
     series_ = control_->restarted() ? SeriesWriter::resume(output_dir_ + "/series.csv", columns,
                                                            control_->restart_time())
@@ -64,6 +65,7 @@ void FreeRunDriver::record(Simulation& sim) {
     row.push_back(b.force.y);
     row.push_back(b.force.z);
   }
+  row.push_back(e.plastic_work);
   series_.row(row);
 }
 
@@ -122,6 +124,7 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("final_kinetic_energy_J", e.kinetic)
         .set("max_kinetic_energy_J", max_kinetic_)
         .set("final_bond_energy_J", e.bond_elastic)
+        .set("final_plastic_work_J", e.plastic_work)
         .set("max_bond_utilisation", max_utilisation_)
         .set("restarted", control_->restarted())
         .set("frames", static_cast<long long>(frames ? frames->frames() : 0))

@@ -154,7 +154,8 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
                                                 "global_damping_J",
                                                 "broken_bonds_J",
                                                 "boundary_work_J",
-                                                "balance_error_J"};
+                                                "balance_error_J",
+                                                "plastic_work_J"};
   if (comm.is_root() && !output_dir_.empty()) {
     const double until = control_->restarted() ? control_->restart_time() : -1.0;
     series_ = SeriesWriter::resume(output_dir_ + "/series.csv", columns, until);
@@ -398,7 +399,8 @@ void RockfallDriver::record(Simulation& sim) {
                e.global_damping,
                e.broken_bonds,
                e.boundary_work,
-               balance});
+               balance,
+               e.plastic_work});
 }
 
 std::string RockfallDriver::progress(const Simulation& sim, double rate) const {
@@ -460,8 +462,10 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("net_sag_m", net_top_initial_ - net_top_sagged_)
         .set("first_contact_time_s", contact_time_)
         .set("energy_dissipated_J",
-             std::vector<double>{e.contact_damping, e.friction, e.global_damping, e.broken_bonds})
-        .set("energy_dissipated_order", "contact_damping, friction, global_damping, broken_bonds")
+             std::vector<double>{e.contact_damping, e.friction, e.global_damping, e.broken_bonds,
+                                 e.plastic_work})
+        .set("energy_dissipated_order",
+             "contact_damping, friction, global_damping, broken_bonds, plastic_work")
         .set("ranks", comm.size())
         .set("particles", static_cast<long long>(n_particles))
         .set("bonds", static_cast<long long>(n_bonds))

@@ -58,6 +58,16 @@ void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64
         1e3 * f.equivalent_radius, 1e3 * b.derived_particle_radius, b.radius_multiplier, f.gamma,
         f.eta, f.bending_reduction(), 1e-9 * f.bond_youngs_modulus);
   }
+  const Model& model = sim.model();
+  for (std::size_t t = 0; t < model.plastic_bond_types.size(); ++t) {
+    const BondTimoshenkoPlastic::Params& p = model.plastic_bond_types[t];
+    fmt::print(
+        "bond {} ({}): N_p = {:.4g} kN, M_y = {:.4g} N m, M_p = {:.4g} N m, hardening h = {:.4g}, "
+        "plastic strain limit {}\n",
+        model.bond_type_names[t], model.bond_model, 1e-3 * p.axial_yield, p.yield_moment,
+        p.plastic_moment, p.hardening,
+        p.failure_strain > 0.0 ? fmt::format("{:.4g}", p.failure_strain) : std::string("none"));
+  }
   const std::string origin = config.simulation.dt
                                  ? std::string("fixed")
                                  : fmt::format("auto, safety {}", config.simulation.dt_safety);

@@ -18,8 +18,9 @@ namespace ringdem {
 
 namespace {
 
-const char* const kSeriesColumns[] = {"time_s",       "displacement_m",   "load_N",
-                                      "broken_bonds", "kinetic_energy_J", "bond_energy_J"};
+const char* const kSeriesColumns[] = {"time_s",        "displacement_m",   "load_N",
+                                      "broken_bonds",  "kinetic_energy_J", "bond_energy_J",
+                                      "plastic_work_J"};
 
 /// Earliest break time of any bond, or nothing if none broke. Collective.
 std::optional<double> first_break_time(const Simulation& sim) {
@@ -144,8 +145,8 @@ void TensileDriver::record(Simulation& sim, double displacement, double load) {
   result_.max_kinetic_energy = std::max(result_.max_kinetic_energy, e.kinetic);
   result_.curve.push_back({sim.time(), displacement, load, broken_});
   if (write_)
-    series_.row(
-        {sim.time(), displacement, load, static_cast<double>(broken_), e.kinetic, e.bond_elastic});
+    series_.row({sim.time(), displacement, load, static_cast<double>(broken_), e.kinetic,
+                 e.bond_elastic, e.plastic_work});
 }
 
 bool TensileDriver::after_steps(Simulation& sim) {
@@ -221,6 +222,7 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
   result_.broken_bonds = sim.global_broken_bonds();
   result_.particles = sim.global_particles();
   const std::int64_t n_bonds = sim.global_bonds();  // collective: on every rank, before `write_`
+  const double plastic_work = sim.energies().plastic_work;  // collective too
   result_.steps = sim.steps();
   result_.final_displacement = meter_->displacement(sim.model().bodies);
   result_.particle_steps_per_s = times.loop_seconds > 0
@@ -253,6 +255,7 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("final_displacement_m", result_.final_displacement)
         .set("end_time_s", sim.time())
         .set("max_kinetic_energy_J", result_.max_kinetic_energy)
+        .set("plastic_work_J", plastic_work)
         .set("steps", static_cast<long long>(result_.steps))
         .set("wall_time_s", result_.wall_time)
         .set("particle_steps_per_s", result_.particle_steps_per_s);

@@ -17,9 +17,9 @@ namespace ringdem {
 /// maximum displacement or simulation.end_time. A row of the curve is recorded each
 /// record_interval of plate travel and holds the mean displacement and load over the steps since
 /// the previous row. Writes series.csv (time_s, displacement_m, load_N, broken_bonds,
-/// kinetic_energy_J, bond_energy_J) and summary.json. Its state (the meter's start positions,
-/// the peak, the failure state, the partial row sums, next record) goes into checkpoints; the
-/// curve recorded before a checkpoint is read back from series.csv on a restart.
+/// kinetic_energy_J, bond_energy_J, plastic_work_J) and summary.json. Its state (the meter's start
+/// positions, the peak, the failure state, the partial row sums, next record) goes into
+/// checkpoints; the curve recorded before a checkpoint is read back from series.csv on a restart.
 class TensileDriver : public ScenarioDriver {
  public:
   explicit TensileDriver(const CaseConfig& config);

@@ -133,7 +133,7 @@ struct TensileRunOptions {
 /// displacement or simulation.end_time. A row of the curve is recorded each record_interval of
 /// plate travel and holds the mean displacement and load over the steps since the previous row.
 /// Writes series.csv (time_s, displacement_m, load_N, broken_bonds, kinetic_energy_J,
-/// bond_energy_J) and summary.json to the output folder.
+/// bond_energy_J, plastic_work_J) and summary.json to the output folder.
 TensileResult run_tensile_test(const CaseConfig& config, const TensileRunOptions& options,
                                const Communicator& comm);
 

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
@@ -24,6 +25,10 @@ class BondTerm : public ForceTerm {
   /// Recomputes the store's output columns (axial force, largest bending moment, utilisation,
   /// energy) for the current configuration; returns the summed elastic energy.
   virtual double update_diagnostics(const ParticleStore& p) const = 0;
+  /// Plastic work each bond of the store has dissipated since its creation (J, one value per
+  /// bond, kept when it breaks): the energy ledger's plastic_work column. nullptr: the law is
+  /// elastic.
+  virtual const std::vector<double>* plastic_work() const { return nullptr; }
 };
 
 }  // namespace ringdem

@@ -8,6 +8,7 @@
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
 #include "physics/BondTimoshenko.hpp"
+#include "physics/BondTimoshenkoPlastic.hpp"
 #include "physics/MaterialTable.hpp"
 
 namespace ringdem {
@@ -20,6 +21,8 @@ struct Model {
   MaterialTable materials;
   std::vector<std::string> bond_type_names;
   std::vector<BondTimoshenko::Params> bond_types;
+  /// Plastic limits per bond type (bonds[].plastic), for a plastic bond model; empty otherwise.
+  std::vector<BondTimoshenkoPlastic::Params> plastic_bond_types;
   std::string bond_model = "timoshenko";        ///< name in the bond model table
   std::string contact_model = "hertz_mindlin";  ///< name in the contact model table
   std::vector<std::string> group_names;

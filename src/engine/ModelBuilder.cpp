@@ -130,6 +130,21 @@ ModelPlan plan_model(const CaseConfig& c) {
     p.strength_cov = b.strength_cov;
     model.bond_type_names.push_back(b.name);
     model.bond_types.push_back(p);
+    if (b.plastic) {
+      // The wire bundle: from `plastic`, else from `derive_from` (the loader checked that one
+      // of them gives it).
+      const BondPlasticConfig& pl = *b.plastic;
+      const auto from_ring = [&](auto member, auto fallback) {
+        return b.derive_from ? (*b.derive_from).*member : fallback;
+      };
+      model.plastic_bond_types.push_back(BondTimoshenkoPlastic::Params::from_wire_bundle(
+          pl.windings > 0 ? pl.windings : from_ring(&BondDerivationConfig::windings, 0),
+          pl.wire_diameter.value_or(from_ring(&BondDerivationConfig::wire_diameter, 0.0)),
+          pl.yield_stress, pl.hardening_ratio,
+          pl.steel_youngs_modulus.value_or(
+              from_ring(&BondDerivationConfig::steel_youngs_modulus, 200e9)),
+          pl.failure_strain));
+    }
     bond_seeds.push_back(b.seed);
     // One bond model per case (the loader checks that all types agree).
     model.bond_model = b.model;

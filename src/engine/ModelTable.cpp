@@ -1,8 +1,10 @@
 #include "engine/ModelTable.hpp"
 
 #include "engine/BodyContactTerm.hpp"
+#include "engine/Model.hpp"
 #include "engine/PairContactTerm.hpp"
 #include "engine/TimoshenkoBondTerm.hpp"
+#include "engine/TimoshenkoPlasticBondTerm.hpp"
 
 namespace ringdem {
 
@@ -10,12 +12,19 @@ const std::vector<BondModelEntry>& bond_models() {
   static const std::vector<BondModelEntry> table = {
       {"timoshenko",
        "co-rotational Timoshenko beam, linear elastic, brittle failure by Eq. 3-5 (physics.md §1)",
-       [](BondStore& bonds,
-          std::vector<BondTimoshenko::Params> types) -> std::unique_ptr<BondTerm> {
-         return std::make_unique<TimoshenkoBondTerm>(bonds, std::move(types));
+       [](Model& m) -> std::unique_ptr<BondTerm> {
+         return std::make_unique<TimoshenkoBondTerm>(m.bonds, m.bond_types);
        },
        &TimoshenkoBondTerm::create,
        {}},
+      {"timoshenko_plastic",
+       "the same beam, elastoplastic: plastic elongation and end hinges of the wire bundle, "
+       "linear hardening, plastic work; fails by Eq. 3-5 or a plastic strain limit "
+       "(docs/physics.md \"Plastic bond\")",
+       [](Model& m) -> std::unique_ptr<BondTerm> {
+         return std::make_unique<TimoshenkoPlasticBondTerm>(m.bonds, m.plastic_bond_types);
+       },
+       &TimoshenkoBondTerm::create, TimoshenkoPlasticBondTerm::state_columns(), true},
   };
   return table;
 }

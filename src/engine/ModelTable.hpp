@@ -11,12 +11,15 @@
 
 namespace ringdem {
 
+struct Model;
+
 /// The one table of bond models selectable by name (`bonds[].model`). Adding a model is one
 /// line here plus its evaluator (physics/) and its term (engine/).
 struct BondModelEntry {
   std::string_view name;
   std::string_view description;
-  std::unique_ptr<BondTerm> (*make)(BondStore& bonds, std::vector<BondTimoshenko::Params> types);
+  /// The term over the model's bond store, with the parameters of the model's bond types.
+  std::unique_ptr<BondTerm> (*make)(Model& model);
   /// Appends bond `id` between two ends (either order) of type `type`, strengths drawn by
   /// (seed, gid pair); returns its index in the store.
   std::size_t (*create)(BondStore& bonds, const BondTimoshenko::Params& params, std::int32_t type,
@@ -24,6 +27,10 @@ struct BondModelEntry {
   /// The per-bond state columns the law adds to the bond store (BondStore::ModelColumn), or
   /// none.
   std::vector<BondStore::ModelColumn> state_columns = {};
+  /// Whether the law reads the plastic limits of its bond types (`bonds[].plastic`, the
+  /// model's plastic_bond_types): the loader then requires that section, and refuses it for
+  /// laws that do not read it.
+  bool plastic = false;
 };
 
 /// The one table of contact laws selectable by name (`simulation.contact_model`): each makes

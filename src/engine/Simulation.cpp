@@ -54,7 +54,7 @@ std::vector<std::unique_ptr<ForceTerm>> Simulation::make_terms(Model& m) {
   if (contact_model == nullptr)
     throw std::runtime_error("unknown contact model '" + m.contact_model + "'");
   std::vector<std::unique_ptr<ForceTerm>> terms;
-  terms.push_back(bond_model->make(m.bonds, m.bond_types));
+  terms.push_back(bond_model->make(m));
   for (auto& t : contact_model->make())
     terms.push_back(std::move(t));
   return terms;
@@ -491,6 +491,7 @@ Energies Simulation::energies() {
     kContact,
     kBond,
     kBreak,
+    kPlastic,
     kColumns
   };
   std::vector<ExactSum> partial(kColumns);
@@ -511,10 +512,12 @@ Energies Simulation::energies() {
     }
   }
   const BondStore& bonds = model_.bonds;
+  const std::vector<double>* plastic_work = bond_term_->plastic_work();
   for (std::size_t k = 0; k < bonds.size(); ++k) {
     if (!bonds.counted_here(p, k)) continue;
     partial[kBond].add(bonds.energy[k]);
     partial[kBreak].add(bonds.break_energy[k]);
+    if (plastic_work) partial[kPlastic].add((*plastic_work)[k]);
   }
   const std::vector<double> sums = comm_.sum_exact(partial);
   Energies e;
@@ -527,6 +530,7 @@ Energies Simulation::energies() {
   e.contact_elastic = sums[kContact];
   e.bond_elastic = sums[kBond];
   e.broken_bonds = sums[kBreak];
+  e.plastic_work = sums[kPlastic];
   for (const auto& b : model_.bodies) {
     if (b.motion != Motion::kFree) continue;
     const Mat3 r = rotation_matrix(b.orientation);

@@ -43,13 +43,16 @@ struct Energies {
   double friction = 0.0;         ///< dissipated by Coulomb slip and rolling friction
   double global_damping = 0.0;   ///< dissipated by Cundall global damping
   double broken_bonds = 0.0;     ///< elastic energy the bonds held when they broke
+  double plastic_work = 0.0;     ///< dissipated by plastic flow of the bonds (broken ones too)
   /// Work done on the particles by driven (prescribed) rigid bodies and particles and by
   /// external forces: energy put in, so it enters the balance with a minus sign.
   double boundary_work = 0.0;
 
   /// Mechanical energy: kinetic + potential + bond and contact elastic.
   double total() const { return kinetic + potential + bond_elastic + contact_elastic; }
-  double dissipated() const { return contact_damping + friction + global_damping + broken_bonds; }
+  double dissipated() const {
+    return contact_damping + friction + global_damping + broken_bonds + plastic_work;
+  }
   /// Mechanical + dissipated - boundary work: constant in time, up to the integrator's O(dt^2)
   /// energy error.
   double ledger() const { return total() + dissipated() - boundary_work; }

@@ -8,17 +8,12 @@
 
 namespace ringdem {
 
-namespace {
-
-/// The orientation a particle had one step earlier: the inverse of the integrator's Cayley
-/// update q <- dq(omega dt) q (Integrator.cpp), which dq(-omega dt) undoes.
-inline Quat rotated_back(const Quat& q, const Vec3& omega, double dt) {
+Quat TimoshenkoBondTerm::rotated_back(const Quat& q, const Vec3& omega, double dt) {
+  // dq(-omega dt) undoes the integrator's Cayley update q <- dq(omega dt) q (Integrator.cpp).
   const Vec3 h = omega * (-0.5 * dt);
   const double s = 1.0 / std::sqrt(1.0 + norm2(h));
   return renormalized(Quat{s, h.x * s, h.y * s, h.z * s} * q);
 }
-
-}  // namespace
 
 TimoshenkoBondTerm::TimoshenkoBondTerm(BondStore& bonds, std::vector<BondTimoshenko::Params> types)
     : bonds_(bonds), types_(std::move(types)) {}
@@ -71,17 +66,25 @@ BondTimoshenko::Section TimoshenkoBondTerm::section(const BondStore& bonds, std:
 }
 
 double TimoshenkoBondTerm::ghost_width(const ParticleStore&) const {
+  return bond_reach(bonds_);
+}
+
+double TimoshenkoBondTerm::bond_reach(const BondStore& bonds) {
   // Bonds may stretch 25 % before a partner leaves the ghost layer (steel bonds break at a
   // few per cent).
   double bond_max = 0.0;
-  for (double l : bonds_.length0)
+  for (double l : bonds.length0)
     bond_max = std::max(bond_max, l);
   return 1.25 * bond_max;
 }
 
 void TimoshenkoBondTerm::rebuild(RebuildContext& ctx) {
+  register_bonds(bonds_, ctx, slots_a_, slots_b_);
+}
+
+void TimoshenkoBondTerm::register_bonds(BondStore& bonds, RebuildContext& ctx, SlotRange& slots_a,
+                                        SlotRange& slots_b) {
   const ParticleStore& p = ctx.particles;
-  BondStore& bonds = bonds_;
   const std::size_t nb = bonds.size();
   bonds.index_a.resize(nb);
   bonds.index_b.resize(nb);
@@ -101,15 +104,15 @@ void TimoshenkoBondTerm::rebuild(RebuildContext& ctx) {
       ctx.excluded.push_back({bonds.index_b[k], bonds.gid_a[k]});
     }
   }
-  slots_a_ = ctx.allocator.take(nb);
-  slots_b_ = ctx.allocator.take(nb);
+  slots_a = ctx.allocator.take(nb);
+  slots_b = ctx.allocator.take(nb);
   const auto term = ctx.term_number;
   for (std::size_t k = 0; k < nb; ++k) {
     if (bonds.broken[k]) continue;  // exerts nothing; a bond breaking later forces a rebuild
     ctx.gather.add(bonds.index_a[k], bonds.gid_b[k], term,
-                   slots_a_.begin + static_cast<std::uint32_t>(k), false);
+                   slots_a.begin + static_cast<std::uint32_t>(k), false);
     ctx.gather.add(bonds.index_b[k], bonds.gid_a[k], term,
-                   slots_b_.begin + static_cast<std::uint32_t>(k), false);
+                   slots_b.begin + static_cast<std::uint32_t>(k), false);
   }
 }
 

@@ -47,6 +47,18 @@ class TimoshenkoBondTerm final : public BondTerm {
     return {bonds.tensile_strength[k], bonds.compressive_strength[k], bonds.shear_strength[k]};
   }
 
+  // Shared with the other beam laws over the same store (TimoshenkoPlasticBondTerm).
+  /// Ghost width of a store of beam bonds: 1.25 times the longest bond.
+  static double bond_reach(const BondStore& bonds);
+  /// rebuild() of a store of beam bonds: resolves both ends' indices (throws if an intact
+  /// bond lacks one), excludes intact pairs from contact, takes one slot range per end and
+  /// registers the intact bonds' slots with the gather map.
+  static void register_bonds(BondStore& bonds, RebuildContext& ctx, SlotRange& slots_a,
+                             SlotRange& slots_b);
+  /// The orientation a particle had one step earlier (for the energy a breaking bond held at
+  /// the start of its last step): the inverse of the integrator's Cayley update.
+  static Quat rotated_back(const Quat& q, const Vec3& omega, double dt);
+
  private:
   void book_failures(const ParticleStore& p, double time, double dt);
 

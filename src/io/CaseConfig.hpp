@@ -38,6 +38,18 @@ struct BondDerivationConfig {
   double steel_youngs_modulus = 200e9;
 };
 
+/// Plastic limits of the wire bundle a bond stands for (model timoshenko_plastic,
+/// docs/physics.md "Plastic bond"); windings, wire diameter and the steel's modulus come from
+/// `derive_from` when the bond has it.
+struct BondPlasticConfig {
+  double yield_stress = 0.0;                   ///< f_y of the wire [Pa]
+  double hardening_ratio = 0.0;                ///< b = E_t / E of a bilinear wire, in [0, 1)
+  double failure_strain = 0.0;                 ///< plastic strain limit kappa_f; 0: none
+  int windings = 0;                            ///< n_w; 0: derive_from.windings
+  std::optional<double> wire_diameter;         ///< d; none: derive_from.wire_diameter
+  std::optional<double> steel_youngs_modulus;  ///< E; none: derive_from's, else 200 GPa
+};
+
 struct BondConfig {
   std::string name;
   std::string model = "timoshenko";
@@ -45,7 +57,8 @@ struct BondConfig {
   /// particle radius of the rings that use this bond.
   double youngs_modulus = 120e9;
   std::optional<BondDerivationConfig> derive_from;
-  double derived_particle_radius = 0.0;  ///< r_eq used for the derivation (0: not derived)
+  std::optional<BondPlasticConfig> plastic;  ///< required by timoshenko_plastic, else refused
+  double derived_particle_radius = 0.0;      ///< r_eq used for the derivation (0: not derived)
   double poisson_ratio = 0.3;
   double radius_multiplier = 0.8;
   double tensile_strength = 16e9;

@@ -126,6 +126,41 @@ const Table<BondDerivationConfig>& bond_derivation_table() {
   return table;
 }
 
+const Table<BondPlasticConfig>& bond_plastic_table() {
+  using P = BondPlasticConfig;
+  static const Table<P> table{
+      "bonds[].plastic",
+      "Plastic limits of the wire bundle the bond stands for (model timoshenko_plastic; "
+      "docs/physics.md \"Plastic bond\"): n_w wires of diameter d in parallel yield at "
+      "N_p = n_w f_y pi d^2 / 4 in tension and form hinges at M_p = n_w f_y d^3 / 6, on a "
+      "parabolic N-M interaction, with linear isotropic hardening. windings, wire_diameter and "
+      "steel_youngs_modulus come from the bond's derive_from when it has one (then they must not "
+      "be given here); without derive_from, windings and wire_diameter are required.",
+      {
+          schema::number("yield_stress", &P::yield_stress, above(0), "Pa",
+                         "Yield stress f_y of the wire (0.2 % proof stress)")
+              .required(),
+          schema::number("hardening_ratio", &P::hardening_ratio, interval(0, true, 1, false), "",
+                         "Post-yield tangent over Young's modulus, b = E_t / E, of a bilinear "
+                         "wire; E_h = E b / (1 - b) is the slope of stress over plastic strain"),
+          schema::number("failure_strain", &P::failure_strain, at_least(0), "",
+                         "Plastic strain limit: the bond breaks when its work-equivalent plastic "
+                         "strain reaches it (in tension the wire's plastic strain; with bilinear "
+                         "hardening f_u is reached at (f_u / f_y - 1) f_y / E_h); 0: no limit, "
+                         "only Eq. 3-5"),
+          schema::integer("windings", &P::windings, at_least(1), "Number of wire windings n_w")
+              .default_text("derive_from.windings")
+              .dump_if([](const P& p) { return p.windings > 0; }),
+          schema::optional_number("wire_diameter", &P::wire_diameter, above(0), "m",
+                                  "Diameter of the wire d")
+              .default_text("derive_from.wire_diameter"),
+          schema::optional_number("steel_youngs_modulus", &P::steel_youngs_modulus, above(0), "Pa",
+                                  "Young's modulus E of the wire steel (for E_h)")
+              .default_text("derive_from's, else 2e11"),
+      }};
+  return table;
+}
+
 const Table<BondConfig>& bond_table() {
   using B = BondConfig;
   static const Table<B> table{
@@ -140,6 +175,9 @@ const Table<BondConfig>& bond_table() {
           schema::optional_section("derive_from", &B::derive_from, bond_derivation_table(),
                                    "Derive youngs_modulus from the ring's windings and wire "
                                    "(physics.md §2) instead of giving it"),
+          schema::optional_section("plastic", &B::plastic, bond_plastic_table(),
+                                   "Plastic limits of the wire bundle: required by model "
+                                   "timoshenko_plastic, refused by the elastic model"),
           schema::number("poisson_ratio", &B::poisson_ratio, interval(-1, false, 0.5, false), "",
                          "Poisson's ratio of the bond beam (shear modulus)"),
           schema::number("radius_multiplier", &B::radius_multiplier, interval(0, false, 2, true),

@@ -23,6 +23,7 @@
 #include "domain/LinkingNumber.hpp"
 #include "domain/RingGenerator.hpp"
 #include "domain/RingNet.hpp"
+#include "engine/ModelTable.hpp"
 #include "io/CaseMagnitudes.hpp"
 #include "io/SizeEstimate.hpp"
 
@@ -132,6 +133,47 @@ void derive_bond_moduli(CaseConfig& c, Context& ctx) {
                                b.radius_multiplier, d.steel_youngs_modulus);
     b.youngs_modulus = f.bond_youngs_modulus;
     b.derived_particle_radius = *particle_radius;
+  }
+}
+
+/// `bonds[].plastic`: required by a plastic bond model (the table's `plastic` flag), refused by
+/// the others; the wire bundle from the section or from derive_from, not from both.
+void check_plastic_limits(const CaseConfig& c, Context& ctx) {
+  std::vector<std::string> plastic_models;
+  for (const auto& m : bond_models())
+    if (m.plastic) plastic_models.emplace_back(m.name);
+  for (std::size_t i = 0; i < c.bonds.size(); ++i) {
+    const BondConfig& b = c.bonds[i];
+    const std::string p = schema::index_path("bonds", i);
+    const BondModelEntry* model = find_bond_model(b.model);
+    if (model == nullptr || ctx.failed(p + ".model") || ctx.failed(p + ".plastic")) continue;
+    if (!model->plastic) {
+      if (b.plastic)
+        ctx.error(ctx.where(p + ".plastic"), p + ".plastic",
+                  fmt::format("model '{}' is elastic and reads no plastic limits; use model {} "
+                              "or remove this section",
+                              b.model, schema::join_names(plastic_models)));
+      continue;
+    }
+    if (!b.plastic) {
+      ctx.error(ctx.where(p + ".model", p), p + ".plastic",
+                fmt::format("model '{}' needs the section {}.plastic (yield_stress, "
+                            "hardening_ratio, failure_strain; windings and wire_diameter unless "
+                            "derive_from gives them)",
+                            b.model, p));
+      continue;
+    }
+    const std::string q = p + ".plastic";
+    for (const char* key : {"windings", "wire_diameter", "steel_youngs_modulus"}) {
+      const std::string k = q + "." + key;
+      if (b.derive_from && ctx.given(k))
+        ctx.error(ctx.where(k), k,
+                  fmt::format("{}.derive_from gives {}: give it in one place only", p, key));
+      else if (!b.derive_from && !ctx.given(k) && std::string(key) != "steel_youngs_modulus")
+        ctx.error(
+            ctx.where(q), k,
+            fmt::format("missing key '{}' (the bond has no derive_from to take it from)", key));
+    }
   }
 }
 
@@ -453,6 +495,7 @@ void cross_validate_case(CaseConfig& c, Context& ctx) {
                                     materials_ok, bonds, bonds_ok, ctx);
   }
   derive_bond_moduli(c, ctx);
+  check_plastic_limits(c, ctx);
   for (std::size_t i = 0; i < c.lattices.size(); ++i) {
     LatticeConfig& l = c.lattices[i];
     const std::string p = schema::index_path("particles.lattices", i);

@@ -7,6 +7,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
+#include "physics/BondTimoshenkoPlastic.hpp"
 
 namespace ringdem {
 namespace {
@@ -30,6 +32,8 @@ struct BondRecord {
   std::int64_t gid_a, gid_b;
   std::uint8_t broken;
   double break_time;
+  /// The bond model's state columns (plastic deformations, strain, work), zero-padded.
+  std::array<double, BondTimoshenkoPlastic::State::kSize> state;
 };
 
 struct State {
@@ -53,7 +57,12 @@ State gather_state(const Simulation& sim) {
   for (std::size_t k = 0; k < bonds.size(); ++k)
     if (const std::int64_t a = p.index_of(bonds.gid_a[k]);
         a >= 0 && static_cast<std::size_t>(a) < p.n_local())  // listed once, by the owner of a
-      my_bonds.push_back({bonds.gid_a[k], bonds.gid_b[k], bonds.broken[k], bonds.break_time[k]});
+    {
+      BondRecord r{bonds.gid_a[k], bonds.gid_b[k], bonds.broken[k], bonds.break_time[k], {}};
+      for (std::size_t c = 0; c < std::min(bonds.n_model_columns(), r.state.size()); ++c)
+        r.state[c] = bonds.model_column(c)[k];
+      my_bonds.push_back(r);
+    }
   s.bonds = sim.comm().allgather(my_bonds);
   std::sort(s.bonds.begin(), s.bonds.end(), [](const auto& a, const auto& b) {
     return a.gid_a < b.gid_a || (a.gid_a == b.gid_a && a.gid_b < b.gid_b);
@@ -86,6 +95,8 @@ void expect_identical(const State& ref, const State& got) {
     EXPECT_EQ(ref.bonds[k].gid_a, got.bonds[k].gid_a);
     EXPECT_EQ(ref.bonds[k].broken, got.bonds[k].broken);
     EXPECT_EQ(ref.bonds[k].break_time, got.bonds[k].break_time);
+    EXPECT_TRUE(ref.bonds[k].state == got.bonds[k].state)
+        << "model state of bond " << ref.bonds[k].gid_a << "-" << ref.bonds[k].gid_b;
   }
   EXPECT_EQ(ref.body_positions, got.body_positions);
   EXPECT_EQ(ref.body_forces, got.body_forces);
@@ -103,6 +114,7 @@ void expect_identical_energies(const Energies& ref, const Energies& got) {
   EXPECT_EQ(ref.global_damping, got.global_damping);
   EXPECT_EQ(ref.broken_bonds, got.broken_bonds);
   EXPECT_EQ(ref.boundary_work, got.boundary_work);
+  EXPECT_EQ(ref.plastic_work, got.plastic_work);
 }
 
 int world_size() {
@@ -124,6 +136,9 @@ struct EquivalenceResult {
   State reference, parallel;
   Energies reference_energies, parallel_energies;
   std::int64_t cut_bonds = 0;
+  /// Bonds with a non-zero model state (yielded plastic bonds) whose ends are owned by two
+  /// ranks at the end of the run.
+  std::int64_t cut_bonds_with_state = 0;
   std::int64_t ghosts = 0;
   std::int64_t repartitions = 0;
   std::int64_t broken = 0;
@@ -159,6 +174,20 @@ EquivalenceResult run_both(const CaseConfig& c, std::int64_t steps,
          parallel.decomposition().report(parallel.model().particles, parallel.model().bonds))
       r.ghosts += rank.ghosts;  // at the end: contacts made during the run cross ranks
     r.parallel = gather_state(parallel);
+    {
+      const ParticleStore& p = parallel.model().particles;
+      const BondStore& bonds = parallel.model().bonds;
+      std::int64_t mine = 0;
+      for (std::size_t k = 0; k < bonds.size(); ++k) {
+        const std::int64_t b = p.index_of(bonds.gid_b[k]);
+        const bool cut = b < 0 || static_cast<std::size_t>(b) >= p.n_local();
+        bool state = false;
+        for (std::size_t col = 0; col < bonds.n_model_columns(); ++col)
+          state = state || bonds.model_column(col)[k] != 0.0;
+        mine += bonds.counted_here(p, k) && cut && state;
+      }
+      r.cut_bonds_with_state = comm.sum(mine);
+    }
     r.parallel_energies = parallel.energies();
     r.repartitions = parallel.decomposition().repartitions();
     r.broken = parallel.global_broken_bonds();
@@ -189,6 +218,31 @@ TEST(Equivalence, Ring4TensileBendingStage) {
   expect_other_path(r);
   expect_identical(r.reference, r.parallel);
   EXPECT_GT(r.reference_energies.boundary_work, 0.0) << "the pins should do work";
+  expect_identical_energies(r.reference_energies, r.parallel_energies);
+}
+
+// (a') The same test with the elastoplastic bond (model timoshenko_plastic), its wire made
+// weak (f_y = 15 MPa) so that most bonds yield within the first millimetres: the plastic state of
+// the bonds that cross the cut is computed on both ranks that hold them, and moves with them.
+// Particles, every bond's plastic state and the plastic-work total: the same bits.
+TEST(Equivalence, Ring4PlasticTensileYields) {
+  const CaseConfig c =
+      load_case(std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_plastic.yaml",
+                {"scenario.tensile_test.loading_rate=0.5", "bonds[0].plastic.yield_stress=15e6"});
+  const auto r = run_both(c, 16000);
+  if (world_size() > 1) {
+    EXPECT_GT(r.cut_bonds, 0) << "the ring should be split between ranks";
+  }
+  expect_other_path(r);
+  expect_identical(r.reference, r.parallel);
+  std::size_t yielded = 0;
+  for (const auto& b : r.reference.bonds)
+    yielded += b.state[6] > 0.0;  // plastic_work
+  EXPECT_GT(yielded, 40u) << "most bonds should have yielded";
+  if (world_size() > 1) {
+    EXPECT_GT(r.cut_bonds_with_state, 0) << "a yielded bond should cross the cut";
+  }
+  EXPECT_GT(r.reference_energies.plastic_work, 0.0);
   expect_identical_energies(r.reference_energies, r.parallel_energies);
 }
 

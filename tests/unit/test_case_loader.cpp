@@ -448,6 +448,80 @@ TEST(CaseLoader, DuplicateKeyAndNonVectorNormal) {
   EXPECT_EQ(diags[1].message, "must be a non-zero vector, got [0, 0, 0]");
 }
 
+// bonds[].plastic (model timoshenko_plastic): required by the plastic model, refused by the
+// elastic one, the wire bundle from the section or from derive_from but not from both; each
+// error on the line of the key (or of the section, for a key that is missing).
+TEST(CaseLoader, PlasticLimitsAreCheckedAgainstTheBondModel) {
+  const std::string bond =
+      "  - {name: ring, youngs_modulus: 120e9, radius_multiplier: 0.8, seed: 7}\n";
+  const auto with_bond = [&](const std::string& lines) {
+    return replaced(kValidCase, bond, lines);
+  };
+
+  // A complete plastic bond loads, and its dump loads again to the same case.
+  const std::string good = with_bond(
+      "  - name: ring\n"
+      "    model: timoshenko_plastic\n"
+      "    derive_from: {windings: 12, wire_diameter: 0.003}\n"
+      "    plastic: {yield_stress: 1.5e9, hardening_ratio: 0.03, failure_strain: 0.04}\n");
+  const CaseConfig c = load_case_from_string(good, "x.yaml");
+  ASSERT_TRUE(c.bonds[0].plastic.has_value());
+  EXPECT_EQ(c.bonds[0].plastic->yield_stress, 1.5e9);
+  EXPECT_EQ(c.bonds[0].plastic->hardening_ratio, 0.03);
+  EXPECT_EQ(c.bonds[0].plastic->failure_strain, 0.04);
+  EXPECT_EQ(c.bonds[0].plastic->windings, 0);  // from derive_from
+  EXPECT_FALSE(c.bonds[0].plastic->wire_diameter.has_value());
+  EXPECT_EQ(dump_case(load_case_from_string(dump_case(c), "x.yaml")), dump_case(c));
+
+  // Plastic limits on the elastic model.
+  std::string text = with_bond(
+      "  - name: ring\n"
+      "    plastic: {yield_stress: 1.5e9, windings: 12, wire_diameter: 0.003}\n");
+  auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic");
+  EXPECT_EQ(diags[0].line, line_of(text, "plastic: {"));
+  EXPECT_EQ(diags[0].message,
+            "model 'timoshenko' is elastic and reads no plastic limits; use model "
+            "timoshenko_plastic or remove this section");
+
+  // The plastic model without them: reported at its model key.
+  text = with_bond("  - name: ring\n    model: timoshenko_plastic\n");
+  diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic");
+  EXPECT_EQ(diags[0].line, line_of(text, "model: timoshenko_plastic"));
+  EXPECT_NE(diags[0].message.find("needs the section bonds[0].plastic"), std::string::npos)
+      << diags[0].message;
+
+  // No derive_from and no wire diameter; windings given twice.
+  text = with_bond(
+      "  - name: ring\n"
+      "    model: timoshenko_plastic\n"
+      "    youngs_modulus: 120e9\n"
+      "    plastic:\n"
+      "      yield_stress: 1.5e9\n"
+      "      windings: 12\n");
+  diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic.wire_diameter");
+  EXPECT_EQ(diags[0].line, line_of(text, "yield_stress: 1.5e9"));  // the section's first line
+  EXPECT_EQ(diags[0].message,
+            "missing key 'wire_diameter' (the bond has no derive_from to take it from)");
+  text = with_bond(
+      "  - name: ring\n"
+      "    model: timoshenko_plastic\n"
+      "    derive_from: {windings: 12, wire_diameter: 0.003}\n"
+      "    plastic:\n"
+      "      yield_stress: 1.5e9\n"
+      "      windings: 19\n");
+  diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic.windings");
+  EXPECT_EQ(diags[0].line, line_of(text, "windings: 19"));
+  EXPECT_EQ(diags[0].message, "bonds[0].derive_from gives windings: give it in one place only");
+}
+
 TEST(CaseLoader, EmptyFileReportsEveryRequiredSection) {
   const auto diags = errors_of("");
   ASSERT_EQ(diags.size(), 4u) << all(diags);

@@ -283,7 +283,9 @@ TEST(TensileRig, WritesSummaryAndSeries) {
   std::ifstream series(dir / "series.csv");
   std::string header;
   std::getline(series, header);
-  EXPECT_EQ(header, "time_s,displacement_m,load_N,broken_bonds,kinetic_energy_J,bond_energy_J");
+  EXPECT_EQ(header,
+            "time_s,displacement_m,load_N,broken_bonds,kinetic_energy_J,bond_energy_J,"
+            "plastic_work_J");
   std::stringstream summary;
   summary << std::ifstream(dir / "summary.json").rdbuf();
   for (const char* key :
