@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -144,11 +145,17 @@ struct BodyRows {
   }
 };
 
+/// The step in a checkpoint's file name, or -1 for a name that is not one of ours (also a
+/// number too long for 64 bits: such a file is skipped, never an error).
 std::int64_t step_of(const fs::path& p) {
   static const std::regex re(R"(checkpoint_(\d+)\.h5)");
   std::smatch m;
   const std::string name = p.filename().string();
-  return std::regex_match(name, m, re) ? std::stoll(m[1]) : -1;
+  if (!std::regex_match(name, m, re)) return -1;
+  const std::string digits = m[1];
+  std::int64_t step = -1;
+  const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), step);
+  return error == std::errc() && end == digits.data() + digits.size() ? step : -1;
 }
 
 }  // namespace

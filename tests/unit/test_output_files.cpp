@@ -273,3 +273,20 @@ TEST(Duration, ParsesTheUsualForms) {
 
 }  // namespace
 }  // namespace ringdem
+
+namespace ringdem {
+namespace {
+
+TEST_F(CorruptCheckpoint, NameWithAStepBeyond64BitsIsSkippedNotAnError) {
+  // A stray file whose step does not fit 64 bits is not one of ours: --restart auto skips it
+  // and takes the good checkpoint (before, std::stoll threw "stoll").
+  copy("checkpoint_123456789012345678901234.h5");
+  const auto all = CheckpointStore(dir_).list();
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0], good_);
+  std::vector<std::string> skipped;
+  EXPECT_EQ(latest_valid_checkpoint(dir_, &skipped), good_);
+}
+
+}  // namespace
+}  // namespace ringdem
