@@ -317,9 +317,8 @@ TEST(Checkpoint, PlasticBondStateRestartsBitwiseMidYield) {
       auto sim = restart(c, middle, self);
       sim->run_steps(kHalf);
       EXPECT_EQ(sim->energies().plastic_work, work_end);
-      resumed_serial =
-          CheckpointStore(dir + "/serial")
-              .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c);
+      resumed_serial = CheckpointStore(dir + "/serial")
+                           .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c);
     }
     comm.barrier();
     if (comm.is_root()) {

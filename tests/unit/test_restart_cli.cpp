@@ -185,8 +185,9 @@ TEST_F(RestartCli, SphereInsideTheRingIsRefusedNamingBothParticles) {
   EXPECT_FALSE(err_has("overlap at the start")) << err_;
   EXPECT_TRUE(err_has("the run diverged at step 1")) << err_;
   // A shallow allowed overlap (0.5 mm) runs to the end.
-  EXPECT_EQ(run("out3", " -q --set particles.spheres.0.position=[0.1545,0,0.214] --set "
-                        "simulation.allow_initial_overlap=true"),
+  EXPECT_EQ(run("out3",
+                " -q --set particles.spheres.0.position=[0.1545,0,0.214] --set "
+                "simulation.allow_initial_overlap=true"),
             0)
       << err_;
 }
