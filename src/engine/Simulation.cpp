@@ -301,9 +301,11 @@ bool Simulation::needs_rebuild() {
          particle_move + body_move > settings_.skin;
 }
 
-void Simulation::report_divergence() const {
+void Simulation::report_divergence(const std::string& energy_excess) const {
   // Every rank offers its worst particle; all pick the same one (largest ratio, then lowest
-  // gid) and throw the same message.
+  // gid) and throw the same message. For the energy guard the worst is the fastest particle
+  // (the ratio of its move and turn in one step to the limits), for the step guard the one
+  // the drift pass found.
   struct Offender {
     double ratio;
     std::int64_t gid;
@@ -312,10 +314,21 @@ void Simulation::report_divergence() const {
   };
   const ParticleStore& p = model_.particles;
   Offender mine{0.0, -1, -1, comm_.rank(), {}, {}, {}};
-  if (drift_.worst_runaway > 1.0 && drift_.worst_index < p.n_local()) {
-    const std::size_t k = drift_.worst_index;
-    mine = {drift_.worst_runaway, p.gid[k],      p.group[k], comm_.rank(),
-            p.position[k],        p.velocity[k], p.omega[k]};
+  double worst_ratio = drift_.worst_runaway;
+  std::size_t worst_index = drift_.worst_index;
+  if (!energy_excess.empty()) {
+    worst_ratio = -1.0;
+    for (std::size_t k = 0; k < p.n_local(); ++k) {
+      double r =
+          std::max(norm(p.velocity[k]) * dt_ / settings_.skin, norm(p.omega[k]) * dt_ / kMaxTurn);
+      if (!std::isfinite(r)) r = Integrator::kRunaway;
+      if (r > worst_ratio) worst_ratio = r, worst_index = k;
+    }
+  }
+  if ((!energy_excess.empty() || worst_ratio > 1.0) && worst_index < p.n_local()) {
+    const std::size_t k = worst_index;
+    mine = {worst_ratio,   p.gid[k],      p.group[k], comm_.rank(),
+            p.position[k], p.velocity[k], p.omega[k]};
   }
   const auto all = comm_.allgather(std::vector<Offender>{mine});
   const Offender* worst = nullptr;
@@ -323,12 +336,20 @@ void Simulation::report_divergence() const {
     if (o.gid >= 0 &&
         (!worst || o.ratio > worst->ratio || (o.ratio == worst->ratio && o.gid < worst->gid)))
       worst = &o;
-  std::string what;
-  if (worst) {
-    const std::string group =
-        worst->group >= 0 && static_cast<std::size_t>(worst->group) < model_.group_names.size()
-            ? model_.group_names[static_cast<std::size_t>(worst->group)]
-            : std::string("?");
+  const auto group_name = [this](std::int32_t g) {
+    return g >= 0 && static_cast<std::size_t>(g) < model_.group_names.size()
+               ? model_.group_names[static_cast<std::size_t>(g)]
+               : std::string("?");
+  };
+  std::string what = energy_excess.empty() ? std::string() : energy_excess + "; fastest ";
+  if (worst && !energy_excess.empty()) {
+    what += fmt::format(
+        "particle {} (group {}, rank {}) at ({:.6g}, {:.6g}, {:.6g}) m, velocity ({:.6g}, "
+        "{:.6g}, {:.6g}) m/s",
+        worst->gid, group_name(worst->group), worst->rank, worst->position.x, worst->position.y,
+        worst->position.z, worst->velocity.x, worst->velocity.y, worst->velocity.z);
+  } else if (worst) {
+    const std::string group = group_name(worst->group);
     const bool finite =
         std::isfinite(norm2(worst->position) + norm2(worst->velocity) + norm2(worst->omega));
     what = fmt::format(
@@ -446,6 +467,7 @@ void Simulation::place_body(std::size_t index, const Vec3& position, const Vec3&
   b.omega = {};
   b.motion = motion;
   force_rebuild_ = true;
+  energy_guard_.rebase();
 }
 
 void Simulation::set_group_damping(int group, double coefficient) {
@@ -540,6 +562,8 @@ Energies Simulation::energies() {
                         b.principal_inertia.z * wb.z * wb.z);
     if (b.gravity) e.potential += -b.mass * dot(settings_.gravity, b.position);
   }
+  // The sums are the same on every rank, so every rank decides alike.
+  if (const auto excess = energy_guard_.check(e)) report_divergence(EnergyGuard::describe(*excess));
   return e;
 }
 

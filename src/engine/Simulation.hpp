@@ -9,6 +9,7 @@
 #include "comm/DomainDecomposition.hpp"
 #include "engine/BodyContactTerm.hpp"
 #include "engine/BondTerm.hpp"
+#include "engine/EnergyGuard.hpp"
 #include "engine/EnergyLedger.hpp"
 #include "engine/ForceSlots.hpp"
 #include "engine/GatherMap.hpp"
@@ -133,7 +134,8 @@ class Simulation {
   bool bonds_broke_anywhere() const { return bonds_broke_anywhere_; }
 
   /// Moves rigid body `index` (every rank calls it alike: bodies are replicated) and sets its
-  /// motion; the neighbour lists are rebuilt at the next step.
+  /// motion; the neighbour lists are rebuilt at the next step. The energy it adds is outside
+  /// the ledger: the energy guard takes a new reference at the next energies().
   void place_body(std::size_t index, const Vec3& position, const Vec3& velocity, Motion motion);
   /// Sets the Cundall coefficient of every particle of a group (physics.md §4).
   void set_group_damping(int group, double coefficient);
@@ -157,6 +159,8 @@ class Simulation {
   /// current configuration (frames read them).
   void refresh_bond_diagnostics();
   /// Refreshes the bond diagnostics (forces, utilisation, energy) and sums the energies.
+  /// Collective. Throws DivergenceError on every rank when the ledger has grown beyond what
+  /// the run had (engine/EnergyGuard).
   Energies energies();
 
   /// Seconds spent per phase since the start (this rank).
@@ -173,8 +177,9 @@ class Simulation {
   void reduce_body_loads();
   bool needs_rebuild();
   /// Names the particle (or body) that ran away and the likely cause; throws
-  /// DivergenceError on every rank. Collective.
-  [[noreturn]] void report_divergence() const;
+  /// DivergenceError on every rank. Collective. `energy_excess`: the energy guard fired (its
+  /// description); the fastest particle is named then.
+  [[noreturn]] void report_divergence(const std::string& energy_excess = {}) const;
   /// The force terms of the model's bond and contact models (engine/ModelTable).
   static std::vector<std::unique_ptr<ForceTerm>> make_terms(Model& m);
   /// Sets bond_term_ and body_term_, the terms the simulation asks more of than compute().
@@ -209,8 +214,9 @@ class Simulation {
   bool stop_local_ = false;
   bool stop_agreed_ = false;
   std::vector<Vec3> position_at_rebuild_;
-  double max_move2_ = 0.0;   ///< largest squared particle move since the rebuild (this rank)
-  Integrator::Drift drift_;  ///< the last drift pass (this rank), for the divergence guard
+  double max_move2_ = 0.0;    ///< largest squared particle move since the rebuild (this rank)
+  Integrator::Drift drift_;   ///< the last drift pass (this rank), for the divergence guard
+  EnergyGuard energy_guard_;  ///< the divergence guard's energy part, at every energies()
   std::vector<Vec3> body_position_at_rebuild_;
   std::vector<Quat> body_orientation_at_rebuild_;
   std::array<double, kPhaseCount> phase_seconds_{};
