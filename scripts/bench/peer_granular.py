@@ -1,0 +1,284 @@
+#!/usr/bin/python3
+"""Side-by-side granular benchmark: ringdem, LAMMPS (GRANULAR) and LIGGGHTS on the same beds.
+
+Called by scripts/bench/peer_granular.sh, which installs the packages and builds ringdem.
+Each (variant, size) is run by every code in turn, `repeats` times interleaved, on one rank.
+Each code's own loop time is read from its log (ringdem: "done: N steps in"; LAMMPS and
+LIGGGHTS: "Loop time of"), peak resident memory from /usr/bin/time. Medians are printed.
+
+Variants (issue 12, docs/performance.md):
+  bed   resting bed: spheres of 5 mm on a jittered 10.5 mm lattice above a floor plane
+  poly  polydisperse bed: radii 5-25 mm (uniform), stacked in columns on a 50.5 mm grid, plus
+        one 0.4 m boulder on top (ringdem reads it as a sphere list: its peak memory includes
+        the parsed YAML; the polydisperse source of issue 13 will replace it)
+  flow  a dense block (10.1 mm lattice) moving at 1 m/s down a 35 degree incline (gravity
+        tilted over the floor plane), so that contacts form, slide and break all the time
+Rock: E = 1 GPa, nu = 0.25, e = 0.3, mu = 0.5, 2600 kg/m^3, Hertz-Mindlin, dt = 1.31e-5 s.
+"""
+import argparse
+import json
+import math
+import os
+import random
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+
+E, NU, REST, MU, RHO, DT = 1.0e9, 0.25, 0.3, 0.5, 2600.0, 1.31e-5
+STEPS = {"bed": 153, "poly": 153, "flow": 500}
+SLOPE = math.radians(35.0)
+
+
+def lattice_counts(variant, n):
+    """Lattice counts (nx, ny, nz) for about n grains."""
+    if variant == "flow":  # a long, shallow block: 25 x 4 x 1 in shape
+        k = round((n / 100.0) ** (1.0 / 3.0))
+        return (25 * k, 4 * k, k)
+    side = round(math.sqrt(n / 10.0)) if n <= 2e5 else round(n ** (1.0 / 3.0))
+    return (side, side, max(1, round(n / side / side)))
+
+
+def gravity(variant):
+    if variant == "flow":
+        return (9.81 * math.sin(SLOPE), 0.0, -9.81 * math.cos(SLOPE))
+    return (0.0, 0.0, -9.81)
+
+
+def lattice_spec(variant, n):
+    nx, ny, nz = lattice_counts(variant, n)
+    spacing = 0.0101 if variant == "flow" else 0.0105
+    jitter = 0.9 if variant == "flow" else 0.5
+    velocity = (1.0, 0.0, 0.0) if variant == "flow" else (0.0, 0.0, 0.0)
+    return dict(nx=nx, ny=ny, nz=nz, spacing=spacing, radius=0.005, jitter=jitter,
+                velocity=velocity, origin=(0.0, 0.0, 0.006))
+
+
+def poly_spheres(n, seed=7):
+    """Polydisperse grains in columns on a 50.5 mm square grid, each column a stack with 0.2 mm
+    gaps (a bed with neighbours, like the monodisperse one), plus one 0.4 m boulder on top."""
+    side = round(math.sqrt(n / 10.0))
+    nz = max(1, round(n / side / side))
+    pitch, gap = 0.0505, 0.0002
+    rng = random.Random(seed)
+    out = []
+    top = 0.0
+    for i in range(side):
+        for j in range(side):
+            z = 0.0
+            for _ in range(nz):
+                r = rng.uniform(0.005, 0.025)
+                slack = 0.5 * pitch - r
+                z += gap + r
+                out.append((i * pitch + rng.uniform(-0.2, 0.2) * slack,
+                            j * pitch + rng.uniform(-0.2, 0.2) * slack, z, r))
+                z += r
+            top = max(top, z)
+    centre = 0.5 * (side - 1) * pitch
+    out.append((centre, centre, top + 0.4 + 0.01, 0.4))
+    return out
+
+
+def write_ringdem(work, variant, n):
+    g = gravity(variant)
+    lines = [
+        "schema_version: 1", f"name: peer_{variant}",
+        f"simulation: {{dt: {DT}, end_time: {STEPS[variant] * DT * (1 - 1e-6)}, "
+        f"gravity: [{g[0]!r}, {g[1]!r}, {g[2]!r}], skin: 0.001}}",
+        "output: {frame_interval: 0, checkpoint_interval: 0}",
+        "materials:",
+        f"  - {{name: rock, density: {RHO}, youngs_modulus: {E}, poisson_ratio: {NU}, "
+        f"restitution: {REST}, friction: {MU}}}",
+        "particles:"]
+    if variant == "poly":
+        lines.append("  spheres:")
+        for x, y, z, r in poly_spheres(n):
+            lines.append(f"    - {{position: [{x:.6f}, {y:.6f}, {z:.6f}], radius: {r:.6f}, "
+                         "material: rock}")
+    else:
+        s = lattice_spec(variant, n)
+        v = s["velocity"]
+        lines += ["  lattices:",
+                  f"    - {{material: rock, origin: [0, 0, {s['origin'][2]}], "
+                  f"count: [{s['nx']}, {s['ny']}, {s['nz']}], spacing: {s['spacing']}, "
+                  f"particle_radius: {s['radius']}, jitter: {s['jitter']}, seed: 3, "
+                  f"velocity: [{v[0]}, {v[1]}, {v[2]}]}}"]
+    lines += ["rigid_bodies:",
+              "  - {name: floor, shape: plane, position: [0, 0, 0], normal: [0, 0, 1], "
+              "material: rock, motion: fixed}"]
+    path = os.path.join(work, f"{variant}_{n}.yaml")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return path
+
+
+def write_lammps_data(work, variant, n):
+    spheres = poly_spheres(n)
+    lo = min(min(s[0], s[1]) - s[3] for s in spheres) - 0.05
+    hi = max(max(s[0], s[1]) + s[3] for s in spheres) + 0.05
+    top = max(s[2] + s[3] for s in spheres) + 0.05
+    path = os.path.join(work, f"{variant}_{n}.data")
+    with open(path, "w") as f:
+        f.write(f"peer {variant}\n\n{len(spheres)} atoms\n1 atom types\n\n")
+        f.write(f"{lo} {hi} xlo xhi\n{lo} {hi} ylo yhi\n-0.01 {top} zlo zhi\n\nAtoms # sphere\n\n")
+        for k, (x, y, z, r) in enumerate(spheres, 1):
+            f.write(f"{k} 1 {2 * r:.6f} {RHO} {x:.6f} {y:.6f} {z:.6f}\n")
+    return path
+
+
+def box_and_atoms(work, variant, n, liggghts):
+    """Input lines that make the grains (LAMMPS and LIGGGHTS share them)."""
+    if variant == "poly":
+        return [f"read_data {write_lammps_data(work, variant, n)}"]
+    s = lattice_spec(variant, n)
+    a = s["spacing"]
+    length = (s["nx"] - 1) * a
+    extra_x = 3.0 if variant == "flow" else 0.05  # room to flow downhill
+    box = (f"region box block -0.05 {length + extra_x} -0.05 {(s['ny'] - 1) * a + 0.05} "
+           f"-0.01 {s['origin'][2] + s['nz'] * a + 0.05} units box")
+    # Lattice sites at origin + (i, j, k) a, as ringdem's; the region picks exactly the counts.
+    region = (f"region grains block {-0.5 * a} {(s['nx'] - 0.5) * a} {-0.5 * a} "
+              f"{(s['ny'] - 0.5) * a} {s['origin'][2] - 0.5 * a} "
+              f"{s['origin'][2] + (s['nz'] - 0.5) * a} units box")
+    lines = [box, "create_box 1 box", region,
+             f"lattice sc {a} origin 0 0 {s['origin'][2] / a % 1.0}",
+             "create_atoms 1 region grains",
+             "set group all density 2600 diameter 0.01" if liggghts else
+             "set type 1 diameter 0.01\nset type 1 density 2600"]
+    # LIGGGHTS 3.8 aborts on displace_atoms random: its lattice stays unjittered.
+    if not liggghts:
+        d = 0.5 * s["jitter"] * (a - 2 * s["radius"])
+        lines.append(f"displace_atoms all random {d} {d} {d} 3 units box")
+    v = s["velocity"]
+    if any(v):
+        lines.append(f"velocity all set {v[0]} {v[1]} {v[2]} units box")
+    return lines
+
+
+def write_lammps(work, variant, n):
+    g = gravity(variant)
+    gn = math.sqrt(sum(c * c for c in g))
+    model = f"hertz/material {E} {REST} {NU} tangential mindlin NULL 1.0 {MU} damping tsuji"
+    lines = ["units si", "atom_style sphere", "atom_modify map array", "boundary f f f",
+             "comm_modify vel yes", "newton off"]
+    lines += box_and_atoms(work, variant, n, liggghts=False)
+    lines += ["pair_style granular", f"pair_coeff * * {model}",
+              f"fix floor all wall/gran granular {model} zplane 0.0 NULL",
+              "fix integrate all nve/sphere",
+              f"fix grav all gravity {gn} vector {g[0] / gn} {g[1] / gn} {g[2] / gn}",
+              "neighbor 0.001 bin", "neigh_modify delay 0 every 1 check yes",
+              f"timestep {DT}", "thermo 100", f"run {STEPS[variant]}"]
+    path = os.path.join(work, f"{variant}_{n}.lmp")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return path
+
+
+def write_liggghts(work, variant, n):
+    g = gravity(variant)
+    gn = math.sqrt(sum(c * c for c in g))
+    lines = ["atom_style granular", "atom_modify map array", "boundary f f f", "newton off",
+             "communicate single vel yes", "units si"]
+    atoms = box_and_atoms(work, variant, n, liggghts=True)
+    lines += atoms[:2]  # the box first: the material properties need it
+    lines += ["neighbor 0.001 bin", "neigh_modify delay 0",
+              f"fix m1 all property/global youngsModulus peratomtype {E}",
+              f"fix m2 all property/global poissonsRatio peratomtype {NU}",
+              f"fix m3 all property/global coefficientRestitution peratomtypepair 1 {REST}",
+              f"fix m4 all property/global coefficientFriction peratomtypepair 1 {MU}",
+              "pair_style gran model hertz tangential history", "pair_coeff * *",
+              f"timestep {DT}",
+              f"fix grav all gravity {gn} vector {g[0] / gn} {g[1] / gn} {g[2] / gn}",
+              "fix floor all wall/gran model hertz tangential history primitive type 1 "
+              "zplane 0.0"]
+    lines += atoms[2:]
+    lines += ["fix integr all nve/sphere", "thermo 100", f"run {STEPS[variant]}"]
+    path = os.path.join(work, f"{variant}_{n}.lig")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return path
+
+
+def run_one(code, path, work, ringdem):
+    if code == "ringdem":
+        cmd = [ringdem, "run", path, "-o", os.path.join(work, "out_" + os.path.basename(path))]
+    elif code == "lammps":
+        cmd = ["lmp", "-in", path, "-log", "none"]
+    else:
+        cmd = ["liggghts", "-in", path, "-log", "none"]
+    timed = ["/usr/bin/time", "-f", "peak_rss_kb %M"] + cmd
+    proc = subprocess.run(timed, cwd=work, capture_output=True, text=True)
+    text = proc.stdout + proc.stderr
+    if proc.returncode != 0:
+        sys.exit(f"{code} failed on {path} (exit {proc.returncode}):\n{text[-3000:]}")
+    rss = int(re.search(r"peak_rss_kb (\d+)", text).group(1)) * 1024
+    if code == "ringdem":
+        m = re.search(r"done: (\d+) steps", text)
+        out = os.path.join(work, "out_" + os.path.basename(path), "summary.json")
+        with open(out) as f:
+            summary = json.load(f)
+        return dict(loop=summary["wall_time_s"], steps=int(m.group(1)),
+                    atoms=summary["particles"], rss=rss, pairs=None)
+    m = re.search(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps with (\d+) atoms",
+                  text)
+    if not m:
+        sys.exit(f"{code}: no loop time in its output for {path}:\n{text[-3000:]}")
+    pairs = re.search(r"Total # of neighbors = (\d+)", text)
+    return dict(loop=float(m.group(1)), steps=int(m.group(2)), atoms=int(m.group(3)), rss=rss,
+                pairs=int(pairs.group(1)) if pairs else None)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--ringdem", required=True, help="path of the ringdem binary")
+    ap.add_argument("--sizes", default="1e5", help="grain counts, comma separated (1e5,1e6)")
+    ap.add_argument("--variants", default="bed,poly,flow")
+    ap.add_argument("--codes", default="ringdem,lammps,liggghts")
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--json", help="also write the medians here")
+    args = ap.parse_args()
+    codes = args.codes.split(",")
+    results = []
+    with tempfile.TemporaryDirectory() as work:
+        for size in args.sizes.split(","):
+            n = int(float(size))
+            for variant in args.variants.split(","):
+                inputs = {}
+                for code in codes:
+                    writer = {"ringdem": write_ringdem, "lammps": write_lammps,
+                              "liggghts": write_liggghts}[code]
+                    inputs[code] = writer(work, variant, n)
+                runs = {c: [] for c in codes}
+                for _ in range(args.repeats):  # interleaved: code by code within a round
+                    for code in codes:
+                        runs[code].append(run_one(code, inputs[code], work, args.ringdem))
+                row = {"variant": variant, "size": n}
+                for code in codes:
+                    loop = statistics.median(r["loop"] for r in runs[code])
+                    r0 = runs[code][0]
+                    row[code] = dict(
+                        atoms=r0["atoms"], steps=r0["steps"], loop_s=loop,
+                        ns_per_particle_step=1e9 * loop / (r0["atoms"] * r0["steps"]),
+                        bytes_per_particle=statistics.median(r["rss"] for r in runs[code]) /
+                        r0["atoms"], neighbour_pairs=r0["pairs"])
+                results.append(row)
+                print(f"\n{variant}, {n:.0e} grains ({args.repeats} interleaved runs, medians):")
+                ref = row.get("lammps")
+                for code in codes:
+                    c = row[code]
+                    ratio = (f"  {c['ns_per_particle_step'] / ref['ns_per_particle_step']:.2f}x "
+                             "LAMMPS's time" if ref and code != "lammps" else "")
+                    pairs = f", {c['neighbour_pairs']} pairs" if c["neighbour_pairs"] else ""
+                    print(f"  {code:9s} {c['atoms']:8d} grains {c['steps']:4d} steps  loop "
+                          f"{c['loop_s']:8.3f} s  {c['ns_per_particle_step']:7.1f} ns/particle-"
+                          f"step  {c['bytes_per_particle']:6.0f} B/particle{pairs}{ratio}")
+                sys.stdout.flush()
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(results, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
