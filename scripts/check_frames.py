@@ -3,8 +3,10 @@
 each frame's rows [0, n_f) in increasing gid (or bond id) order, each frame's bond topology
 (particle rows of that frame) within range and joining the bond's gid pairs, frame times
 increasing, every per-frame dataset with one row block per frame, finite positions, every HDF
-dataset the XDMF sidecar names present with the dimensions it states, and each frame of the
-sidecar selecting that frame's rows. Files whose particle and bond counts change between frames
+dataset the XDMF sidecar names present with the dimensions it states, each frame of the
+sidecar selecting that frame's rows, the rigid bodies' surface meshes (offsets, triangles
+within their body's vertices), and each sidecar frame showing the bodies in play and no other.
+Files whose particle and bond counts change between frames
 (/frames/particles, /frames/bonds, /frames/connectivity) and files written before those existed
 (constant counts, one topology) are both read. Prints a short summary; exit code 1 on any
 problem.

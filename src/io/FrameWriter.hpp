@@ -13,8 +13,9 @@ namespace ringdem {
 
 class Hdf5File;
 
-/// The three grids of a frame: particles (Polyvertex), bonds (Polyline between particles),
-/// rigid bodies (Polyvertex at their reference points).
+/// What a frame dataset belongs to: particles (Polyvertex), bonds (Polyline between particles),
+/// rigid bodies (one row per body; each body in play is a Triangle grid of its surface, these
+/// rows its field data).
 enum class FrameGrid { kParticles, kBonds, kBodies };
 
 /// One per-frame dataset of a frame file, as the XDMF sidecar describes it.
