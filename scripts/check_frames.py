@@ -3,20 +3,52 @@
 each frame's rows [0, n_f) in increasing gid (or bond id) order, each frame's bond topology
 (particle rows of that frame) within range and joining the bond's gid pairs, frame times
 increasing, every per-frame dataset with one row block per frame, finite positions, every HDF
-dataset the XDMF sidecar names present with the dimensions it states, and each frame of the
-sidecar selecting that frame's rows. Files whose particle and bond counts change between frames
+dataset the XDMF sidecar names present with the dimensions it states, each frame of the
+sidecar selecting that frame's rows, the rigid bodies' surface meshes (offsets, triangles
+within their body's vertices), and each sidecar frame showing the bodies in play and no other.
+Files whose particle and bond counts change between frames
 (/frames/particles, /frames/bonds, /frames/connectivity) and files written before those existed
 (constant counts, one topology) are both read. Prints a short summary; exit code 1 on any
 problem.
 
 usage: check_frames.py frames_0000.h5|frames_0000.xdmf
 """
+import html
 import os
 import re
 import sys
 
 import h5py
 import numpy as np
+
+
+def check_body_surfaces(f, nf, nbody):
+    """The rigid bodies' surface meshes (/bodies/surface) and in-play flags (/bodies/active),
+    absent from files written before them: (problems, active flags per frame or None)."""
+    if "bodies" not in f or "surface" not in f["bodies"]:
+        return [], None
+    problems = []
+    s = f["bodies/surface"]
+    vf, tf = s["vertex_first"][()], s["triangle_first"][()]
+    tri, pts = s["triangles"][()], s["points"]
+    active = f["bodies/active"][()]
+    if len(vf) != nbody + 1 or len(tf) != nbody + 1 or vf[0] != 0 or tf[0] != 0:
+        return [f"bodies/surface: vertex_first/triangle_first do not have {nbody} + 1 offsets"], None
+    if np.any(np.diff(vf) < 0) or np.any(np.diff(tf) < 0):
+        problems.append("bodies/surface: offsets decrease")
+    if tri.shape != (tf[-1], 3) or pts.shape != (nf, vf[-1], 3):
+        problems.append(f"bodies/surface: triangles {tri.shape}, points {pts.shape}, "
+                        f"expected ({tf[-1]}, 3) and ({nf}, {vf[-1]}, 3)")
+    for b in range(nbody):
+        t = tri[tf[b]:tf[b + 1]]
+        if t.size and (t.min() < 0 or t.max() >= vf[b + 1] - vf[b]):
+            problems.append(f"bodies/surface: body {b} has triangles outside its vertices")
+    if active.shape != (nf, nbody) or not np.all((active == 0) | (active == 1)):
+        problems.append(f"bodies/active has shape {active.shape} or values other than 0 and 1")
+        return problems, None
+    if nbody and not np.all(np.isfinite(pts[()])):
+        problems.append("bodies/surface: non-finite points")
+    return problems, active
 
 
 def main(path):
@@ -41,12 +73,14 @@ def main(path):
             if g not in f:
                 continue
             for name, d in f[g].items():
-                if name == "connectivity":
+                if name in ("connectivity", "surface"):
                     continue
                 if rows == 0 and d.size == 0:
                     continue  # nothing of this kind (a case without rigid bodies): no rows to check
                 if d.shape[0] != nf or d.shape[1] != rows:
                     problems.append(f"{g}/{name} has shape {d.shape}, expected ({nf}, {rows}, ...)")
+        body_problems, active = check_body_surfaces(f, nf, nbody)
+        problems += body_problems
         # Per-frame counts and topology blocks; older files: constant counts, one topology.
         counts = f["frames/particles"][()] if "frames/particles" in f else np.full(nf, n)
         bond_counts = f["frames/bonds"][()] if "frames/bonds" in f else np.full(nf, nb)
@@ -100,6 +134,15 @@ def main(path):
                 m = re.search(r'Polyline" NumberOfElements="(\d+)"', block)
                 if i < nf and bond_counts[i] and (m is None or int(m.group(1)) != bond_counts[i]):
                     problems.append(f"sidecar frame {i} does not hold its {bond_counts[i]} bonds")
+            # Each frame lists a surface grid for each body in play, none for the others.
+            if active is not None:
+                names = f["bodies"].attrs.get("names", b"")
+                names = (names.decode() if isinstance(names, bytes) else str(names)).split("\n")
+                for i, block in enumerate(re.split(r'<Grid Name="frame_\d+"', text)[1:nf + 1]):
+                    listed = [html.unescape(n) for n in re.findall(r'<Grid Name="body_([^"]*)"', block)]
+                    expected = [n for n, a in zip(names, active[i]) if a]
+                    if listed != expected:
+                        problems.append(f"sidecar frame {i} shows bodies {listed}, in play {expected}")
         else:
             items = []
             problems.append(f"no sidecar {xdmf_path}")

@@ -97,7 +97,8 @@ RockfallDriver::RockfallDriver(const CaseConfig& input)
       rf_(config_.scenario.rockfall),
       radius_(sphere_radius(rf_.boulder_mass, rf_.boulder_density)) {
   // The boulder is a free rigid sphere; until the release it is parked far above, motion
-  // prescribed at rest, so it neither moves nor touches anything.
+  // prescribed at rest, so it neither moves nor touches anything (where it will be released
+  // is known only once the net has sagged). It is marked out of play meanwhile (start()).
   for (const auto& b : config_.rigid_bodies)
     if (b.name == kBoulderName)
       throw std::runtime_error(
@@ -131,6 +132,8 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
   impact_energy_ = rf_.boulder_mass * g_ * rf_.drop_height;
   impact_velocity_ = std::sqrt(2.0 * g_ * rf_.drop_height);
   restore(control_->driver_state());
+  // Out of play while parked: the frames leave it out of the scene (docs/output.md).
+  sim.model().bodies[boulder_].active = phase_ != kSag;
 
   static const std::vector<std::string> columns{"time_s",
                                                 "time_from_contact_s",
@@ -294,6 +297,7 @@ void RockfallDriver::release(Simulation& sim) {
   }
   const Energies before = sim.energies();
   sim.place_body(boulder_, {drop_x_, drop_y_, z_centre}, {0, 0, vz}, Motion::kFree);
+  sim.model().bodies[boulder_].active = true;
   energy_added_ = sim.energies().ledger() - before.ledger();
   phase_ = kImpact;
   next_record_ = sim.time();

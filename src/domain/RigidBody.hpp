@@ -31,6 +31,10 @@ struct RigidBody {
   double mass = 0.0;       ///< free bodies
   Vec3 principal_inertia;  ///< free bodies, body frame
   bool gravity = true;
+  /// False while a scenario holds the body out of play (the rockfall boulder before its
+  /// release, parked far away at rest): nothing reads it but the frame output, which leaves
+  /// the body out of the scene of such frames (docs/output.md).
+  bool active = true;
 
   // Contact load of the current step, torque about position: the loads the particle contacts
   // put on the body, summed over every rank once the step reduces them. Set anew each step

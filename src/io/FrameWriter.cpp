@@ -2,13 +2,17 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <type_traits>
 
 #include "comm/RowBlocks.hpp"
 #include "core/Version.hpp"
+#include "io/BodyMesh.hpp"
 #include "io/Hdf5File.hpp"
 
 namespace ringdem {
@@ -41,54 +45,91 @@ std::string file_name(const std::string& path) {
   return std::filesystem::path(path).filename().string();
 }
 
-/// Rows [0, rows) of one frame of a [frame, row(, component)] dataset of `capacity` rows as an
-/// XDMF hyperslab.
-std::string hyperslab(const std::string& h5_name, const FrameDataset& d, std::size_t frame,
-                      std::size_t n_frames, std::int64_t rows, std::int64_t capacity,
-                      const std::string& indent) {
-  const bool vector = d.components > 1;
-  const std::string dims =
-      vector ? fmt::format("{} {}", rows, d.components) : fmt::format("{}", rows);
-  const std::string slab = vector ? fmt::format("{} 0 0 1 1 1 1 {} {}", frame, rows, d.components)
-                                  : fmt::format("{} 0 1 1 1 {}", frame, rows);
-  const std::string full = vector ? fmt::format("{} {} {}", n_frames, capacity, d.components)
-                                  : fmt::format("{} {}", n_frames, capacity);
+/// Rows [first_row, first_row + rows) of a dataset as an XDMF hyperslab: of frame `frame` of a
+/// [frame, row(, component)] dataset of `capacity` rows, or (frame < 0) of a fixed [row,
+/// component] dataset of `capacity` rows.
+std::string hyperslab(const std::string& h5_name, const FrameDataset& d, std::int64_t frame,
+                      std::size_t n_frames, std::int64_t first_row, std::int64_t rows,
+                      std::int64_t capacity, const std::string& indent) {
+  std::vector<std::int64_t> start, count, full;
+  if (frame >= 0) {
+    start.push_back(frame);
+    count.push_back(1);
+    full.push_back(static_cast<std::int64_t>(n_frames));
+  }
+  start.push_back(first_row);
+  count.push_back(rows);
+  full.push_back(capacity);
+  if (d.components > 1 || frame < 0) {
+    start.push_back(0);
+    count.push_back(d.components);
+    full.push_back(d.components);
+  }
+  // The selection's shape is its count without the frame axis.
+  const std::vector<std::int64_t> dims(count.begin() + (frame >= 0 ? 1 : 0), count.end());
+  const std::vector<std::int64_t> stride(start.size(), 1);
   return fmt::format(
       "{0}<DataItem ItemType=\"HyperSlab\" Dimensions=\"{1}\" Type=\"HyperSlab\">\n"
-      "{0}  <DataItem Dimensions=\"3 {2}\" Format=\"XML\">{3}</DataItem>\n"
-      "{0}  <DataItem Dimensions=\"{4}\" NumberType=\"{5}\" Precision=\"{6}\" "
-      "Format=\"HDF\">{7}:{8}</DataItem>\n"
+      "{0}  <DataItem Dimensions=\"3 {2}\" Format=\"XML\">{3} {4} {5}</DataItem>\n"
+      "{0}  <DataItem Dimensions=\"{6}\" NumberType=\"{7}\" Precision=\"{8}\" "
+      "Format=\"HDF\">{9}:{10}</DataItem>\n"
       "{0}</DataItem>\n",
-      indent, dims, vector ? 3 : 2, slab, full, d.number_type, d.precision, h5_name, d.path());
+      indent, fmt::join(dims, " "), start.size(), fmt::join(start, " "), fmt::join(stride, " "),
+      fmt::join(count, " "), fmt::join(full, " "), d.number_type, d.precision, h5_name, d.path());
 }
 
-/// The Polyline topology of a frame: its block of /bonds/connectivity, the whole dataset
-/// (as ringdem always wrote it) when the topology never changed.
-std::string bond_topology(const std::string& h5_name, const FrameRecord& r,
-                          std::int64_t connectivity_rows) {
-  std::string x = fmt::format(
-      "     <Topology TopologyType=\"Polyline\" NumberOfElements=\"{}\" "
-      "NodesPerElement=\"2\">\n",
-      r.bonds);
-  const std::string data = fmt::format(
-      "DataItem Dimensions=\"{} 2\" NumberType=\"Int\" Precision=\"8\" "
-      "Format=\"HDF\">{}:/bonds/connectivity</DataItem>\n",
-      connectivity_rows, h5_name);
-  if (r.connectivity == 0 && r.bonds == connectivity_rows) {
-    x += "      <" + data;
-  } else {
-    x += fmt::format(
-        "      <DataItem ItemType=\"HyperSlab\" Dimensions=\"{0} 2\" Type=\"HyperSlab\">\n"
-        "       <DataItem Dimensions=\"3 2\" Format=\"XML\">{1} 0 1 1 {0} 2</DataItem>\n"
-        "       <{2}"
-        "      </DataItem>\n",
-        r.bonds, r.connectivity, data);
-  }
-  return x + "     </Topology>\n";
+/// A fixed (not per-frame) integer dataset of the topologies.
+FrameDataset topology_dataset(const std::string& name, FrameGrid grid, int components) {
+  FrameDataset d;
+  d.name = name;
+  d.grid = grid;
+  d.components = components;
+  d.number_type = "Int";
+  d.precision = 8;
+  return d;
+}
+
+/// A topology whose connectivity is rows [first, first + n) of a fixed dataset of `capacity`
+/// rows. Always a hyperslab, even of a whole dataset: ParaView 5.11's XDMF reader takes a
+/// topology whose data item holds a file name as a request to cache the grid by its topology
+/// and geometry file names, and reports an error (vtkXdmfHeavyData: "Cannot find DataItem
+/// element in geometry xml") when the geometry is a hyperslab, as every frame's is.
+std::string topology(const std::string& h5_name, const char* type, int nodes,
+                     const FrameDataset& connectivity, std::int64_t first, std::int64_t n,
+                     std::int64_t capacity) {
+  return fmt::format(
+             "     <Topology TopologyType=\"{}\" NumberOfElements=\"{}\" "
+             "NodesPerElement=\"{}\">\n",
+             type, n, nodes) +
+         hyperslab(h5_name, connectivity, -1, 0, first, n, capacity, "      ") +
+         "     </Topology>\n";
 }
 
 const char* attribute_type(int components) {
   return components == 3 ? "Vector" : components == 1 ? "Scalar" : "Matrix";
+}
+
+std::string xml_escaped(const std::string& text) {
+  std::string x;
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        x += "&amp;";
+        break;
+      case '<':
+        x += "&lt;";
+        break;
+      case '>':
+        x += "&gt;";
+        break;
+      case '"':
+        x += "&quot;";
+        break;
+      default:
+        x += c;
+    }
+  }
+  return x;
 }
 
 constexpr const char* kXdmfTrailer = "  </Grid>\n </Domain>\n</Xdmf>\n";
@@ -109,23 +150,29 @@ std::int64_t rows_of(FrameGrid g, const FrameSizes& n) {
 
 std::string xdmf_frame(const std::string& h5_name, const FrameSizes& capacity,
                        std::int64_t connectivity_rows, const FrameRecord& record, std::size_t frame,
-                       std::size_t n_frames, const std::vector<FrameDataset>& datasets) {
-  const FrameDataset* position[2] = {nullptr, nullptr};  // particles, bodies
+                       std::size_t n_frames, const std::vector<FrameDataset>& datasets,
+                       const FrameBodies& bodies) {
+  const FrameDataset* position = nullptr;
   for (const auto& d : datasets)
-    if (d.name == "position" && d.grid != FrameGrid::kBonds)
-      position[d.grid == FrameGrid::kBodies ? 1 : 0] = &d;
-  if (!position[0]) throw std::invalid_argument("xdmf_frame: no position dataset");
-  const FrameSizes rows{record.particles, record.bonds, capacity.bodies};
+    if (d.name == "position" && d.grid == FrameGrid::kParticles) position = &d;
+  if (!position) throw std::invalid_argument("xdmf_frame: no position dataset");
+  const auto f = static_cast<std::int64_t>(frame);
+  const std::string geometry = "     <Geometry GeometryType=\"XYZ\">\n" +
+                               hyperslab(h5_name, *position, f, n_frames, 0, record.particles,
+                                         capacity.particles, "      ") +
+                               "     </Geometry>\n";
   std::string x = fmt::format(
       "   <Grid Name=\"frame_{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
       "    <Time Value=\"{:.17g}\"/>\n",
       frame, record.time);
-  for (const FrameGrid grid : {FrameGrid::kParticles, FrameGrid::kBonds, FrameGrid::kBodies}) {
+  const FrameSizes rows{record.particles, record.bonds, capacity.bodies};
+  for (const FrameGrid grid : {FrameGrid::kParticles, FrameGrid::kBonds}) {
     const std::int64_t n = rows_of(grid, rows);
-    if (n == 0 || (grid == FrameGrid::kBodies && !position[1])) continue;
+    if (n == 0) continue;
     x += fmt::format("    <Grid Name=\"{}\" GridType=\"Uniform\">\n", grid_name(grid));
     if (grid == FrameGrid::kBonds) {
-      x += bond_topology(h5_name, record, connectivity_rows);
+      x += topology(h5_name, "Polyline", 2, topology_dataset("connectivity", grid, 2),
+                    record.connectivity, n, connectivity_rows);
     } else {
       x += fmt::format(
           "     <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" "
@@ -133,16 +180,39 @@ std::string xdmf_frame(const std::string& h5_name, const FrameSizes& capacity,
           n);
     }
     // Bonds join particles: their geometry is the particle positions of the frame.
-    const FrameDataset& where = *position[grid == FrameGrid::kBodies ? 1 : 0];
-    x += "     <Geometry GeometryType=\"XYZ\">\n";
-    x += hyperslab(h5_name, where, frame, n_frames, rows_of(where.grid, rows),
-                   rows_of(where.grid, capacity), "      ");
-    x += "     </Geometry>\n";
+    x += geometry;
     for (const auto& d : datasets) {
       if (d.grid != grid) continue;
       x += fmt::format("     <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"{}\">\n", d.name,
                        attribute_type(d.components), grid == FrameGrid::kBonds ? "Cell" : "Node");
-      x += hyperslab(h5_name, d, frame, n_frames, n, rows_of(grid, capacity), "      ");
+      x += hyperslab(h5_name, d, f, n_frames, 0, n, rows_of(grid, capacity), "      ");
+      x += "     </Attribute>\n";
+    }
+    x += "    </Grid>\n";
+  }
+  // Each rigid body in play: its surface, its fields as attributes of the whole grid (field
+  // data in ParaView).
+  const FrameDataset triangles = topology_dataset("surface/triangles", FrameGrid::kBodies, 3);
+  FrameDataset points = triangles;
+  points.name = "surface/points";
+  points.number_type = "Float";
+  for (std::size_t b = 0; b < bodies.names.size(); ++b) {
+    if (b < record.active.size() && !record.active[b]) continue;
+    const std::int64_t v0 = bodies.vertex_first[b], t0 = bodies.triangle_first[b];
+    x += fmt::format("    <Grid Name=\"body_{}\" GridType=\"Uniform\">\n",
+                     xml_escaped(bodies.names[b]));
+    x += topology(h5_name, "Triangle", 3, triangles, t0, bodies.triangle_first[b + 1] - t0,
+                  bodies.triangles());
+    x += "     <Geometry GeometryType=\"XYZ\">\n";
+    x += hyperslab(h5_name, points, f, n_frames, v0, bodies.vertex_first[b + 1] - v0,
+                   bodies.vertices(), "      ");
+    x += "     </Geometry>\n";
+    for (const auto& d : datasets) {
+      if (d.grid != FrameGrid::kBodies) continue;
+      x += fmt::format("     <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Grid\">\n",
+                       d.name, attribute_type(d.components));
+      x += hyperslab(h5_name, d, f, n_frames, static_cast<std::int64_t>(b), 1, capacity.bodies,
+                     "      ");
       x += "     </Attribute>\n";
     }
     x += "    </Grid>\n";
@@ -159,10 +229,11 @@ std::string FrameDataset::path() const {
 
 std::string frame_xdmf(const std::string& h5_name, const FrameSizes& capacity,
                        std::int64_t connectivity_rows, const std::vector<FrameRecord>& frames,
-                       const std::vector<FrameDataset>& datasets) {
+                       const std::vector<FrameDataset>& datasets, const FrameBodies& bodies) {
   std::string x = xdmf_header();
   for (std::size_t f = 0; f < frames.size(); ++f)
-    x += xdmf_frame(h5_name, capacity, connectivity_rows, frames[f], f, frames.size(), datasets);
+    x += xdmf_frame(h5_name, capacity, connectivity_rows, frames[f], f, frames.size(), datasets,
+                    bodies);
   return x + kXdmfTrailer;
 }
 
@@ -217,6 +288,52 @@ void FrameWriter::create_file(ParticleStore& p, BondStore& bonds,
   }
   datasets_.push_back(describe<double>("radius", FrameGrid::kBodies));
   f.create_frames("/bodies/radius", H5T_NATIVE_DOUBLE, 1, capacity_.bodies, 0);
+  f.create_frames("/bodies/active", H5T_NATIVE_UINT8, 1, capacity_.bodies, 0);
+  create_body_surfaces(f, p, bodies);
+}
+
+void FrameWriter::create_body_surfaces(Hdf5File& f, const ParticleStore& p,
+                                       const std::vector<RigidBody>& bodies) {
+  // A plane has no extent: its patch lies under the particles of the first frame, centred at
+  // the projection of their bounding box's centre and as wide as its diagonal.
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::array<double, 6> box{-kInf, -kInf, -kInf, -kInf, -kInf, -kInf};  // hi, -lo
+  for (std::size_t i = 0; i < p.n_local(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      box[c] = std::max(box[c], p.position[i][c]);
+      box[3 + c] = std::max(box[3 + c], -p.position[i][c]);
+    }
+  box = comm_.max(box);
+  const Vec3 hi{box[0], box[1], box[2]}, lo{-box[3], -box[4], -box[5]};
+  const bool particles = box[0] >= lo.x;
+  constexpr double kSmallestPatch = 0.5;  // m, half width
+  const double half_width = particles ? std::max(0.5 * norm(hi - lo), kSmallestPatch) : 1.0;
+  body_meshes_ = FrameBodies{};
+  local_vertices_.clear();
+  std::vector<std::array<std::int64_t, 3>> triangles;
+  for (const auto& b : bodies) {
+    const BodyMesh m = BodyMesh::of(b, half_width, particles ? 0.5 * (lo + hi) : b.position);
+    local_vertices_.insert(local_vertices_.end(), m.vertices.begin(), m.vertices.end());
+    triangles.insert(triangles.end(), m.triangles.begin(), m.triangles.end());
+    body_meshes_.names.push_back(b.name);
+    body_meshes_.vertex_first.push_back(static_cast<std::int64_t>(local_vertices_.size()));
+    body_meshes_.triangle_first.push_back(static_cast<std::int64_t>(triangles.size()));
+  }
+  f.create_group("/bodies/surface");
+  f.create_frames("/bodies/surface/points", H5T_NATIVE_DOUBLE, 3, body_meshes_.vertices(), 0);
+  f.create_rows("/bodies/surface/triangles", H5T_NATIVE_INT64, 3, body_meshes_.triangles());
+  const auto n_bodies = static_cast<std::int64_t>(bodies.size());
+  f.create_rows("/bodies/surface/vertex_first", H5T_NATIVE_INT64, 1, n_bodies + 1);
+  f.create_rows("/bodies/surface/triangle_first", H5T_NATIVE_INT64, 1, n_bodies + 1);
+  // Bodies are the same on every rank: rank 0 writes them.
+  if (!comm_.is_root()) triangles.clear();
+  const auto root_rows = [&](const std::vector<std::int64_t>& v) {
+    return comm_.is_root() ? v : std::vector<std::int64_t>{};
+  };
+  f.write_rows("/bodies/surface/triangles", -1, 0, static_cast<std::int64_t>(triangles.size()),
+               triangles.data(), H5T_NATIVE_INT64);
+  f.write_rows("/bodies/surface/vertex_first", -1, 0, root_rows(body_meshes_.vertex_first));
+  f.write_rows("/bodies/surface/triangle_first", -1, 0, root_rows(body_meshes_.triangle_first));
 }
 
 void FrameWriter::grow(Hdf5File& f, const FrameSizes& sizes) {
@@ -286,7 +403,7 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
     throw std::runtime_error(h5_path_ + ": the rigid body count changed between frames");
   }
   const std::int64_t frame = frames();
-  FrameRecord record{time, sizes.particles, sizes.bonds, 0};
+  FrameRecord record{time, sizes.particles, sizes.bonds, 0, {}};
   {
     Hdf5File f = Hdf5File::open_parallel(h5_path_, comm_);
     grow(f, sizes);
@@ -308,20 +425,28 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
                    bond_blocks.to_blocks(mine));
     });
     record.connectivity = write_topology(f, topology, bond_blocks.first_row(), sizes.bonds);
-    // Rigid bodies are replicated on every rank: rank 0 writes them.
-    std::vector<Vec3> position, velocity, force;
+    // Rigid bodies are replicated on every rank: rank 0 writes them. A body out of play is
+    // written where it is (parked), flagged inactive, and left out of the sidecar's frame.
+    std::vector<Vec3> position, velocity, force, points;
     std::vector<double> radius;
-    if (comm_.is_root())
-      for (const auto& b : bodies) {
-        position.push_back(b.position);
-        velocity.push_back(b.velocity);
-        force.push_back(b.force);
-        radius.push_back(b.radius);
-      }
+    std::vector<std::uint8_t> active;
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+      record.active.push_back(bodies[b].active ? 1 : 0);
+      if (!comm_.is_root()) continue;
+      position.push_back(bodies[b].position);
+      velocity.push_back(bodies[b].velocity);
+      force.push_back(bodies[b].force);
+      radius.push_back(bodies[b].radius);
+      active.push_back(record.active.back());
+      for (auto v = body_meshes_.vertex_first[b]; v < body_meshes_.vertex_first[b + 1]; ++v)
+        points.push_back(body_to_world(bodies[b], local_vertices_[static_cast<std::size_t>(v)]));
+    }
     f.write_rows("/bodies/position", frame, 0, position);
     f.write_rows("/bodies/velocity", frame, 0, velocity);
     f.write_rows("/bodies/force", frame, 0, force);
     f.write_rows("/bodies/radius", frame, 0, radius);
+    f.write_rows("/bodies/active", frame, 0, active);
+    f.write_rows("/bodies/surface/points", frame, 0, points);
     f.write_series("/frames/time", frame, &time, H5T_NATIVE_DOUBLE);
     f.write_series("/frames/step", frame, &step, H5T_NATIVE_INT64);
     f.write_series("/frames/particles", frame, &record.particles, H5T_NATIVE_INT64);
@@ -354,7 +479,8 @@ void FrameWriter::write_xdmf() {
   const std::string tmp = xdmf_path_ + ".tmp";
   {
     std::ofstream out(tmp);
-    out << frame_xdmf(file_name(h5_path_), capacity_, connectivity_rows_, records_, datasets_);
+    out << frame_xdmf(file_name(h5_path_), capacity_, connectivity_rows_, records_, datasets_,
+                      body_meshes_);
     if (!out) throw std::runtime_error("cannot write " + tmp);
   }
   std::filesystem::rename(tmp, xdmf_path_);

@@ -13,8 +13,9 @@ namespace ringdem {
 
 class Hdf5File;
 
-/// The three grids of a frame: particles (Polyvertex), bonds (Polyline between particles),
-/// rigid bodies (Polyvertex at their reference points).
+/// What a frame dataset belongs to: particles (Polyvertex), bonds (Polyline between particles),
+/// rigid bodies (one row per body; each body in play is a Triangle grid of its surface, these
+/// rows its field data).
 enum class FrameGrid { kParticles, kBonds, kBodies };
 
 /// One per-frame dataset of a frame file, as the XDMF sidecar describes it.
@@ -37,7 +38,19 @@ struct FrameSizes {
 struct FrameRecord {
   double time = 0.0;
   std::int64_t particles = 0, bonds = 0;
-  std::int64_t connectivity = 0;  ///< first row of the frame's topology
+  std::int64_t connectivity = 0;     ///< first row of the frame's topology
+  std::vector<std::uint8_t> active;  ///< per rigid body: in play (RigidBody::active)
+};
+
+/// The rigid bodies' surface meshes as the frame file holds them: body b's vertices are rows
+/// [vertex_first[b], vertex_first[b + 1]) of /bodies/surface/points, its triangles rows
+/// [triangle_first[b], triangle_first[b + 1]) of /bodies/surface/triangles, whose vertex
+/// numbers count from the body's first vertex.
+struct FrameBodies {
+  std::vector<std::string> names;
+  std::vector<std::int64_t> vertex_first{0}, triangle_first{0};
+  std::int64_t vertices() const { return vertex_first.back(); }
+  std::int64_t triangles() const { return triangle_first.back(); }
 };
 
 /// Frame output (DESIGN §5, docs/output.md): one HDF5 file per run segment, written
@@ -53,10 +66,11 @@ struct FrameRecord {
 /// topology as pairs of particle ROWS of the frame: a new block of rows is appended only when the
 /// topology changes, and /frames/connectivity gives the first row of each frame's block. A run
 /// whose counts never change thus has one topology block and the layout it always had. /bodies/
-/// holds the rigid bodies (position, velocity, contact force, radius, names in an attribute);
-/// /frames/time and /frames/step the frame times. After each frame rank 0 rewrites an XDMF 2
-/// sidecar (Polyvertex particles and bodies, Polyline bonds; hyperslabs select each frame's rows)
-/// under a temporary name and renames it, and the HDF5 file is closed between frames, so
+/// holds the rigid bodies (position, velocity, contact force, radius, whether in play, names in
+/// an attribute) and their triangulated surfaces (BodyMesh) in /bodies/surface; /frames/time and
+/// /frames/step the frame times. After each frame rank 0 rewrites an XDMF 2 sidecar (Polyvertex
+/// particles, Polyline bonds, one Triangle grid per body in play; hyperslabs select each frame's
+/// rows) under a temporary name and renames it, and the HDF5 file is closed between frames, so
 /// ParaView can open a run that is still going. Beyond 256 frames the sidecar, whose size
 /// grows with the frame count, is rewritten at most every 10 s of wall time, and once more at
 /// the end.
@@ -88,6 +102,9 @@ class FrameWriter {
   };
 
   void create_file(ParticleStore& p, BondStore& bonds, const std::vector<RigidBody>& bodies);
+  /// The bodies' surface meshes (/bodies/surface): collective, at file creation.
+  void create_body_surfaces(Hdf5File& f, const ParticleStore& p,
+                            const std::vector<RigidBody>& bodies);
   void grow(Hdf5File& f, const FrameSizes& sizes);
   std::int64_t write_topology(Hdf5File& f, const std::vector<RowPair>& block,
                               std::int64_t first_row, std::int64_t n_bonds);
@@ -99,6 +116,8 @@ class FrameWriter {
   FrameSizes capacity_;  ///< row dimensions of the datasets: the largest counts so far
   std::vector<FrameDataset> datasets_;
   std::vector<FrameRecord> records_;
+  FrameBodies body_meshes_;              ///< the layout of /bodies/surface
+  std::vector<Vec3> local_vertices_;     ///< every body's mesh vertices, in its body frame
   std::int64_t connectivity_rows_ = 0;   ///< rows of /bonds/connectivity
   std::int64_t topology_first_ = 0;      ///< first row of the newest topology block
   std::int64_t topology_bonds_ = -1;     ///< its bond count (-1: none yet)

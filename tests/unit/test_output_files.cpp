@@ -91,32 +91,49 @@ TEST(FrameFile, XdmfSidecarMatchesTheHdf5File) {
     ++items;
   }
   // 3 frames x (particles: geometry + their fields; bonds: connectivity, geometry, their
-  // fields; bodies: geometry + their fields).
+  // fields; the floor: its triangles, its surface points, its fields).
   const auto particle_fields = h5.list("/particles").size();
   const auto bond_fields = h5.list("/bonds").size() - 1;  // connectivity is the topology
-  const auto body_fields = h5.list("/bodies").size();
-  EXPECT_EQ(body_fields, 4u);
-  EXPECT_EQ(items, static_cast<int>(3 * (1 + particle_fields + 2 + bond_fields + 1 + body_fields)));
+  EXPECT_EQ(h5.list("/bodies"), (std::vector<std::string>{"active", "force", "position", "radius",
+                                                          "surface", "velocity"}));
+  const std::size_t body_fields = 4;  // all but active and surface
+  EXPECT_EQ(items, static_cast<int>(3 * (1 + particle_fields + 2 + bond_fields + 2 + body_fields)));
 
-  // Each hyperslab selects one whole frame: start (f, 0, ...), count (1, rows, ...), and the
-  // outer dimensions are that count without the frame axis.
+  // Every data item is a hyperslab. Of a per-frame dataset, it selects one whole frame: start
+  // (f, 0, ...), count (1, rows, ...), and the outer dimensions are that count without the frame
+  // axis. Of a topology (fixed rows), it selects the whole [rows, nodes] block.
   const std::regex slab(
-      R"re(<DataItem ItemType="HyperSlab" Dimensions="([0-9 ]+)" Type="HyperSlab">\s*<DataItem Dimensions="3 ([23])" Format="XML">([0-9 ]+)</DataItem>)re");
-  int slabs = 0;
+      R"re(<DataItem ItemType="HyperSlab" Dimensions="([0-9 ]+)" Type="HyperSlab">\s*<DataItem Dimensions="3 ([23])" Format="XML">([0-9 ]+)</DataItem>\s*<DataItem Dimensions="[0-9 ]+"[^>]*>[^:]+:([a-z/_]+)</DataItem>)re");
+  int slabs = 0, topologies = 0;
   for (auto it = std::sregex_iterator(xml.begin(), xml.end(), slab); it != std::sregex_iterator();
        ++it) {
     const auto outer = parse_dims((*it)[1].str());
     const auto v = parse_dims((*it)[3].str());
     const std::size_t rank = std::stoul((*it)[2].str());
+    const std::string path = (*it)[4].str();
     ASSERT_EQ(v.size(), 3 * rank);
-    EXPECT_EQ(v[2 * rank], 1);  // one frame
-    EXPECT_TRUE(v[0] >= 0 && v[0] < 3);
-    const std::vector<std::int64_t> count(v.begin() + static_cast<long>(2 * rank) + 1, v.end());
-    EXPECT_EQ(count, outer);
-    EXPECT_TRUE(outer[0] == particles || outer[0] == bonds || outer[0] == 1);  // 1: the floor
+    const std::vector<std::int64_t> count(v.begin() + static_cast<long>(2 * rank), v.end());
     ++slabs;
+    if (path == "/bonds/connectivity" || path == "/bodies/surface/triangles") {
+      EXPECT_EQ(count, outer) << path;
+      EXPECT_EQ(v[0], 0) << path;  // one topology block, one body
+      const bool bond = path == "/bonds/connectivity";
+      EXPECT_EQ(outer, (std::vector<std::int64_t>{bond ? bonds : 2, bond ? 2 : 3})) << path;
+      ++topologies;
+      continue;
+    }
+    EXPECT_EQ(count[0], 1);  // one frame
+    EXPECT_TRUE(v[0] >= 0 && v[0] < 3);
+    EXPECT_EQ(std::vector<std::int64_t>(count.begin() + 1, count.end()), outer);
+    // 4: the floor's patch vertices; 1: the floor's fields.
+    EXPECT_TRUE(outer[0] == particles || outer[0] == bonds || outer[0] == 4 || outer[0] == 1)
+        << path;
   }
-  EXPECT_EQ(slabs, items - 3);  // all but the connectivity items
+  EXPECT_EQ(slabs, items);
+  EXPECT_EQ(topologies, 6);  // bonds and floor, 3 frames
+  EXPECT_NE(xml.find(R"(<Grid Name="body_floor" GridType="Uniform">)"), std::string::npos);
+  EXPECT_NE(xml.find(R"(TopologyType="Triangle" NumberOfElements="2" NodesPerElement="3")"),
+            std::string::npos);
   const std::regex vertex(R"re(TopologyType="Polyvertex" NumberOfElements="([0-9]+)")re");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(xml, m, vertex));
