@@ -322,6 +322,12 @@ bool RockfallDriver::impact_over(const Simulation& sim) const {
 }
 
 bool RockfallDriver::between_steps(Simulation& sim) {
+  // simulation.end_time caps the whole scenario (sag, fall and impact), as for every scenario.
+  if (sim.time() + 0.5 * sim.dt() >= config_.simulation.end_time) {
+    reached_end_time_ = true;
+    if (phase_ == kImpact) record(sim);  // the final state
+    return true;
+  }
   if (phase_ == kSag) {
     if (!net_at_rest(sim)) return false;
     release(sim);
@@ -465,6 +471,7 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("sag_time_s", sag_end_time_)
         .set("net_sag_m", net_top_initial_ - net_top_sagged_)
         .set("first_contact_time_s", contact_time_)
+        .set("stopped_at_end_time", reached_end_time_)
         .set("energy_dissipated_J",
              std::vector<double>{e.contact_damping, e.friction, e.global_damping, e.broken_bonds,
                                  e.plastic_work})
@@ -492,21 +499,29 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
   }
   if (print_) {
     print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size());
-    // stopping_time_ stays negative while the boulder still moves down: it never turned within
-    // `duration`, so there is no stopping time to report.
-    const std::string stopped =
-        stopping_time_ >= 0.0
-            ? fmt::format("stopped after {:.4f} s", stopping_time_)
-            : fmt::format(
-                  "still moving down at the end ({:.4g} s after contact, vz {:.3f} m/s; "
-                  "raise scenario.rockfall.duration to see it stop)",
-                  sim.time() - contact_time_, sim.model().bodies[boulder_].velocity.z);
-    fmt::print(
-        "rockfall: peak acceleration {:.4g} m/s^2 ({:.3g} g) at {:.4f} s after contact, "
-        "deflection {:.4f} m, {}, {} broken bonds, frame force up to {:.4g} kN, energy balance "
-        "within {:.3g} % of the impact energy\n",
-        peak_acceleration_, peak_acceleration_ / g_, time_of_peak_, contact_z_ - lowest_z_, stopped,
-        broken, 1e-3 * max_frame_force_, 100.0 * max_balance_error_ / impact_energy_);
+    if (reached_end_time_)
+      fmt::print("rockfall: stopped at simulation.end_time = {:.6g} s, {}\n",
+                 config_.simulation.end_time,
+                 phase_ == kSag        ? "still in the sag phase (no impact)"
+                 : contact_time_ < 0.0 ? "before the boulder reached the net"
+                                       : "before scenario.rockfall.duration after contact");
+    if (phase_ == kImpact && contact_time_ >= 0.0) {
+      // stopping_time_ stays negative while the boulder still moves down: it never turned within
+      // `duration`, so there is no stopping time to report.
+      const std::string stopped =
+          stopping_time_ >= 0.0
+              ? fmt::format("stopped after {:.4f} s", stopping_time_)
+              : fmt::format(
+                    "still moving down at the end ({:.4g} s after contact, vz {:.3f} m/s; "
+                    "raise scenario.rockfall.duration to see it stop)",
+                    sim.time() - contact_time_, sim.model().bodies[boulder_].velocity.z);
+      fmt::print(
+          "rockfall: peak acceleration {:.4g} m/s^2 ({:.3g} g) at {:.4f} s after contact, "
+          "deflection {:.4f} m, {}, {} broken bonds, frame force up to {:.4g} kN, energy balance "
+          "within {:.3g} % of the impact energy\n",
+          peak_acceleration_, peak_acceleration_ / g_, time_of_peak_, contact_z_ - lowest_z_,
+          stopped, broken, 1e-3 * max_frame_force_, 100.0 * max_balance_error_ / impact_energy_);
+    }
     fmt::print("results: {0}/summary.json, {0}/series.csv, {0}/sag.csv\n", output_dir_);
     if (frames)
       fmt::print("frames: open {} in ParaView ({} frames)\n", frames->xdmf_path(),

@@ -79,6 +79,7 @@ class RockfallDriver : public ScenarioDriver {
   double peak_instant_ = 0.0;
   double lowest_z_ = std::numeric_limits<double>::infinity();
   double stopping_time_ = -1.0;
+  bool reached_end_time_ = false;  ///< simulation.end_time stopped the run (it is a cap)
   double max_frame_force_ = 0.0;
   double max_balance_error_ = 0.0;
   double free_fall_time_ = 0.0;

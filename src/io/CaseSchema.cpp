@@ -34,7 +34,10 @@ const Table<SimulationConfig>& simulation_table() {
                                  "limit of contacts and bonds"),
           schema::number("dt_safety", &S::dt_safety, interval(0, false, 1, true), "",
                          "Fraction of the stability limit used when dt is `auto`"),
-          schema::number("end_time", &S::end_time, above(0), "s", "Simulated end time").required(),
+          schema::number("end_time", &S::end_time, above(0), "s",
+                         "Simulated end time; a tensile test or rockfall that has not ended by "
+                         "then stops there")
+              .required(),
           schema::vec3("gravity", &S::gravity, "m/s^2", "Gravitational acceleration"),
           schema::number("skin", &S::skin, above(0), "m", "Verlet skin of the neighbour lists"),
           schema::number("progress_interval", &S::progress_interval, above(0), "s (wall)",

@@ -162,15 +162,9 @@ scenario:
   fs::remove_all(dir);
 }
 
-TEST(Rockfall, LogNeverPrintsPlaceholderValues) {
-  // A 2 x 3 net and a 5 kg boulder, cut off 2 ms after the first contact: the boulder is still
-  // moving down at the end, so there is no stopping time (issue 15 saw "stopped after -1.0000
-  // s"). Progress lines every millisecond of wall time come before the first rest check at
-  // t = sag_min_time, when the net's kinetic energy is not known yet (it printed "inf J").
-  std::string dir = (fs::temp_directory_path() / "ringdem_rockfall_log_XXXXXX").string();
-  ASSERT_NE(mkdtemp(dir.data()), nullptr);
-  const std::string case_path = dir + "/tiny.yaml";
-  std::ofstream(case_path) << R"(schema_version: 1
+/// A 2 x 3 net and a 5 kg boulder: the sag ends after t = 0.01 s, the impact 2 ms after
+/// the first contact.
+constexpr const char* kTinyRockfall = R"(schema_version: 1
 simulation: {dt: 2.0e-6, end_time: 5.0, progress_interval: 1.0e-3}
 materials:
   - {name: steel, density: 7800, youngs_modulus: 200.0e9, poisson_ratio: 0.3, restitution: 0.5, friction: 0.3}
@@ -187,6 +181,16 @@ scenario:
              sag_damping: 0.9, sag_kinetic_energy: 0.05, sag_min_time: 0.01,
              sag_check_interval: 0.005, duration: 0.002, record_interval: 5.0e-4}
 )";
+
+TEST(Rockfall, LogNeverPrintsPlaceholderValues) {
+  // A 2 x 3 net and a 5 kg boulder, cut off 2 ms after the first contact: the boulder is still
+  // moving down at the end, so there is no stopping time (issue 15 saw "stopped after -1.0000
+  // s"). Progress lines every millisecond of wall time come before the first rest check at
+  // t = sag_min_time, when the net's kinetic energy is not known yet (it printed "inf J").
+  std::string dir = (fs::temp_directory_path() / "ringdem_rockfall_log_XXXXXX").string();
+  ASSERT_NE(mkdtemp(dir.data()), nullptr);
+  const std::string case_path = dir + "/tiny.yaml";
+  std::ofstream(case_path) << kTinyRockfall;
   const testing::CommandResult r = testing::run_command(
       fmt::format("'{}' run '{}' -o '{}/out'", RINGDEM_BINARY, case_path, dir));
   const std::string& log = r.output;
@@ -209,6 +213,28 @@ scenario:
   std::stringstream summary;
   summary << in.rdbuf();
   EXPECT_NE(summary.str().find("\"stopping_time_s\": null"), std::string::npos) << summary.str();
+  fs::remove_all(dir);
+}
+
+TEST(Rockfall, EndTimeCapsTheScenario) {
+  // simulation.end_time is a cap on every scenario: 4 ms of the tiny case's sag (its first
+  // rest check is at 10 ms) stop at 4 ms = 2000 steps of 2 us, still in the sag phase.
+  std::string dir = (fs::temp_directory_path() / "ringdem_rockfall_cap_XXXXXX").string();
+  ASSERT_NE(mkdtemp(dir.data()), nullptr);
+  const std::string case_path = dir + "/tiny.yaml";
+  std::ofstream(case_path) << kTinyRockfall;
+  const testing::CommandResult r = testing::run_command(fmt::format(
+      "'{}' run '{}' -o '{}/out' --set simulation.end_time=0.004", RINGDEM_BINARY, case_path, dir));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("stopped at simulation.end_time = 0.004 s, still in the sag phase"),
+            std::string::npos)
+      << r.output;
+  std::ifstream in(dir + "/out/summary.json");
+  std::stringstream summary;
+  summary << in.rdbuf();
+  EXPECT_EQ(json_number(summary.str(), "steps"), 2000.0) << summary.str();
+  EXPECT_NE(summary.str().find("\"stopped_at_end_time\": true"), std::string::npos)
+      << summary.str();
   fs::remove_all(dir);
 }
 
