@@ -63,8 +63,12 @@ std::vector<std::vector<double>> read_series_rows(const std::string& path) {
 TensileDriver::TensileDriver(const CaseConfig& config)
     : config_(config),
       test_(config_.scenario.tensile_test),
+      // With unloading the plate travels to unload_at and back (the load is zero before it is
+      // back at the start; one record interval more is a margin for the step it turns at).
       end_time_(std::min(config_.simulation.end_time,
-                         test_.max_displacement / test_.loading_rate * (1.0 + 1e-9))),
+                         (test_.unload_at ? 2.0 * *test_.unload_at + test_.record_interval
+                                          : test_.max_displacement) /
+                             test_.loading_rate * (1.0 + 1e-9))),
       stop_(test_.failure_load_fraction, test_.max_displacement) {}
 
 std::int64_t TensileDriver::planned_steps(const Simulation& sim) const {
@@ -117,6 +121,15 @@ void TensileDriver::restore(Simulation& sim) {
   broken_ = static_cast<std::int64_t>(d.get("tensile.broken_bonds"));
   if (d.get("tensile.failed") != 0.0)
     result_.elongation_at_failure = d.get("tensile.elongation_at_failure");
+  unloading_ = d.get("tensile.unloading", 0.0) != 0.0;
+  loading_rows_ = static_cast<std::size_t>(d.get("tensile.loading_rows", 0.0));
+  if (unloading_) {
+    result_.turn_displacement = d.get("tensile.turn_displacement");
+    drive_back(sim);  // the checkpoint holds the velocity too; this does not depend on it
+  }
+  if (d.get("tensile.zero_load", 0.0) != 0.0) zero_load_from_ = d.get("tensile.zero_load_from");
+  if (d.get("tensile.unloaded", 0.0) != 0.0)
+    result_.residual_displacement = d.get("tensile.residual_displacement");
   result_.max_kinetic_energy = d.get("tensile.max_kinetic_energy");
   next_record_ = d.get("tensile.next_record", test_.record_interval);
   sum_displacement_ = d.get("tensile.sum_displacement");
@@ -149,6 +162,23 @@ void TensileDriver::record(Simulation& sim, double displacement, double load) {
                  e.bond_elastic, e.plastic_work});
 }
 
+void TensileDriver::flush_row(Simulation& sim) {
+  if (n_summed_ == 0) return;
+  const double n = static_cast<double>(n_summed_);
+  const double mean_displacement = sum_displacement_ / n;
+  const double mean_load = sum_load_ / n;
+  sum_displacement_ = sum_load_ = 0.0;
+  n_summed_ = 0;
+  record(sim, mean_displacement, mean_load);
+}
+
+void TensileDriver::drive_back(Simulation& sim) const {
+  std::vector<RigidBody>& bodies = sim.model().bodies;
+  for (const std::string& name : test_.moving_bodies)
+    for (RigidBody& b : bodies)
+      if (b.name == name) b.velocity = -test_.loading_rate * test_.pull_direction;
+}
+
 bool TensileDriver::after_steps(Simulation& sim) {
   displacement_ = meter_->displacement(sim.model().bodies);
   load_ = meter_->load(sim.model().bodies);
@@ -162,6 +192,28 @@ bool TensileDriver::after_steps(Simulation& sim) {
   sum_load_ += load_;
   ++n_summed_;
   const bool last_step = past_end(sim);
+  if (unloading_) {
+    // Unloading: rows every record_interval of travel back. The load (a sum of contact forces)
+    // is zero once no particle pushes on the moving pins; the test ends when it has stayed zero
+    // for one record_interval of travel (a ring that lost the pin for a few steps, bouncing,
+    // comes back), and the residual displacement is where it became zero.
+    if (load_ > 0.0)
+      zero_load_from_.reset();
+    else if (!zero_load_from_)
+      zero_load_from_ = displacement_;
+    if (zero_load_from_ && *zero_load_from_ - displacement_ >= test_.record_interval) {
+      flush_row(sim);
+      result_.residual_displacement = *zero_load_from_;
+      reason_ = TensileStopRule::Reason::kUnloaded;
+      return true;
+    }
+    if (displacement_ <= next_record_ || last_step) {
+      flush_row(sim);
+      while (next_record_ >= displacement_)
+        next_record_ -= test_.record_interval;
+    }
+    return last_step;
+  }
   if (displacement_ >= next_record_ || last_step) {
     const double mean_displacement = sum_displacement_ / static_cast<double>(n_summed_);
     const double mean_load = sum_load_ / static_cast<double>(n_summed_);
@@ -174,6 +226,15 @@ bool TensileDriver::after_steps(Simulation& sim) {
     if (reason_ == TensileStopRule::Reason::kRunning && displacement_ >= test_.max_displacement)
       reason_ = TensileStopRule::Reason::kMaxDisplacement;
     if (reason_ != TensileStopRule::Reason::kRunning) return true;
+  }
+  if (test_.unload_at && displacement_ >= *test_.unload_at && !last_step) {
+    // The turn: the row so far ends here, the plate reverses from the next step on.
+    flush_row(sim);
+    unloading_ = true;
+    loading_rows_ = result_.curve.size();
+    result_.turn_displacement = displacement_;
+    next_record_ = displacement_ - test_.record_interval;
+    drive_back(sim);
   }
   return last_step;
 }
@@ -197,6 +258,13 @@ DriverState TensileDriver::state() const {
   d.set("tensile.sum_displacement", sum_displacement_);
   d.set("tensile.sum_load", sum_load_);
   d.set("tensile.n_summed", static_cast<double>(n_summed_));
+  d.set("tensile.unloading", unloading_ ? 1.0 : 0.0);
+  d.set("tensile.loading_rows", static_cast<double>(loading_rows_));
+  d.set("tensile.turn_displacement", result_.turn_displacement.value_or(0.0));
+  d.set("tensile.zero_load", zero_load_from_ ? 1.0 : 0.0);
+  d.set("tensile.zero_load_from", zero_load_from_.value_or(0.0));
+  d.set("tensile.unloaded", result_.residual_displacement ? 1.0 : 0.0);
+  d.set("tensile.residual_displacement", result_.residual_displacement.value_or(0.0));
   return d;
 }
 
@@ -211,10 +279,12 @@ std::string TensileDriver::progress(const Simulation& sim, double rate) const {
 void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
   const Communicator& comm = sim.comm();
   control_->write_frame(sim);
+  // Peak and stage transition from the loading branch (the rows before the turn, if any).
   std::vector<double> u, p;
-  for (const TensileSample& s : result_.curve) {
-    u.push_back(s.displacement);
-    p.push_back(s.load);
+  const std::size_t n_loading = unloading_ ? loading_rows_ : result_.curve.size();
+  for (std::size_t i = 0; i < n_loading; ++i) {
+    u.push_back(result_.curve[i].displacement);
+    p.push_back(result_.curve[i].load);
   }
   result_.analysis = analyse_tensile_curve(u, p);
   result_.stop_reason = reason_;
@@ -256,6 +326,8 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("end_time_s", sim.time())
         .set("max_kinetic_energy_J", result_.max_kinetic_energy)
         .set("plastic_work_J", plastic_work)
+        .set("unload_turn_displacement_m", or_nan(result_.turn_displacement))
+        .set("residual_displacement_m", or_nan(result_.residual_displacement))
         .set("steps", static_cast<long long>(result_.steps))
         .set("wall_time_s", result_.wall_time)
         .set("particle_steps_per_s", result_.particle_steps_per_s);
@@ -268,6 +340,12 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
         stop_reason_name(reason_), 1e3 * result_.final_displacement,
         1e-3 * result_.analysis.peak_load, 1e3 * result_.analysis.displacement_at_peak,
         result_.broken_bonds, 1e3 * or_nan(result_.analysis.stage_transition_displacement));
+    if (result_.turn_displacement)
+      fmt::print("unloaded from u = {:.2f} mm: {}\n", 1e3 * *result_.turn_displacement,
+                 result_.residual_displacement
+                     ? fmt::format("the load is zero at u = {:.3f} mm (residual displacement)",
+                                   1e3 * *result_.residual_displacement)
+                     : std::string("the load did not fall to zero"));
     print_timing(sim, times.loop_seconds, result_.particle_steps_per_s, comm.size());
     if (!output_dir_.empty())
       fmt::print("results: {0}/summary.json, {0}/series.csv\n", output_dir_);

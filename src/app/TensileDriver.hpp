@@ -14,12 +14,14 @@
 namespace ringdem {
 
 /// Scenario `tensile_test` (app/TensileTest.hpp, docs/tensile.md): pulls until failure, the
-/// maximum displacement or simulation.end_time. A row of the curve is recorded each
-/// record_interval of plate travel and holds the mean displacement and load over the steps since
-/// the previous row. Writes series.csv (time_s, displacement_m, load_N, broken_bonds,
-/// kinetic_energy_J, bond_energy_J, plastic_work_J) and summary.json. Its state (the meter's start
-/// positions, the peak, the failure state, the partial row sums, next record) goes into
-/// checkpoints; the curve recorded before a checkpoint is read back from series.csv on a restart.
+/// maximum displacement or simulation.end_time; with unload_at, turns there and drives the plate
+/// back until the load is zero (the residual displacement is the ring's permanent elongation). A
+/// row of the curve is recorded each record_interval of plate travel and holds the mean
+/// displacement and load over the steps since the previous row. Writes series.csv (time_s,
+/// displacement_m, load_N, broken_bonds, kinetic_energy_J, bond_energy_J, plastic_work_J) and
+/// summary.json. Its state (the meter's start positions, the peak, the failure state, the partial
+/// row sums, next record) goes into checkpoints; the curve recorded before a checkpoint is read
+/// back from series.csv on a restart.
 class TensileDriver : public ScenarioDriver {
  public:
   explicit TensileDriver(const CaseConfig& config);
@@ -40,6 +42,10 @@ class TensileDriver : public ScenarioDriver {
 
  private:
   void record(Simulation& sim, double displacement, double load);
+  /// Records the partial row (the steps since the last row), if any.
+  void flush_row(Simulation& sim);
+  /// Unloading: the moving bodies travel back along the pull direction at the loading rate.
+  void drive_back(Simulation& sim) const;
   void restore(Simulation& sim);
   bool past_end(const Simulation& sim) const { return sim.time() >= end_time_ * (1.0 - 1e-12); }
 
@@ -60,7 +66,10 @@ class TensileDriver : public ScenarioDriver {
   double sum_displacement_ = 0.0;
   double sum_load_ = 0.0;
   std::int64_t n_summed_ = 0;
-  double displacement_ = 0.0;  ///< of the last step (progress lines)
+  bool unloading_ = false;                ///< the plate has turned at unload_at
+  std::size_t loading_rows_ = 0;          ///< rows of the curve recorded before the turn
+  std::optional<double> zero_load_from_;  ///< unloading: displacement since which the load is 0
+  double displacement_ = 0.0;             ///< of the last step (progress lines)
   double load_ = 0.0;
 };
 

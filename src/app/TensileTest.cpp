@@ -69,6 +69,8 @@ const char* stop_reason_name(TensileStopRule::Reason reason) {
       return "failure";
     case TensileStopRule::Reason::kMaxDisplacement:
       return "max_displacement";
+    case TensileStopRule::Reason::kUnloaded:
+      return "unloaded";
     case TensileStopRule::Reason::kRunning:
       break;
   }

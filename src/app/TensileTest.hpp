@@ -45,7 +45,8 @@ class TensileMeter {
 /// The driver feeds it the rows of series.csv (loads averaged over a record interval).
 class TensileStopRule {
  public:
-  enum class Reason { kRunning, kFailure, kMaxDisplacement };
+  /// kUnloaded: the plate turned at unload_at and the load fell to zero (the driver decides it).
+  enum class Reason { kRunning, kFailure, kMaxDisplacement, kUnloaded };
 
   TensileStopRule(double failure_load_fraction, double max_displacement)
       : fraction_(failure_load_fraction), max_displacement_(max_displacement) {}
@@ -113,6 +114,10 @@ struct TensileResult {
   TensileCurveAnalysis analysis;
   TensileStopRule::Reason stop_reason = TensileStopRule::Reason::kRunning;
   std::optional<double> elongation_at_failure;  ///< displacement when the first bond broke
+  /// Unloading (unload_at): where the plate turned, and its displacement at the first step at
+  /// which the load was zero again (the ring's permanent elongation).
+  std::optional<double> turn_displacement;
+  std::optional<double> residual_displacement;
   std::optional<double> first_bond_break_time;
   std::int64_t broken_bonds = 0;
   std::int64_t particles = 0;

@@ -199,6 +199,9 @@ struct TensileTestConfig {
   double max_displacement = 0.5;       ///< stop when the plate has travelled this far
   double failure_load_fraction = 0.5;  ///< after a bond broke, stop once load < this x peak
   double record_interval = 2e-4;       ///< plate travel between rows of series.csv
+  /// Unloading: at this plate travel the plate reverses at loading_rate until the load falls to
+  /// zero; the test then ends and reports the residual displacement. Empty: no unloading.
+  std::optional<double> unload_at;
 };
 
 /// Rockfall impact test (the paper's "Modeling of Rockfall Impact Tests", docs/rockfall.md):

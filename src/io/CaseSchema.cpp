@@ -449,6 +449,12 @@ const Table<TensileTestConfig>& tensile_test_table() {
                          "this fraction of its peak"),
           schema::number("record_interval", &T::record_interval, above(0), "m",
                          "Plate travel between rows of series.csv"),
+          schema::optional_number("unload_at", &T::unload_at, above(0), "m",
+                                  "Unloading: at this displacement the plate reverses at "
+                                  "`loading_rate` until the load falls to zero; the test then "
+                                  "ends and reports the residual displacement (below "
+                                  "`max_displacement`)")
+              .default_text("no unloading"),
       }};
   return table;
 }

@@ -349,6 +349,13 @@ void validate_scenario(CaseConfig& c, Context& ctx, bool bodies_ok) {
   }
   TensileTestConfig& t = c.scenario.tensile_test;
   if (!ctx.failed(p + ".pull_direction")) t.pull_direction = normalized(t.pull_direction);
+  // The plate must turn before the test would stop at max_displacement.
+  if (t.unload_at && !ctx.failed(p + ".unload_at") && !ctx.failed(p + ".max_displacement") &&
+      *t.unload_at >= t.max_displacement)
+    ctx.error(ctx.where(p + ".unload_at"), p + ".unload_at",
+              fmt::format("unload_at ({:g} m) must be below {}.max_displacement ({:g} m): the "
+                          "test stops there before the plate would turn",
+                          *t.unload_at, p, t.max_displacement));
   if (ctx.failed(p + ".moving_bodies")) return;
   std::vector<std::string> names;
   for (const auto& b : c.rigid_bodies)

@@ -278,6 +278,40 @@ TEST(Equivalence, TensileDriverToFailure) {
   EXPECT_EQ(parallel.first_bond_break_time, serial.first_bond_break_time);
 }
 
+// The tensile driver's unloading (unload_at) on this run's ranks: the 4-pin plastic ring with a
+// weak wire (hinges within the first millimetres) pulled 8 mm and driven back until the load is
+// zero. The turn, the rows of both branches and the residual displacement: the same bits as on
+// one rank (the decisions read the pins' load, reduced over the ranks).
+TEST(Equivalence, TensileDriverUnloading) {
+  const CaseConfig c =
+      load_case(std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_plastic.yaml",
+                {"scenario.tensile_test.loading_rate=0.5", "scenario.tensile_test.unload_at=0.008",
+                 "bonds[0].plastic.yield_stress=15e6"});
+  MPI_Comm world;
+  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  TensileRunOptions quiet;
+  quiet.verbose = false;
+  CaseConfig compared = c;
+  compared.simulation.skin = compared_skin(c.simulation.skin);
+  TensileResult parallel, serial;
+  {
+    const Communicator comm(world);
+    parallel = run_tensile_test(compared, quiet, comm);
+    serial = run_tensile_test(c, quiet, Communicator::self());
+  }
+  MPI_Comm_free(&world);
+  EXPECT_EQ(parallel.stop_reason, TensileStopRule::Reason::kUnloaded);
+  ASSERT_TRUE(serial.residual_displacement.has_value());
+  EXPECT_GT(*serial.residual_displacement, 0.0);
+  ASSERT_EQ(parallel.curve.size(), serial.curve.size());
+  for (std::size_t k = 0; k < serial.curve.size(); ++k) {
+    EXPECT_EQ(parallel.curve[k].displacement, serial.curve[k].displacement);
+    EXPECT_EQ(parallel.curve[k].load, serial.curve[k].load);
+  }
+  EXPECT_EQ(parallel.turn_displacement, serial.turn_displacement);
+  EXPECT_EQ(parallel.residual_displacement, serial.residual_displacement);
+}
+
 // (b) A 5 x 5 patch of interlinked rings (chain mail: each ring linked with its four
 // diagonal neighbours, the layout of scripts/bench/make_ring_grid.py --linked), corner rings
 // fixed, hit by a fast rigid sphere until bonds break: ring-ring contacts, bond failure
