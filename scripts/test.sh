@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs the test suite: installs missing Debian packages, configures, builds, runs ctest.
-#   scripts/test.sh            fast tests (unit + MPI at 1, 2, 3 ranks); the CI set
+#   scripts/test.sh            fast tests (unit + MPI at 1, 2, 3 ranks, clients); the CI set
 #   scripts/test.sh --all      also the long validation runs (ctest label "long")
 #   scripts/test.sh --preset asan   under AddressSanitizer + UBSan: the fast tests but the
 #                                   5-minute rockfall run, MPI tests at 2 ranks (.ci/run does it)
@@ -22,6 +22,8 @@ while [ $# -gt 0 ]; do
 done
 
 ringdem_install_packages
+# Clients test (label clients): SLURM. It skips itself when the packages are missing.
+ringdem_install_optional SLURM slurm-wlm munge || true
 ringdem_build "$preset"
 cd "$RINGDEM_ROOT"
 ctest --test-dir "build/$preset" --output-on-failure -j "$(nproc)" "${label_args[@]}" "${ctest_extra[@]}"
