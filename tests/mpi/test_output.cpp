@@ -399,6 +399,64 @@ TEST(Checkpoint, PendingRebuildSurvivesRestart) {
   MPI_Comm_free(&world);
 }
 
+// A bond that broke in the last force evaluation before the checkpoint forces a rebuild at
+// the first step after the restart, as it would have in the run never interrupted, and the
+// step reports the break (Simulation::bonds_broke_anywhere, which the tensile driver reads).
+// A 4-pin tensile ring with bonds a thousand times too weak breaks within a few hundred steps.
+TEST(Checkpoint, BondBrokenBeforeTheCheckpointRebuildsAfterTheRestart) {
+  MPI_Comm world;
+  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  {
+    const Communicator comm(world);
+    const std::string dir = shared_temp_dir(comm, "broke");
+    const CaseConfig c =
+        load_case(std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_reference.yaml",
+                  {"scenario.tensile_test.loading_rate=0.5", "bonds[0].tensile_strength=1e7",
+                   "bonds[0].shear_strength=1e7"});
+    const SimulationSettings s = settings_from_case(c);
+    DriverState driver;
+    driver.set("marker", 42.0);
+    std::int64_t seen = 0, rebuilds_seen = 0;  // the step that reports the first break
+    std::string straight, middle, resumed;
+    {
+      Simulation sim(build_model(c, comm), comm, s);
+      while (!sim.bonds_broke_anywhere() && sim.steps() < 20000)
+        sim.step();
+      ASSERT_TRUE(sim.bonds_broke_anywhere()) << "no bond broke in 20000 steps";
+      seen = sim.steps();
+      rebuilds_seen = sim.rebuilds();
+      sim.run_steps(20);
+      straight = CheckpointStore(dir + "/straight")
+                     .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
+    }
+    ASSERT_GT(seen, 10);
+    std::int64_t rebuilds_middle = 0;
+    {
+      Simulation sim(build_model(c, comm), comm, s);
+      sim.run_steps(seen - 1);  // the break happened in this last step's force evaluation
+      rebuilds_middle = sim.rebuilds();
+      middle = CheckpointStore(dir + "/middle")
+                   .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
+    }
+    EXPECT_EQ(rebuilds_seen, rebuilds_middle + 1) << "the break should force a rebuild";
+    {
+      auto sim = restart(c, middle, comm);
+      sim->step();
+      EXPECT_TRUE(sim->bonds_broke_anywhere());
+      EXPECT_EQ(sim->rebuilds(), rebuilds_seen);
+      sim->run_steps(20);
+      resumed = CheckpointStore(dir + "/resumed")
+                    .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c);
+    }
+    comm.barrier();
+    if (comm.is_root()) {
+      expect_same_checkpoint_state(straight, resumed);
+      std::filesystem::remove_all(dir);
+    }
+  }
+  MPI_Comm_free(&world);
+}
+
 // The elastoplastic bond (model timoshenko_plastic) checkpointed while its bonds yield: the
 // plastic state columns (deformations, strain, work) are in the checkpoint and a restart on
 // this rank count and on one rank continues bit for bit (checkpoint datasets compared byte for
