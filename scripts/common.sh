@@ -37,6 +37,28 @@ ringdem_install_packages() {
   fi
 }
 
+# ringdem_install_optional WHAT PACKAGE...: installs packages an optional test needs (ctest
+# label clients) when root; otherwise says how, and returns 1 (the test then skips itself).
+ringdem_install_optional() {
+  local what="$1"
+  shift
+  local missing=()
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  if [ "$(id -u)" -eq 0 ]; then
+    ringdem_log "installing for the $what test: ${missing[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq </dev/null
+    apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
+  else
+    ringdem_log "the $what test is skipped: it needs ${missing[*]}" \
+      "(sudo apt-get install --no-install-recommends ${missing[*]})"
+    return 1
+  fi
+}
+
 # ringdem_build PRESET: configure (once) and build with all cores.
 ringdem_build() {
   local preset="$1"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs the test suite: installs missing Debian packages, configures, builds, runs ctest.
-#   scripts/test.sh            fast tests (unit + MPI at 1, 2, 3 ranks); the CI set
+#   scripts/test.sh            fast tests (unit + MPI at 1, 2, 3 ranks, clients); the CI set
 #   scripts/test.sh --all      also the long validation runs (ctest label "long")
 #   scripts/test.sh --preset asan   under AddressSanitizer + UBSan: the fast tests but the
 #                                   5-minute rockfall run, MPI tests at 2 ranks (.ci/run does it)
@@ -22,21 +22,11 @@ while [ $# -gt 0 ]; do
 done
 
 ringdem_install_packages
-# --- ParaView for the test labelled "clients" (tests/clients/paraview_frames.sh) ---
-# Installed as root (about 140 packages, 146 MB; 50 s here); otherwise that test skips.
-paraview_packages=(paraview python3-paraview xvfb)
-if ! command -v pvpython >/dev/null || ! command -v Xvfb >/dev/null; then
-  if [ "$(id -u)" -eq 0 ]; then
-    ringdem_log "installing ParaView for the clients test: ${paraview_packages[*]}"
-    { DEBIAN_FRONTEND=noninteractive apt-get update -qq &&
-      DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-        "${paraview_packages[@]}"; } </dev/null >/dev/null ||
-      ringdem_log "could not install ParaView: the clients test (paraview_frames) will skip"
-  else
-    ringdem_log "no pvpython/Xvfb and not root: the ParaView clients test will skip" \
-      "(sudo apt-get install --no-install-recommends ${paraview_packages[*]})"
-  fi
-fi
+# Real clients (ctest label clients): ParaView renders the frames (tests/clients/
+# paraview_frames.sh; about 140 packages, 146 MB) and a one-node SLURM cluster runs the batch
+# script (tests/clients/slurm_cluster_test.sh). Installed as root in one apt-get call;
+# otherwise each of those tests skips itself with a message.
+ringdem_install_optional clients paraview python3-paraview xvfb slurm-wlm munge || true
 ringdem_build "$preset"
 cd "$RINGDEM_ROOT"
 ctest --test-dir "build/$preset" --output-on-failure -j "$(nproc)" "${label_args[@]}" "${ctest_extra[@]}"

@@ -33,6 +33,7 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   body[i] = p.body;
   group[i] = p.group;
   motion[i] = p.motion;
+  position_at_rebuild[i] = p.position;
   index_[p.gid] = static_cast<std::uint32_t>(i);
   return i;
 }

@@ -48,6 +48,10 @@ class ParticleStore {
   std::vector<std::int32_t> body;   ///< ring / clump id, -1 for none
   std::vector<std::int32_t> group;  ///< particle group (case-file name table)
   std::vector<Motion> motion;
+  /// Position at the last neighbour-list rebuild: the Verlet skin criterion measures moves
+  /// from here (Simulation::needs_rebuild). Owned state, checkpointed so that a restart
+  /// rebuilds at the same steps as the run never interrupted.
+  std::vector<Vec3> position_at_rebuild;
   // --- energy ledger (docs/physics.md "Energy ledger"): this particle's share of the energy
   // dissipated or put in since the start, accumulated every step. Owned state (migrated and
   // checkpointed, never sent to ghosts), summed exactly over the ranks (comm/ExactSum) so the
@@ -92,6 +96,7 @@ class ParticleStore {
     f(FieldInfo{"body", kState | kGhostOnce | kOutput}, body);
     f(FieldInfo{"group", kState | kGhostOnce | kOutput}, group);
     f(FieldInfo{"motion", kState | kGhostOnce}, motion);
+    f(FieldInfo{"position_at_rebuild", kState}, position_at_rebuild);
     f(FieldInfo{"dissipated_damping", kState}, dissipated_damping);
     f(FieldInfo{"dissipated_friction", kState}, dissipated_friction);
     f(FieldInfo{"dissipated_global", kState}, dissipated_global);

@@ -1,7 +1,10 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
+#include "core/Quat.hpp"
+#include "core/Vec3.hpp"
 #include "domain/ContactHistory.hpp"
 
 namespace ringdem {
@@ -17,6 +20,15 @@ struct RestartState {
   /// that reaches a given time is counted from there (Simulation::steps_until).
   std::int64_t dt_origin_step = 0;
   double dt_origin_time = 0.0;
+  /// What the neighbour-list rebuild criterion reads (Simulation::needs_rebuild), so that a
+  /// restart rebuilds at the same steps as the run never interrupted: each rigid body's
+  /// position and orientation at the last rebuild (the particles' are the registry field
+  /// position_at_rebuild), a rebuild asked for and not yet done (Simulation::place_body), and
+  /// whether a bond broke in the last force evaluation (on any rank).
+  std::vector<Vec3> body_position_at_rebuild;
+  std::vector<Quat> body_orientation_at_rebuild;
+  bool rebuild_forced = false;
+  bool bonds_broke = false;
 };
 
 }  // namespace ringdem

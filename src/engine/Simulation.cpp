@@ -120,19 +120,62 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   dt_ = restart.dt;
   time_ = restart.time;
   steps_ = restart.steps;
-  rebuilds_ = restart.rebuilds - 1;  // the rebuild below is not a new one of the trajectory
+  rebuilds_ = restart.rebuilds;  // the lists built below are those of the last rebuild
   dt_origin_step_ = restart.dt_origin_step;
   dt_origin_time_ = restart.dt_origin_time;
+  force_rebuild_ = restart.rebuild_forced;
+  bonds_broke_before_restart_ = restart.bonds_broke;
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("restart state has no valid time step");
+  std::vector<RigidBody>& bodies = model_.bodies;
+  if (restart.body_position_at_rebuild.size() != bodies.size() ||
+      restart.body_orientation_at_rebuild.size() != bodies.size())
+    throw std::runtime_error("restart state has no rebuild reference for every rigid body");
+  // The lists are those of the last rebuild of the trajectory, built from the positions of
+  // then: the skin criterion measures the moves from there, so lists from the current
+  // positions could miss a contact before the next rebuild, and rebuilding now would move
+  // every later rebuild. Built with the reference positions in place, then the current ones
+  // back (the ghosts' from their owners).
+  std::swap(p.position, p.position_at_rebuild);
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    body_position_at_rebuild_.push_back(bodies[b].position);
+    body_orientation_at_rebuild_.push_back(bodies[b].orientation);
+    bodies[b].position = restart.body_position_at_rebuild[b];
+    bodies[b].orientation = restart.body_orientation_at_rebuild[b];
+  }
   // Each rank read a block of the checkpoint's rows: particles go to the owners of their
   // blocks, bonds and contact springs to the owners of their particles.
   ContactHistory history = restart.history;
   decomposition_.distribute_initial(p, model_.bonds, history);
+  build_lists(std::move(history));
+  std::swap(p.position, p.position_at_rebuild);
+  decomposition_.update_ghosts(p);
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    std::swap(bodies[b].position, body_position_at_rebuild_[b]);
+    std::swap(bodies[b].orientation, body_orientation_at_rebuild_[b]);
+  }
   init_limits();
-  rebuild(std::move(history));
   // No force evaluation: forces, torques and body loads come from the checkpoint (a new
   // evaluation would advance the tangential springs a second time).
+}
+
+RestartState Simulation::restart_state() const {
+  RestartState s;
+  s.time = time_;
+  s.steps = steps_;
+  s.dt = dt_;
+  s.rebuilds = rebuilds_;
+  s.history = owned_contact_history();
+  s.dt_origin_step = dt_origin_step_;
+  s.dt_origin_time = dt_origin_time_;
+  s.body_position_at_rebuild = body_position_at_rebuild_;
+  s.body_orientation_at_rebuild = body_orientation_at_rebuild_;
+  s.rebuild_forced = force_rebuild_;
+  bool broke = bonds_broke_before_restart_;
+  for (const auto& t : terms_)
+    broke = broke || t->topology_changed();
+  s.bonds_broke = comm_.any(broke);
+  return s;
 }
 
 void Simulation::change_time_step(double dt) {
@@ -229,7 +272,18 @@ void Simulation::rebuild() {
   ContactHistory history;
   for (const auto& t : terms_)
     t->export_history(history);
-  rebuild(std::move(history));
+  build_lists(std::move(history));
+  ParticleStore& p = model_.particles;
+  std::copy(p.position.begin(), p.position.begin() + static_cast<std::ptrdiff_t>(p.n_local()),
+            p.position_at_rebuild.begin());
+  body_position_at_rebuild_.clear();
+  body_orientation_at_rebuild_.clear();
+  for (const auto& b : model_.bodies) {
+    body_position_at_rebuild_.push_back(b.position);
+    body_orientation_at_rebuild_.push_back(b.orientation);
+  }
+  force_rebuild_ = false;
+  ++rebuilds_;
 }
 
 std::size_t Simulation::n_contact_candidates() const {
@@ -239,7 +293,7 @@ std::size_t Simulation::n_contact_candidates() const {
   return 0;
 }
 
-void Simulation::rebuild(ContactHistory history) {
+void Simulation::build_lists(ContactHistory history) {
   ParticleStore& p = model_.particles;
   decomposition_.redistribute(p, model_.bonds, history);
   // Each term takes its slots and registers them with the gather map, in term order; bonded
@@ -255,20 +309,12 @@ void Simulation::rebuild(ContactHistory history) {
   slots_.assign(allocator_.size());
   gather_.finish(p);
   ledger_.rebuild(gather_, allocator_.size());
-  position_at_rebuild_.assign(p.position.begin(),
-                              p.position.begin() + static_cast<std::ptrdiff_t>(p.n_local()));
-  body_position_at_rebuild_.clear();
-  body_orientation_at_rebuild_.clear();
-  for (const auto& b : model_.bodies) {
-    body_position_at_rebuild_.push_back(b.position);
-    body_orientation_at_rebuild_.push_back(b.orientation);
-  }
-  force_rebuild_ = false;
-  ++rebuilds_;
 }
 
 bool Simulation::needs_rebuild() {
-  bool topology_changed = false;
+  // A bond that broke in the last evaluation before a restart counts as one of this step's.
+  bool topology_changed = bonds_broke_before_restart_;
+  bonds_broke_before_restart_ = false;
   for (const auto& t : terms_)
     topology_changed |= t->topology_changed();
   // How far any rigid surface point moved: translation plus rotation angle times extent.
@@ -433,8 +479,8 @@ void Simulation::step() {
   ParticleStore& p = model_.particles;
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
-    drift_ = Integrator::first_half(p, dt_, position_at_rebuild_, kMaxStepFraction * settings_.skin,
-                                    kMaxTurn);
+    drift_ = Integrator::first_half(p, dt_, p.position_at_rebuild,
+                                    kMaxStepFraction * settings_.skin, kMaxTurn);
     max_move2_ = drift_.max_move2;
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);
   }

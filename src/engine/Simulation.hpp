@@ -90,12 +90,10 @@ class Simulation {
   /// Tangential springs of the contacts of owned particles (each contact once over the ranks),
   /// for checkpoints.
   ContactHistory owned_contact_history() const;
-  /// Everything a checkpoint needs besides the model's fields: time, step, dt, rebuilds and
-  /// the owned contact history.
-  RestartState restart_state() const {
-    return {time_,           steps_,         dt_, rebuilds_, owned_contact_history(),
-            dt_origin_step_, dt_origin_time_};
-  }
+  /// Everything a checkpoint needs besides the model's fields: time, step, dt, rebuilds, the
+  /// owned contact history and what the rebuild criterion reads. Collective (whether a bond
+  /// broke anywhere in the last force evaluation).
+  RestartState restart_state() const;
 
   /// From now on steps of `dt` (a restart that applies a changed time step). The energy
   /// ledger's trapezoid weights are carried over, so its tallies go on without a jump.
@@ -171,8 +169,11 @@ class Simulation {
  private:
   /// Particle index and the stability limits (global minima).
   void init_limits();
+  /// A neighbour-list rebuild of the trajectory: lists from the current positions, which
+  /// become the reference of the skin criterion.
   void rebuild();
-  void rebuild(ContactHistory history);
+  /// Migration, lists, slots and gather map from the current positions and `history`.
+  void build_lists(ContactHistory history);
   void compute_forces();
   void reduce_body_loads();
   bool needs_rebuild();
@@ -210,10 +211,10 @@ class Simulation {
   std::int64_t dt_origin_step_ = 0;  ///< RestartState::dt_origin_step
   double dt_origin_time_ = 0.0;
   bool force_rebuild_ = false;
+  bool bonds_broke_before_restart_ = false;  ///< RestartState::bonds_broke, for the next step
   bool bonds_broke_anywhere_ = false;
   bool stop_local_ = false;
   bool stop_agreed_ = false;
-  std::vector<Vec3> position_at_rebuild_;
   double max_move2_ = 0.0;    ///< largest squared particle move since the rebuild (this rank)
   Integrator::Drift drift_;   ///< the last drift pass (this rank), for the divergence guard
   EnergyGuard energy_guard_;  ///< the divergence guard's energy part, at every energies()

@@ -23,8 +23,15 @@ namespace {
 
 constexpr const char* kFormat = "ringdem-checkpoint";
 // 2: bond columns of unread section values dropped; 3: the case it was written by (/case/text,
-// model_fingerprint) and the time-step origin (dt_origin_step, dt_origin_time).
-constexpr std::int64_t kFormatVersion = 3;
+// model_fingerprint) and the time-step origin (dt_origin_step, dt_origin_time); 4: what the
+// neighbour-list rebuild criterion reads (particles/position_at_rebuild, the bodies' position
+// and orientation at the last rebuild, rebuild_forced, bonds_broke).
+constexpr std::int64_t kFormatVersion = 4;
+// The oldest version still read: a version 3 file lacks the rebuild criterion's state and is
+// continued as before version 4 (the restart counts as the last rebuild: the rebuilds that
+// follow may come at other steps than in the run never interrupted; the results do not
+// depend on when the lists are rebuilt).
+constexpr std::int64_t kOldestReadVersion = 3;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
 /// global row index, so partial sums of blocks written by any number of ranks add up to the
@@ -130,18 +137,21 @@ std::vector<std::string> split(const std::string& s) {
 
 /// The dynamic state of the rigid bodies, one row per body.
 struct BodyRows {
-  std::vector<Vec3> position, velocity, omega, force, torque;
-  std::vector<Quat> orientation;
+  std::vector<Vec3> position, velocity, omega, force, torque, position_at_rebuild;
+  std::vector<Quat> orientation, orientation_at_rebuild;
   std::vector<Motion> motion;  ///< drivers change it (a boulder released)
+  /// f(name, rows, since): `since` is the format version that added the column.
   template <class F>
   void for_each(F&& f) {
-    f("motion", motion);
-    f("position", position);
-    f("orientation", orientation);
-    f("velocity", velocity);
-    f("omega", omega);
-    f("force", force);
-    f("torque", torque);
+    f("motion", motion, 1);
+    f("position", position, 1);
+    f("orientation", orientation, 1);
+    f("velocity", velocity, 1);
+    f("omega", omega, 1);
+    f("force", force, 1);
+    f("torque", torque, 1);
+    f("position_at_rebuild", position_at_rebuild, 4);
+    f("orientation_at_rebuild", orientation_at_rebuild, 4);
   }
 };
 
@@ -218,6 +228,8 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     f.set_attribute("/", "rebuilds", state.rebuilds);
     f.set_attribute("/", "dt_origin_step", state.dt_origin_step);
     f.set_attribute("/", "dt_origin_time", state.dt_origin_time);
+    f.set_attribute("/", "rebuild_forced", std::int64_t{state.rebuild_forced});
+    f.set_attribute("/", "bonds_broke", std::int64_t{state.bonds_broke});
     f.set_attribute("/", "segment", segment);
     f.set_attribute("/", "ranks", static_cast<std::int64_t>(comm.size()));
     f.set_attribute("/", "particles", n_particles);
@@ -272,6 +284,11 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     f.create_group("/bodies");
     BodyRows body_rows;
     std::vector<std::string> body_names;
+    if (state.body_position_at_rebuild.size() != model.bodies.size() ||
+        state.body_orientation_at_rebuild.size() != model.bodies.size())
+      throw std::logic_error("checkpoint: no rebuild reference for every rigid body");
+    body_rows.position_at_rebuild = state.body_position_at_rebuild;
+    body_rows.orientation_at_rebuild = state.body_orientation_at_rebuild;
     for (const auto& b : model.bodies) {
       body_names.push_back(b.name);
       body_rows.position.push_back(b.position);
@@ -283,7 +300,7 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
       body_rows.motion.push_back(b.motion);
     }
     f.set_attribute("/bodies", "names", join(body_names));
-    body_rows.for_each([&](const char* name, const auto& rows) {
+    body_rows.for_each([&](const char* name, const auto& rows, std::int64_t) {
       auto mine = rows;
       if (!comm.is_root()) mine.clear();
       write_concatenated(f, comm, std::string("/bodies/") + name, mine);
@@ -317,10 +334,10 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   if (!f.has_attribute("/", "format") || f.attribute_string("/", "format") != kFormat)
     throw Hdf5Error(path + ": not a ringdem checkpoint");
   const std::int64_t version = f.attribute_int("/", "format_version");
-  if (version != kFormatVersion)
+  if (version < kOldestReadVersion || version > kFormatVersion)
     throw Hdf5Error(fmt::format(
-        "{}: checkpoint format version {} is not the one this ringdem reads ({}){}", path, version,
-        kFormatVersion,
+        "{}: checkpoint format version {} is not one this ringdem reads ({} to {}){}", path,
+        version, kOldestReadVersion, kFormatVersion,
         version < kFormatVersion
             ? ": it was written by an older ringdem and lacks the case it belongs to, which a "
               "restart checks; continue it with that version or start afresh"
@@ -329,6 +346,7 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
     throw Hdf5Error(path + ": incomplete checkpoint (the run stopped while writing it)");
   CheckpointInfo info;
   info.path = path;
+  info.format_version = version;
   info.version = f.attribute_string("/", "ringdem_version");
   info.case_name = f.attribute_string("/", "case");
   info.time = f.attribute_double("/", "time");
@@ -376,13 +394,17 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path, 
   };
   const auto [p_first, p_end] = block_of(info.particles);
   p.resize_local(static_cast<std::size_t>(p_end - p_first));
+  const bool has_rebuild_state = info.format_version >= 4;
   p.for_each_field([&](const FieldInfo& field, auto& v) {
     if (!field.has(field_flag::kCheckpoint)) return;
+    if (!has_rebuild_state && field.name == "position_at_rebuild") return;
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
     auto rows = read_verified_block<T>(f, comm, "/particles/" + std::string(field.name),
                                        info.particles, p_first, p_end);
     std::copy(rows.begin(), rows.end(), v.begin());
   });
+  // Version 3: the restart counts as the last rebuild (kOldestReadVersion).
+  if (!has_rebuild_state) p.position_at_rebuild = p.position;
   // Rows in strictly increasing gid order, across the blocks too.
   bool ordered = std::is_sorted(p.gid.begin(), p.gid.end()) &&
                  std::adjacent_find(p.gid.begin(), p.gid.end()) == p.gid.end();
@@ -416,6 +438,10 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path, 
   state.rebuilds = info.rebuilds;
   state.dt_origin_step = info.dt_origin_step;
   state.dt_origin_time = info.dt_origin_time;
+  if (has_rebuild_state) {
+    state.rebuild_forced = f.attribute_int("/", "rebuild_forced") != 0;
+    state.bonds_broke = f.attribute_int("/", "bonds_broke") != 0;
+  }
   const std::int64_t nh = info.history_entries;
   const auto [h_first, h_end] = block_of(nh);
   const auto kind =
@@ -441,11 +467,18 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path, 
                       model.bodies[b].name + "' in the case");
   BodyRows rows;
   const auto n_bodies = static_cast<std::int64_t>(model.bodies.size());
-  rows.for_each([&](const char* name, auto& v) {
+  rows.for_each([&](const char* name, auto& v, std::int64_t since) {
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
-    v = read_verified_block<T>(f, comm, std::string("/bodies/") + name, n_bodies, 0, n_bodies,
-                               ReadBy::kEveryRank);
+    if (info.format_version >= since)
+      v = read_verified_block<T>(f, comm, std::string("/bodies/") + name, n_bodies, 0, n_bodies,
+                                 ReadBy::kEveryRank);
   });
+  if (!has_rebuild_state) {
+    rows.position_at_rebuild = rows.position;
+    rows.orientation_at_rebuild = rows.orientation;
+  }
+  state.body_position_at_rebuild = rows.position_at_rebuild;
+  state.body_orientation_at_rebuild = rows.orientation_at_rebuild;
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     RigidBody& body = model.bodies[b];
     body.position = rows.position[b];

@@ -23,7 +23,8 @@ struct DriverState {
 /// What a checkpoint says about itself (root attributes).
 struct CheckpointInfo {
   std::string path;
-  std::string version;
+  std::int64_t format_version = 0;
+  std::string version;  ///< of the ringdem that wrote it
   std::string case_name;
   double time = 0.0;
   double dt = 0.0;
@@ -80,7 +81,9 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path, 
                              DriverState& driver, CheckpointInfo* info = nullptr);
 
 /// Root attributes and the case text (ringdem info, --restart auto). Throws Hdf5Error for a file
-/// that is no complete checkpoint of this format version (older ones lack the case text).
+/// that is no complete checkpoint of a format version this ringdem reads (3 and 4; older ones
+/// lack the case text; a version 3 file restarts with a neighbour-list rebuild counted as the
+/// last one, its later rebuilds possibly at other steps than in the run never interrupted).
 CheckpointInfo read_checkpoint_info(const std::string& path);
 
 /// Checks every dataset of a checkpoint against its checksum; returns the dataset names checked.

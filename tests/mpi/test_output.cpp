@@ -190,6 +190,9 @@ void expect_same_checkpoint_state(const std::string& ref, const std::string& got
   EXPECT_EQ(ia.time, ib.time);
   EXPECT_EQ(ia.step, ib.step);
   EXPECT_EQ(ia.dt, ib.dt);
+  // The neighbour lists are rebuilt at the same steps: a restart neither adds a rebuild nor
+  // moves the next one (issue 15 item 9).
+  EXPECT_EQ(ia.rebuilds, ib.rebuilds);
 }
 
 std::unique_ptr<Simulation> restart(const CaseConfig& c, const std::string& path,
@@ -260,8 +263,195 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
     if (comm.is_root()) {
       const auto info = read_checkpoint_info(straight);
       EXPECT_EQ(info.history_entries, static_cast<std::int64_t>(straight_springs));
+      EXPECT_GT(info.rebuilds, read_checkpoint_info(middle).rebuilds + 1)
+          << "the neighbour lists should be rebuilt after the checkpoint too";
       expect_same_checkpoint_state(straight, resumed);
       expect_same_checkpoint_state(straight, resumed_serial);
+      std::filesystem::remove_all(dir);
+    }
+  }
+  MPI_Comm_free(&world);
+}
+
+// A restart between two neighbour-list rebuilds keeps the reference positions of the last one
+// (the skin criterion measures moves from there): the next rebuild comes at the same step as
+// in the run never interrupted, and the restart itself is no rebuild of the trajectory. The
+// slow net of the SIGUSR1 test rebuilds every few hundred steps; the checkpoint is taken
+// half-way between the first two rebuilds after the start, and both runs end just after the
+// second (issue 15 item 9: a restart used to rebuild at once and count one rebuild less).
+TEST(Checkpoint, RestartKeepsTheNeighbourRebuildSteps) {
+  MPI_Comm world;
+  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  {
+    const Communicator comm(world);
+    const std::string dir = shared_temp_dir(comm, "rebuilds");
+    const CaseConfig c =
+        load_case(std::string(RINGDEM_SOURCE_DIR) + "/tests/data/restart_net.yaml");
+    const SimulationSettings s = settings_from_case(c);
+    DriverState driver;
+    driver.set("marker", 42.0);
+    std::vector<std::int64_t> rebuild_steps;
+    std::int64_t end = 0;
+    std::string straight, middle, resumed;
+    {
+      Simulation sim(build_model(c, comm), comm, s);
+      while (rebuild_steps.size() < 2 && sim.steps() < 20000) {
+        const std::int64_t before = sim.rebuilds();
+        sim.step();
+        if (sim.rebuilds() > before) rebuild_steps.push_back(sim.steps());
+      }
+      ASSERT_EQ(rebuild_steps.size(), 2u) << "the net should rebuild twice in 20000 steps";
+      end = rebuild_steps[1] + 10;
+      sim.run_steps(end - sim.steps());
+      straight = CheckpointStore(dir + "/straight")
+                     .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
+    }
+    const std::int64_t half_way = (rebuild_steps[0] + rebuild_steps[1]) / 2;
+    ASSERT_GT(rebuild_steps[1] - rebuild_steps[0], 20) << "rebuilds too close together";
+    {
+      Simulation sim(build_model(c, comm), comm, s);
+      sim.run_steps(half_way);
+      middle = CheckpointStore(dir + "/middle")
+                   .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
+    }
+    const auto resume = [&](const Communicator& on, const std::string& to) {
+      auto sim = restart(c, middle, on);
+      sim->run_steps(end - half_way);
+      return CheckpointStore(dir + to).write(sim->comm(), sim->model(), sim->restart_state(),
+                                             driver, 0, c);
+    };
+    resumed = resume(comm, "/resumed");
+    std::string resumed_serial;
+    if (comm.is_root()) resumed_serial = resume(Communicator::self(), "/serial");
+    comm.barrier();
+    if (comm.is_root()) {
+      EXPECT_EQ(read_checkpoint_info(straight).rebuilds, read_checkpoint_info(middle).rebuilds + 1);
+      expect_same_checkpoint_state(straight, resumed);
+      expect_same_checkpoint_state(straight, resumed_serial);
+      std::filesystem::remove_all(dir);
+    }
+  }
+  MPI_Comm_free(&world);
+}
+
+// A rebuild asked for but not yet done when the checkpoint is written (a driver placed a
+// body: Simulation::place_body; here the fixed floor, where it was) still happens at the next
+// step after the restart, and is counted once: the same rebuild count and state as the run
+// never interrupted. The slow net would not rebuild at that step by itself (checked).
+TEST(Checkpoint, PendingRebuildSurvivesRestart) {
+  MPI_Comm world;
+  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  {
+    const Communicator comm(world);
+    const std::string dir = shared_temp_dir(comm, "pending");
+    const CaseConfig c =
+        load_case(std::string(RINGDEM_SOURCE_DIR) + "/tests/data/restart_net.yaml");
+    const SimulationSettings s = settings_from_case(c);
+    constexpr std::int64_t kHalf = 60;
+    DriverState driver;
+    driver.set("marker", 42.0);
+    {
+      Simulation sim(build_model(c, comm), comm, s);
+      sim.run_steps(kHalf);
+      const std::int64_t before = sim.rebuilds();
+      sim.step();
+      ASSERT_EQ(sim.rebuilds(), before) << "the test needs a step without a rebuild of its own";
+    }
+    const auto place = [](Simulation& sim) {
+      const RigidBody& b = sim.model().bodies.at(0);
+      sim.place_body(0, b.position, b.velocity, b.motion);
+    };
+    std::string straight, middle, resumed;
+    std::int64_t rebuilds_before = 0, rebuilds_after = 0;
+    {
+      Simulation sim(build_model(c, comm), comm, s);
+      sim.run_steps(kHalf);
+      place(sim);
+      rebuilds_before = sim.rebuilds();
+      sim.step();
+      rebuilds_after = sim.rebuilds();
+      sim.run_steps(kHalf - 1);
+      straight = CheckpointStore(dir + "/straight")
+                     .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
+    }
+    EXPECT_EQ(rebuilds_after, rebuilds_before + 1) << "place_body forces a rebuild";
+    {
+      Simulation sim(build_model(c, comm), comm, s);
+      sim.run_steps(kHalf);
+      place(sim);
+      middle = CheckpointStore(dir + "/middle")
+                   .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
+    }
+    {
+      auto sim = restart(c, middle, comm);
+      EXPECT_EQ(sim->rebuilds(), rebuilds_before);
+      sim->step();
+      EXPECT_EQ(sim->rebuilds(), rebuilds_after) << "the pending rebuild, once";
+      sim->run_steps(kHalf - 1);
+      resumed = CheckpointStore(dir + "/resumed")
+                    .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c);
+    }
+    comm.barrier();
+    if (comm.is_root()) {
+      expect_same_checkpoint_state(straight, resumed);
+      std::filesystem::remove_all(dir);
+    }
+  }
+  MPI_Comm_free(&world);
+}
+
+// A bond that broke in the last force evaluation before the checkpoint forces a rebuild at
+// the first step after the restart, as it would have in the run never interrupted, and the
+// step reports the break (Simulation::bonds_broke_anywhere, which the tensile driver reads).
+// A 4-pin tensile ring with bonds a thousand times too weak breaks within a few hundred steps.
+TEST(Checkpoint, BondBrokenBeforeTheCheckpointRebuildsAfterTheRestart) {
+  MPI_Comm world;
+  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  {
+    const Communicator comm(world);
+    const std::string dir = shared_temp_dir(comm, "broke");
+    const CaseConfig c =
+        load_case(std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_reference.yaml",
+                  {"scenario.tensile_test.loading_rate=0.5", "bonds[0].tensile_strength=1e7",
+                   "bonds[0].shear_strength=1e7"});
+    const SimulationSettings s = settings_from_case(c);
+    DriverState driver;
+    driver.set("marker", 42.0);
+    std::int64_t seen = 0, rebuilds_seen = 0;  // the step that reports the first break
+    std::string straight, middle, resumed;
+    {
+      Simulation sim(build_model(c, comm), comm, s);
+      while (!sim.bonds_broke_anywhere() && sim.steps() < 20000)
+        sim.step();
+      ASSERT_TRUE(sim.bonds_broke_anywhere()) << "no bond broke in 20000 steps";
+      seen = sim.steps();
+      rebuilds_seen = sim.rebuilds();
+      sim.run_steps(20);
+      straight = CheckpointStore(dir + "/straight")
+                     .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
+    }
+    ASSERT_GT(seen, 10);
+    std::int64_t rebuilds_middle = 0;
+    {
+      Simulation sim(build_model(c, comm), comm, s);
+      sim.run_steps(seen - 1);  // the break happened in this last step's force evaluation
+      rebuilds_middle = sim.rebuilds();
+      middle = CheckpointStore(dir + "/middle")
+                   .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
+    }
+    EXPECT_EQ(rebuilds_seen, rebuilds_middle + 1) << "the break should force a rebuild";
+    {
+      auto sim = restart(c, middle, comm);
+      sim->step();
+      EXPECT_TRUE(sim->bonds_broke_anywhere());
+      EXPECT_EQ(sim->rebuilds(), rebuilds_seen);
+      sim->run_steps(20);
+      resumed = CheckpointStore(dir + "/resumed")
+                    .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c);
+    }
+    comm.barrier();
+    if (comm.is_root()) {
+      expect_same_checkpoint_state(straight, resumed);
       std::filesystem::remove_all(dir);
     }
   }

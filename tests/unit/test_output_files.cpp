@@ -191,14 +191,14 @@ TEST_F(CorruptCheckpoint, GoodOneRestoresTheState) {
   EXPECT_NEAR(s.time, 5 * 1e-6, 1e-20);
   EXPECT_EQ(d.get("next_record_time"), 0.5);
   EXPECT_GT(s.history.size(), 0u) << "the ring touches the floor";
-  // Every registry field flagged kCheckpoint, the 4 history columns, 7 body rows, the driver,
-  // the case text.
+  // Every registry field flagged kCheckpoint, the 4 history columns, 9 body rows (7 of state,
+  // 2 of the rebuild reference), the driver, the case text.
   std::size_t fields = 0;
   model.particles.for_each_field(
       [&](const FieldInfo& i, auto&) { fields += i.has(field_flag::kCheckpoint); });
   model.bonds.for_each_field(
       [&](const FieldInfo& i, auto&) { fields += i.has(field_flag::kCheckpoint); });
-  EXPECT_EQ(verify_checkpoint(good_).size(), fields + 4u + 7u + 1u + 1u);
+  EXPECT_EQ(verify_checkpoint(good_).size(), fields + 4u + 9u + 1u + 1u);
 }
 
 TEST_F(CorruptCheckpoint, TruncatedFileIsRefused) {
