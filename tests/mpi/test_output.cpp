@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "TestCases.hpp"
+#include "app/ScenarioDriver.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
@@ -288,14 +289,14 @@ TEST(Checkpoint, PlasticBondStateRestartsBitwiseMidYield) {
     std::string straight, middle, resumed;
     double work_middle = 0.0, work_end = 0.0;
     {
-      Simulation sim(build_model(c, comm), comm, s);
+      Simulation sim(build_scenario_model(c, comm), comm, s);
       sim.run_steps(2 * kHalf);
       work_end = sim.energies().plastic_work;
       straight = CheckpointStore(dir + "/straight")
                      .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
     }
     {
-      Simulation sim(build_model(c, comm), comm, s);
+      Simulation sim(build_scenario_model(c, comm), comm, s);
       sim.run_steps(kHalf);
       work_middle = sim.energies().plastic_work;
       middle = CheckpointStore(dir + "/middle")
