@@ -109,7 +109,7 @@ std::unique_ptr<Simulation> RunControl::make_simulation(
     DriverState driver;
     RestartState state;
     try {
-      state = read_checkpoint(comm_, path, model, driver, &info);
+      state = read_checkpoint(comm_, path, config_, model, driver, &info);
     } catch (const std::exception& e) {
       error = e.what();
     }

@@ -86,14 +86,13 @@ class Simulation {
   Simulation(Model model, const Communicator& comm, const SimulationSettings& settings,
              const RestartState& restart);
 
-  /// Tangential springs of the contacts of owned particles (each contact once over the ranks),
-  /// for checkpoints.
-  ContactHistory owned_contact_history() const;
+  /// Each contact term's tangential springs of touching contacts whose particle (the first
+  /// of a pair) is owned here: each contact once over the ranks, for checkpoints.
+  std::vector<RestartState::TermSprings> owned_springs() const;
   /// Everything a checkpoint needs besides the model's fields: time, step, dt, rebuilds and
-  /// the owned contact history.
+  /// the owned springs.
   RestartState restart_state() const {
-    return {time_,           steps_,         dt_, rebuilds_, owned_contact_history(),
-            dt_origin_step_, dt_origin_time_};
+    return {time_, steps_, dt_, rebuilds_, owned_springs(), dt_origin_step_, dt_origin_time_};
   }
 
   /// From now on steps of `dt` (a restart that applies a changed time step). The energy
@@ -168,7 +167,8 @@ class Simulation {
   /// Particle index and the stability limits (global minima).
   void init_limits();
   void rebuild();
-  void rebuild(ContactHistory history);
+  /// The spring stores of the terms that have one, in term order (what migration moves).
+  std::vector<ContactSpringStore*> spring_stores();
   void compute_forces();
   void reduce_body_loads();
   bool needs_rebuild();

@@ -23,8 +23,10 @@ namespace {
 
 constexpr const char* kFormat = "ringdem-checkpoint";
 // 2: bond columns of unread section values dropped; 3: the case it was written by (/case/text,
-// model_fingerprint) and the time-step origin (dt_origin_step, dt_origin_time).
-constexpr std::int64_t kFormatVersion = 3;
+// model_fingerprint) and the time-step origin (dt_origin_step, dt_origin_time); 4: one set of
+// spring datasets per contact term (/history/<term>.<field>, its store's registry) instead of
+// one table with a partner-kind column.
+constexpr std::int64_t kFormatVersion = 4;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
 /// global row index, so partial sums of blocks written by any number of ranks add up to the
@@ -84,6 +86,24 @@ void write_concatenated(Hdf5File& f, const Communicator& comm, const std::string
   f.create_rows(name, H5Layout<T>::type(), H5Layout<T>::components, n);
   f.write_rows(name, -1, first, local);
   set_checksum(f, name, total(comm, rows_checksum(local, first)));
+}
+
+constexpr const char* kParticlePartner = "particle";
+constexpr const char* kBodyPartner = "rigid_body";
+
+/// The dataset of field `field` of a contact term's spring store.
+std::string spring_dataset(const std::string& term, std::string_view field) {
+  return "/history/" + term + "." + std::string(field);
+}
+
+/// The contact terms whose springs a checkpoint holds (the names of its /history/<term>.gid).
+std::vector<std::string> spring_terms(const Hdf5File& f) {
+  std::vector<std::string> terms;
+  if (!f.exists("/history")) return terms;
+  for (const std::string& name : f.list("/history"))
+    if (name.size() > 4 && name.compare(name.size() - 4, 4, ".gid") == 0)
+      terms.push_back(name.substr(0, name.size() - 4));
+  return terms;
 }
 
 /// How the ranks read a table: each its own block of rows, or every rank all of them.
@@ -252,21 +272,17 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
       write_field(f, comm, bond_blocks, "/bonds/" + std::string(info.name), mine);
     });
 
+    // Springs: each contact term's store, its registry's kCheckpoint fields as
+    // /history/<term>.<field>, with what `partner` names; every rank holds the same terms.
     f.create_group("/history");
-    const ContactHistory& history = state.history;
-    std::vector<std::uint8_t> kind;
-    std::vector<std::int64_t> gid, partner;
-    std::vector<Vec3> spring;
-    for (const auto& h : history) {
-      kind.push_back(static_cast<std::uint8_t>(h.partner_kind));
-      gid.push_back(h.gid);
-      partner.push_back(h.partner);
-      spring.push_back(h.spring);
+    for (const RestartState::TermSprings& t : state.springs) {
+      t.store.for_each_field([&](const FieldInfo& info, const auto& v) {
+        if (info.has(field_flag::kCheckpoint))
+          write_concatenated(f, comm, spring_dataset(t.term, info.name), v);
+      });
+      f.set_attribute(spring_dataset(t.term, "partner"), "names",
+                      std::string(t.store.partner_is_particle() ? kParticlePartner : kBodyPartner));
     }
-    write_concatenated(f, comm, "/history/partner_kind", kind);
-    write_concatenated(f, comm, "/history/gid", gid);
-    write_concatenated(f, comm, "/history/partner", partner);
-    write_concatenated(f, comm, "/history/spring", spring);
 
     // Bodies and driver state: the same on every rank; rank 0's rows land in the file.
     f.create_group("/bodies");
@@ -340,8 +356,10 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   info.particles = f.attribute_int("/", "particles");
   info.bonds = f.attribute_int("/", "bonds");
   info.bodies = f.attribute_int("/", "bodies");
-  const auto d = f.dims("/history/gid");
-  info.history_entries = d.empty() ? 0 : d[0];
+  for (const std::string& term : spring_terms(f)) {
+    const auto d = f.dims(spring_dataset(term, "gid"));
+    info.history_entries += d.empty() ? 0 : d[0];
+  }
   info.dt_origin_step = f.attribute_int("/", "dt_origin_step");
   info.dt_origin_time = f.attribute_double("/", "dt_origin_time");
   info.model_fingerprint = f.attribute_string("/", "model_fingerprint");
@@ -353,20 +371,34 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   return info;
 }
 
-RestartState read_checkpoint(const Communicator& comm, const std::string& path, Model& model,
-                             DriverState& driver, CheckpointInfo* info_out) {
+RestartState read_checkpoint(const Communicator& comm, const std::string& path,
+                             const CaseConfig& config, Model& model, DriverState& driver,
+                             CheckpointInfo* info_out) {
   const CheckpointInfo info = read_checkpoint_info(path);
   ParticleStore& p = model.particles;
   BondStore& bonds = model.bonds;
   if (p.n_total() != 0 || bonds.size() != 0)
     throw std::logic_error("read_checkpoint: the model must be built without particles");
-  if (info.particles != model.initial_particles || info.bonds != model.initial_bonds ||
-      info.bodies != static_cast<std::int64_t>(model.bodies.size()))
-    throw Hdf5Error(fmt::format(
-        "{}: the checkpoint holds {} particles, {} bonds and {} rigid bodies, the case builds {}, "
-        "{} and {}: it belongs to another case",
-        path, info.particles, info.bonds, info.bodies, model.initial_particles, model.initial_bonds,
-        model.bodies.size()));
+  // Whose state it is: the fingerprint belongs to the case text it holds, and that case defines
+  // the same model as `config`. Not the particle or bond count the case's sources create at
+  // start-up: particles come and go during a run (inflow, outflow), so the checkpoint's own
+  // counts are the truth, and every dataset is checked against them as it is read.
+  if (model_fingerprint(info.case_text) != info.model_fingerprint)
+    throw Hdf5Error(path +
+                    ": its model fingerprint does not match the case it holds: the checkpoint is "
+                    "corrupted");
+  const std::string given = canonical_case_text(config);
+  if (model_identity(info.case_text) != model_identity(given)) {
+    std::string keys;
+    for (const CaseChange& c : case_changes(info.case_text, given))
+      if (c.rule->kind == RestartKeyKind::kFixed)
+        keys += (keys.empty() ? "" : "; ") + describe_change(c);
+    throw Hdf5Error(
+        fmt::format("{}: it belongs to another case (the model differs: {})", path, keys));
+  }
+  if (info.bodies != static_cast<std::int64_t>(model.bodies.size()))
+    throw Hdf5Error(fmt::format("{}: the checkpoint holds {} rigid bodies, the case builds {}",
+                                path, info.bodies, model.bodies.size()));
   const Hdf5File f = Hdf5File::open_parallel_read(path, comm);
   // Each rank reads one block of every table's rows; the first distribution then moves the
   // rows to their owners.
@@ -416,22 +448,27 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path, 
   state.rebuilds = info.rebuilds;
   state.dt_origin_step = info.dt_origin_step;
   state.dt_origin_time = info.dt_origin_time;
-  const std::int64_t nh = info.history_entries;
-  const auto [h_first, h_end] = block_of(nh);
-  const auto kind =
-      read_verified_block<std::uint8_t>(f, comm, "/history/partner_kind", nh, h_first, h_end);
-  const auto gid = read_verified_block<std::int64_t>(f, comm, "/history/gid", nh, h_first, h_end);
-  const auto partner =
-      read_verified_block<std::int64_t>(f, comm, "/history/partner", nh, h_first, h_end);
-  const auto spring = read_verified_block<Vec3>(f, comm, "/history/spring", nh, h_first, h_end);
-  state.history.resize(kind.size());
-  bool valid = true;
-  for (std::size_t k = 0; k < state.history.size(); ++k) {
-    valid = valid && kind[k] <= 1;
-    state.history[k] = {static_cast<ContactHistoryEntry::Partner>(kind[k] <= 1 ? kind[k] : 0),
-                        gid[k], partner[k], spring[k]};
+  for (const std::string& term : spring_terms(f)) {
+    const std::string partner = f.attribute_string(spring_dataset(term, "partner"), "names");
+    if (partner != kParticlePartner && partner != kBodyPartner)
+      throw Hdf5Error(path + ": springs of '" + term + "' name an unknown partner '" + partner +
+                      "'");
+    RestartState::TermSprings& t = state.springs.emplace_back(RestartState::TermSprings{
+        term,
+        ContactSpringStore(partner == kParticlePartner ? ContactSpringStore::Partner::kParticle
+                                                       : ContactSpringStore::Partner::kRigidBody)});
+    const auto d = f.dims(spring_dataset(term, "gid"));
+    const std::int64_t rows = d.empty() ? 0 : d[0];
+    const auto [h_first, h_end] = block_of(rows);
+    t.store.resize(static_cast<std::size_t>(h_end - h_first));
+    t.store.for_each_field([&](const FieldInfo& field, auto& v) {
+      if (!field.has(field_flag::kCheckpoint)) return;
+      using T = typename std::remove_cvref_t<decltype(v)>::value_type;
+      const auto block =
+          read_verified_block<T>(f, comm, spring_dataset(term, field.name), rows, h_first, h_end);
+      std::copy(block.begin(), block.end(), v.begin());
+    });
   }
-  if (comm.any(!valid)) throw Hdf5Error(path + ": invalid contact history entry");
 
   const auto names = split(f.attribute_string("/bodies", "names"));
   for (std::size_t b = 0; b < model.bodies.size(); ++b)
