@@ -438,11 +438,8 @@ void DomainDecomposition::migrate(ParticleStore& p, BondStore& bonds,
   // terms look rows up by key, so their order does not matter).
   for (std::size_t s = 0; s < springs.size(); ++s)
     springs[s]->keep_rows(keep_spring[s]);
-  std::vector<std::size_t> spring_row_bytes(springs.size());
-  for (std::size_t s = 0; s < springs.size(); ++s)
-    spring_row_bytes[s] = record_size(*springs[s], migrate);
   data = recv_h.data();
-  for (int r = 0; r < n_ranks; ++r) {
+  for (int r = 0; r < n_ranks && !springs.empty(); ++r) {
     const char* const end = data + spring_bytes[static_cast<std::size_t>(r)];
     std::vector<std::uint64_t> n_rows(springs.size());
     std::memcpy(static_cast<void*>(n_rows.data()), data, n_rows.size() * sizeof(std::uint64_t));
