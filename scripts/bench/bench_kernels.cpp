@@ -67,12 +67,10 @@ void BM_BondLoop(benchmark::State& state) {
   model.particles.rebuild_index();
   TimoshenkoBondTerm bonds(model.bonds, model.bond_types);
   std::vector<ExcludedPair> excluded;
-  const ContactHistory history;
   SlotAllocator allocator;
   GatherMap gather;
   gather.begin(model.particles.n_local());
-  RebuildContext rebuild{model.particles, model.bodies, 0.001,  excluded,
-                         history,         allocator,    gather, 0};
+  RebuildContext rebuild{model.particles, model.bodies, 0.001, excluded, allocator, gather, 0};
   bonds.rebuild(rebuild);
   ForceSlots slots;
   slots.assign(allocator.size());

@@ -58,7 +58,8 @@ bool RunControl::stops_enabled() const {
   return options_.handle_stop_requests && writes_files();
 }
 
-std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings& settings) {
+std::unique_ptr<Simulation> RunControl::make_simulation(
+    const SimulationSettings& settings, const std::function<void(Model&)>& prepare) {
   const bool root = comm_.is_root() && options_.verbose;
   std::vector<std::string> candidates;
   if (options_.restart == "auto") {
@@ -108,7 +109,7 @@ std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings
     DriverState driver;
     RestartState state;
     try {
-      state = read_checkpoint(comm_, path, model, driver, &info);
+      state = read_checkpoint(comm_, path, config_, model, driver, &info);
     } catch (const std::exception& e) {
       error = e.what();
     }
@@ -136,7 +137,9 @@ std::unique_ptr<Simulation> RunControl::make_simulation(const SimulationSettings
   next_frame_time_ = config_.output.frame_interval;
   next_frame_step_ = config_.output.frame_interval_steps;
   next_checkpoint_time_ = config_.output.checkpoint_interval;
-  auto sim = std::make_unique<Simulation>(build_model(config_, comm_), comm_, settings);
+  Model model = build_model(config_, comm_);
+  if (prepare) prepare(model);
+  auto sim = std::make_unique<Simulation>(std::move(model), comm_, settings);
   if (!config_.simulation.allow_initial_overlap) check_initial_overlaps(*sim);
   return sim;
 }

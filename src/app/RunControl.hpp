@@ -51,7 +51,10 @@ class RunControl {
   /// driver_state()). Collective. A restart compares the case with the checkpoint's and throws
   /// InputError for changes it may not take over (io/RestartChanges); a fresh start throws
   /// InputError for contacts that overlap at creation (unless the case allows them).
-  std::unique_ptr<Simulation> make_simulation(const SimulationSettings& settings);
+  /// On a fresh start `prepare` (ScenarioDriver::prepare_model) sets what the scenario imposes
+  /// on the built model before the simulation's first force evaluation.
+  std::unique_ptr<Simulation> make_simulation(const SimulationSettings& settings,
+                                              const std::function<void(Model&)>& prepare = {});
 
   bool restarted() const { return restarted_; }
   /// State the driver saved in the checkpoint it restarted from (empty on a fresh start).

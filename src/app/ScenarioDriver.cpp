@@ -7,6 +7,7 @@
 #include "app/FreeRunDriver.hpp"
 #include "app/RockfallDriver.hpp"
 #include "app/TensileDriver.hpp"
+#include "engine/ModelBuilder.hpp"
 
 namespace ringdem {
 
@@ -35,6 +36,12 @@ std::unique_ptr<ScenarioDriver> make_scenario_driver(const CaseConfig& config) {
   for (const ScenarioEntry& e : kDrivers)
     if (e.kind == kind) return e.make(config);
   throw std::logic_error(std::string("no driver for scenario ") + scenario_name(kind));
+}
+
+Model build_scenario_model(const CaseConfig& config, const Communicator& comm) {
+  Model model = build_model(config, comm);
+  make_scenario_driver(config)->prepare_model(model);
+  return model;
 }
 
 }  // namespace ringdem

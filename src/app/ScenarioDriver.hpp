@@ -15,6 +15,7 @@
 #include <memory>
 #include <string>
 
+#include "comm/Communicator.hpp"
 #include "io/CaseConfig.hpp"
 #include "io/Checkpoint.hpp"
 #include "io/ScenarioKind.hpp"
@@ -23,6 +24,7 @@ namespace ringdem {
 
 class Simulation;
 class RunControl;
+struct Model;
 
 /// What the loop hands a driver at the start.
 struct ScenarioContext {
@@ -45,6 +47,9 @@ class ScenarioDriver {
   /// The case the simulation is built from (a driver may add to the case it was made from: the
   /// rockfall adds its boulder).
   virtual const CaseConfig& config() const = 0;
+  /// Sets what the scenario imposes on a freshly built model before its first force evaluation
+  /// (a tensile test's pin velocity). Not called on a restart: the checkpoint holds that state.
+  virtual void prepare_model(Model& /*model*/) const {}
   /// Steps the pre-flight report announces (0 when the driver cannot know).
   virtual std::int64_t planned_steps(const Simulation& sim) const = 0;
   /// After the simulation is built (fresh or from a checkpoint): restores the driver's state on
@@ -66,5 +71,9 @@ class ScenarioDriver {
 
 /// The driver of the case's scenario.
 std::unique_ptr<ScenarioDriver> make_scenario_driver(const CaseConfig& config);
+
+/// A fresh model of `config` as its scenario starts it: build_model, then the driver's
+/// prepare_model (for code that steps a Simulation without the scenario loop: tests, tools).
+Model build_scenario_model(const CaseConfig& config, const Communicator& comm);
 
 }  // namespace ringdem

@@ -65,7 +65,8 @@ int run_scenario(ScenarioDriver& driver, const ScenarioRunOptions& options,
   control_options.verbose = options.verbose;
   control_options.handle_stop_requests = options.handle_stop_requests;
   RunControl control(config, control_options, comm);
-  std::unique_ptr<Simulation> sim_ptr = control.make_simulation(settings_from_case(config));
+  std::unique_ptr<Simulation> sim_ptr = control.make_simulation(
+      settings_from_case(config), [&driver](Model& model) { driver.prepare_model(model); });
   Simulation& sim = *sim_ptr;
   print_preflight(sim, config, driver.planned_steps(sim), print, control.time_step_origin());
 

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <stdexcept>
 
 #include "app/RunCommand.hpp"
 #include "app/RunControl.hpp"
@@ -70,6 +71,16 @@ TensileDriver::TensileDriver(const CaseConfig& config)
                                           : test_.max_displacement) /
                              test_.loading_rate * (1.0 + 1e-9))),
       stop_(test_.failure_load_fraction, test_.max_displacement) {}
+
+void TensileDriver::prepare_model(Model& model) const {
+  for (const std::string& name : test_.moving_bodies) {
+    const auto it = std::find_if(model.bodies.begin(), model.bodies.end(),
+                                 [&](const RigidBody& b) { return b.name == name; });
+    if (it == model.bodies.end() || it->motion != Motion::kPrescribed)
+      throw std::invalid_argument("tensile test: '" + name + "' is not a prescribed rigid body");
+    it->velocity = test_.loading_rate * normalized(test_.pull_direction);
+  }
+}
 
 std::int64_t TensileDriver::planned_steps(const Simulation& sim) const {
   return sim.steps_until(end_time_);

@@ -29,6 +29,8 @@ class TensileDriver : public ScenarioDriver {
   TensileDriver& operator=(const TensileDriver&) = delete;
 
   const CaseConfig& config() const override { return config_; }
+  /// The moving bodies (prescribed, checked by the case loader) travel at the loading rate.
+  void prepare_model(Model& model) const override;
   std::int64_t planned_steps(const Simulation& sim) const override;
   bool start(Simulation& sim, const ScenarioContext& context) override;
   std::int64_t steps_to_advance(const Simulation&) const override { return 1; }

@@ -275,39 +275,41 @@ std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
 }
 
 void DomainDecomposition::distribute_initial(ParticleStore& p, BondStore& bonds,
-                                             ContactHistory& history) {
+                                             const std::vector<ContactSpringStore*>& springs) {
   p.resize_ghosts(0);
   p.rebuild_index();
   partition(global_blocks(p, bonds));
   std::vector<int> owner(p.n_local());
   for (std::size_t k = 0; k < p.n_local(); ++k)
     owner[k] = owner_of(p.position[k]);
-  // The owners of every particle a held bond or contact names, from wherever it is.
+  // The owners of every particle a held bond or spring names, from wherever it is.
   std::vector<std::int64_t> named;
-  named.reserve(2 * (bonds.size() + history.size()));
   for (std::size_t b = 0; b < bonds.size(); ++b) {
     named.push_back(bonds.gid_a[b]);
     named.push_back(bonds.gid_b[b]);
   }
-  for (const auto& h : history) {
-    named.push_back(h.gid);
-    named.push_back(h.partner_kind == ContactHistoryEntry::Partner::kParticle ? h.partner : h.gid);
-  }
+  for (const ContactSpringStore* s : springs)
+    for (std::size_t h = 0; h < s->size(); ++h) {
+      named.push_back(s->gid[h]);
+      named.push_back(s->partner_is_particle() ? s->partner[h] : s->gid[h]);
+    }
   const std::vector<int> named_owner = owners_of_gids(p, owner, named);
   Destinations to;
   to.particle = std::move(owner);
   to.bond.resize(bonds.size());
-  for (std::size_t b = 0; b < bonds.size(); ++b)
-    to.bond[b] = {named_owner[2 * b], named_owner[2 * b + 1]};
-  to.history.resize(history.size());
-  const std::size_t first_h = 2 * bonds.size();
-  for (std::size_t h = 0; h < history.size(); ++h)
-    to.history[h] = {named_owner[first_h + 2 * h], named_owner[first_h + 2 * h + 1]};
-  migrate(p, bonds, history, to);
+  std::size_t next = 0;
+  for (std::size_t b = 0; b < bonds.size(); ++b, next += 2)
+    to.bond[b] = {named_owner[next], named_owner[next + 1]};
+  for (const ContactSpringStore* s : springs) {
+    auto& rows = to.springs.emplace_back(s->size());
+    for (std::size_t h = 0; h < s->size(); ++h, next += 2)
+      rows[h] = {named_owner[next], named_owner[next + 1]};
+  }
+  migrate(p, bonds, springs, to);
 }
 
 void DomainDecomposition::redistribute(ParticleStore& p, BondStore& bonds,
-                                       ContactHistory& history) {
+                                       const std::vector<ContactSpringStore*>& springs) {
   p.rebuild_index();
   const auto blocks = global_blocks(p, bonds);
   if (imbalance(p) > imbalance_threshold_) {
@@ -330,21 +332,22 @@ void DomainDecomposition::redistribute(ParticleStore& p, BondStore& bonds,
   to.bond.resize(bonds.size());
   for (std::size_t b = 0; b < bonds.size(); ++b)
     to.bond[b] = {owner_of_gid(bonds.gid_a[b]), owner_of_gid(bonds.gid_b[b])};
-  to.history.reserve(history.size());
-  for (const auto& h : history) {
-    const int oa = owner_of_gid(h.gid);
-    to.history.push_back({oa, h.partner_kind == ContactHistoryEntry::Partner::kParticle
-                                  ? owner_of_gid(h.partner)
-                                  : oa});
+  for (const ContactSpringStore* s : springs) {
+    auto& rows = to.springs.emplace_back(s->size());
+    for (std::size_t h = 0; h < s->size(); ++h) {
+      const int oa = owner_of_gid(s->gid[h]);
+      rows[h] = {oa, s->partner_is_particle() ? owner_of_gid(s->partner[h]) : oa};
+    }
   }
-  migrate(p, bonds, history, to);
+  migrate(p, bonds, springs, to);
 }
 
-void DomainDecomposition::migrate(ParticleStore& p, BondStore& bonds, ContactHistory& history,
+void DomainDecomposition::migrate(ParticleStore& p, BondStore& bonds,
+                                  const std::vector<ContactSpringStore*>& springs,
                                   const Destinations& to) {
   const int me = comm_.rank();
   const int n_ranks = comm_.size();
-  // Particles, bonds and history entries to send, one buffer of each per rank.
+  // Particles, bonds and spring rows to send, one buffer of each per rank.
   const unsigned migrate = field_flag::kMigrate;
   std::vector<std::vector<char>> send_p(static_cast<std::size_t>(n_ranks));
   std::vector<std::vector<char>> send_b(static_cast<std::size_t>(n_ranks));
@@ -362,24 +365,34 @@ void DomainDecomposition::migrate(ParticleStore& p, BondStore& bonds, ContactHis
     if (ob >= 0 && ob != me && ob != oa)
       pack_fields(bonds, b, migrate, send_b[static_cast<std::size_t>(ob)]);
   }
-  ContactHistory kept_history;
-  for (std::size_t i = 0; i < history.size(); ++i) {
-    const auto& h = history[i];
-    const auto [oa, ob] = to.history[i];
-    if (oa == me || ob == me) kept_history.push_back(h);
-    std::set<int> targets{oa, ob};
-    for (int r : targets) {
-      if (r == me || r < 0) continue;
-      const char* src = reinterpret_cast<const char*>(&h);
-      send_h[static_cast<std::size_t>(r)].insert(send_h[static_cast<std::size_t>(r)].end(), src,
-                                                 src + sizeof(h));
-    }
+  // Spring rows of all stores in one exchange: per rank, each store's row count, then its rows.
+  std::vector<std::vector<char>> keep_spring(springs.size());
+  for (std::size_t r = 0; r < static_cast<std::size_t>(n_ranks); ++r) {
+    std::vector<std::uint64_t> counts(springs.size(), 0);
+    std::vector<char> rows;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+      for (std::size_t h = 0; h < springs[s]->size(); ++h) {
+        const auto [oa, ob] = to.springs[s][h];
+        if (static_cast<int>(r) == me || (oa != static_cast<int>(r) && ob != static_cast<int>(r)))
+          continue;
+        ++counts[s];
+        pack_fields(*springs[s], h, migrate, rows);
+      }
+    const char* c = reinterpret_cast<const char*>(counts.data());
+    send_h[r].assign(c, c + counts.size() * sizeof(std::uint64_t));
+    send_h[r].insert(send_h[r].end(), rows.begin(), rows.end());
+  }
+  for (std::size_t s = 0; s < springs.size(); ++s) {
+    keep_spring[s].resize(springs[s]->size());
+    for (std::size_t h = 0; h < springs[s]->size(); ++h)
+      keep_spring[s][h] = to.springs[s][h][0] == me || to.springs[s][h][1] == me;
   }
 
   std::vector<int> counts;
   const std::vector<char> recv_p = comm_.alltoall_bytes(send_p, counts);
   const std::vector<char> recv_b = comm_.alltoall_bytes(send_b, counts);
-  const std::vector<char> recv_h = comm_.alltoall_bytes(send_h, counts);
+  std::vector<int> spring_bytes;
+  const std::vector<char> recv_h = comm_.alltoall_bytes(send_h, spring_bytes);
 
   // Particles: drop ghosts and emigrants, append immigrants.
   p.resize_ghosts(0);
@@ -421,14 +434,25 @@ void DomainDecomposition::migrate(ParticleStore& p, BondStore& bonds, ContactHis
   bonds.index_a.assign(n_bonds, 0);
   bonds.index_b.assign(n_bonds, 0);
 
-  // History: kept entries plus arrivals (duplicates from the two old owners are identical).
-  const std::size_t nh_in = recv_h.size() / sizeof(ContactHistoryEntry);
-  for (std::size_t k = 0; k < nh_in; ++k) {
-    ContactHistoryEntry h;
-    std::memcpy(static_cast<void*>(&h), recv_h.data() + k * sizeof(h), sizeof(h));
-    kept_history.push_back(h);
+  // Springs: kept rows plus arrivals (duplicates from the two old owners are identical; the
+  // terms look rows up by key, so their order does not matter).
+  for (std::size_t s = 0; s < springs.size(); ++s)
+    springs[s]->keep_rows(keep_spring[s]);
+  data = recv_h.data();
+  for (int r = 0; r < n_ranks && !springs.empty(); ++r) {
+    const char* const end = data + spring_bytes[static_cast<std::size_t>(r)];
+    std::vector<std::uint64_t> n_rows(springs.size());
+    std::memcpy(static_cast<void*>(n_rows.data()), data, n_rows.size() * sizeof(std::uint64_t));
+    data += n_rows.size() * sizeof(std::uint64_t);
+    for (std::size_t s = 0; s < springs.size(); ++s) {
+      ContactSpringStore& store = *springs[s];
+      for (std::uint64_t k = 0; k < n_rows[s]; ++k) {
+        store.resize(store.size() + 1);
+        data = unpack_fields(store, store.size() - 1, migrate, data);
+      }
+    }
+    if (data != end) throw std::logic_error("spring migration: message size mismatch");
   }
-  history = std::move(kept_history);
 
   // Owned particles in gid order, so the local layout is the same for any history of moves.
   {

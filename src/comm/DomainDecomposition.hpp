@@ -7,7 +7,7 @@
 
 #include "comm/Communicator.hpp"
 #include "domain/BondStore.hpp"
-#include "domain/ContactHistory.hpp"
+#include "domain/ContactSpringStore.hpp"
 #include "domain/ParticleStore.hpp"
 
 namespace ringdem {
@@ -18,24 +18,27 @@ namespace ringdem {
 /// edge weight: the particles that can interact across the shared face), a particle belongs
 /// to the rank owning its block, and every rank receives as ghosts the particles of all blocks
 /// adjacent to its own. Bonds live on every rank that owns one of their ends (owner computes),
-/// contact history travels with the particles. All MPI traffic of the particle data is here.
+/// the contact terms' spring stores travel with the particles. All MPI traffic of the particle
+/// data is here; it reaches every store through its field registry.
 class DomainDecomposition {
  public:
   DomainDecomposition(const Communicator& comm, double block_size, double imbalance_threshold);
 
   /// First distribution, from any spread of the particles over the ranks (each held by one
-  /// rank, none a ghost) and of the bonds and history entries (each held by at least one rank,
-  /// not necessarily with its particles): partitions the blocks, then sends every particle to
-  /// the owner of its block, every bond and history entry to the owners of its particles
+  /// rank, none a ghost) and of the bonds and springs (each held by at least one rank, not
+  /// necessarily with its particles): partitions the blocks, then sends every particle to
+  /// the owner of its block, every bond and spring row to the owners of its particles
   /// (found through a gid directory spread over the ranks), and builds the ghost layer.
   /// No rank ever holds more than its own items and what it receives.
-  void distribute_initial(ParticleStore& p, BondStore& bonds, ContactHistory& history);
+  void distribute_initial(ParticleStore& p, BondStore& bonds,
+                          const std::vector<ContactSpringStore*>& springs);
 
   /// Migration at a neighbour-list rebuild: owned particles move to the owner of their
   /// block (repartitioning first when the imbalance exceeds the threshold), bonds to every
-  /// rank owning an end, history entries to the owners of their particles; then the ghost
-  /// layer is rebuilt. `history` holds this rank's entries on entry, the new ones on exit.
-  void redistribute(ParticleStore& p, BondStore& bonds, ContactHistory& history);
+  /// rank owning an end, spring rows to the owners of their particles; then the ghost layer is
+  /// rebuilt. Each store of `springs` holds this rank's rows on entry, the new ones on exit.
+  void redistribute(ParticleStore& p, BondStore& bonds,
+                    const std::vector<ContactSpringStore*>& springs);
 
   /// Refreshes the per-step ghost fields (field_flag::kGhostStep) from their owners.
   void update_ghosts(ParticleStore& p);
@@ -71,16 +74,17 @@ class DomainDecomposition {
   /// the rank that holds it. Throws if a gid exists on no rank.
   std::vector<int> owners_of_gids(const ParticleStore& p, const std::vector<int>& owner,
                                   const std::vector<std::int64_t>& gids) const;
-  /// Where each held item goes: owned particle k to rank particle[k], bond b and history
-  /// entry h to the (up to two, -1 for none) ranks in bond[b] and history[h].
+  /// Where each held item goes: owned particle k to rank particle[k], bond b and row h of
+  /// spring store s to the (up to two, -1 for none) ranks in bond[b] and springs[s][h].
   struct Destinations {
     std::vector<int> particle;
     std::vector<std::array<int, 2>> bond;
-    std::vector<std::array<int, 2>> history;
+    std::vector<std::vector<std::array<int, 2>>> springs;
   };
-  /// Moves the items to their destinations, keeps bonds and history in canonical order and
-  /// owned particles in gid order, and rebuilds the ghost layer.
-  void migrate(ParticleStore& p, BondStore& bonds, ContactHistory& history, const Destinations& to);
+  /// Moves the items to their destinations, keeps bonds in canonical order and owned particles
+  /// in gid order, and rebuilds the ghost layer.
+  void migrate(ParticleStore& p, BondStore& bonds, const std::vector<ContactSpringStore*>& springs,
+               const Destinations& to);
 
   const Communicator& comm_;
   double block_size_;

@@ -7,12 +7,6 @@
 
 namespace ringdem {
 
-void BodyContactTerm::export_history(ContactHistory& out) const {
-  for (std::size_t w = 0; w < particle_.size(); ++w)
-    if (norm2(spring_[w]) > 0.0)
-      out.push_back({ContactHistoryEntry::Partner::kRigidBody, gid_[w], body_[w], spring_[w]});
-}
-
 void BodyContactTerm::find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies,
                                     double fraction, std::vector<ContactOverlap>& out) const {
   for (std::size_t w = 0; w < particle_.size(); ++w) {
@@ -26,22 +20,20 @@ void BodyContactTerm::rebuild(RebuildContext& ctx) {
   const ParticleStore& p = ctx.particles;
   // Candidates: owned particles within the skin of a body's surface (a body is on every rank,
   // so each particle's contacts are evaluated once, where it is owned).
+  // The store's rows (the springs carried across the migration) become the new candidates.
+  const auto old_springs = springs_by_key(springs_);
   particle_.clear();
   body_.clear();
-  gid_.clear();
+  springs_.resize(0);
   for (std::size_t b = 0; b < ctx.bodies.size(); ++b)
     for (std::size_t k = 0; k < p.n_local(); ++k)
       if (ctx.bodies[b].closest(p.position[k]).distance < p.radius[k] + ctx.skin) {
         particle_.push_back(static_cast<std::uint32_t>(k));
         body_.push_back(static_cast<std::uint32_t>(b));
-        gid_.push_back(p.gid[k]);
+        const auto it = old_springs.find(PairKey{p.gid[k], static_cast<std::int64_t>(b)});
+        springs_.append(p.gid[k], static_cast<std::int64_t>(b),
+                        it != old_springs.end() ? it->second : Vec3{});
       }
-  const auto old_springs = springs_by_key(ctx.history, ContactHistoryEntry::Partner::kRigidBody);
-  spring_.assign(particle_.size(), Vec3{});
-  for (std::size_t w = 0; w < particle_.size(); ++w) {
-    const auto it = old_springs.find(PairKey{gid_[w], body_[w]});
-    if (it != old_springs.end()) spring_[w] = it->second;
-  }
   slots_ = ctx.allocator.take(particle_.size());
   for (std::size_t w = 0; w < particle_.size(); ++w)
     ctx.gather.add(particle_[w], GatherMap::kBodyKeyBase + body_[w], ctx.term_number,
@@ -53,6 +45,7 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
   ForceSlots& slots = ctx.slots;
   EnergyLedger& ledger = ctx.ledger;
   body_loads_.clear();
+  std::vector<Vec3>& spring = springs_.spring;
   for (std::size_t w = 0; w < particle_.size(); ++w) {
     const std::uint32_t k = particle_[w];
     const std::uint32_t slot = slots_.begin + static_cast<std::uint32_t>(w);
@@ -60,7 +53,7 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
     const auto sp = body.closest(p.position[k]);
     const double overlap = p.radius[k] - sp.distance;
     if (overlap <= 0.0) {
-      spring_[w] = {};
+      spring[w] = {};
       slots.set(slot, {}, {});
       ledger.record(slot) = {};
       continue;
@@ -82,10 +75,10 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
     in.omega_i = p.omega[k];
     in.omega_j = body.omega;
     const auto r =
-        HertzMindlin::compute(ctx.materials.pair(p.material[k], body.material), in, spring_[w]);
+        HertzMindlin::compute(ctx.materials.pair(p.material[k], body.material), in, spring[w]);
     slots.set(slot, r.force_i, cross(n * arm, r.force_i) + r.rolling_torque_i);
     ledger.record(slot) = {r.damping_force_i,
-                           spring_[w],
+                           spring[w],
                            n * arm,
                            r.rolling_torque_i,
                            r.tangential_energy,

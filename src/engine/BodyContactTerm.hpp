@@ -9,15 +9,16 @@ namespace ringdem {
 
 /// Contacts between particles and rigid bodies (Hertz–Mindlin with R_j, m_j of the body,
 /// physics.md §3): candidates within the skin of a body's surface, one slot per contact, the
-/// tangential spring keyed by (gid, body). Also each contact's load on its body, for the
-/// rank-independent reduction of the body loads.
+/// tangential spring in its ContactSpringStore (one row per candidate, keyed by (gid, body)). Also
+/// each contact's load on its body, for the rank-independent reduction of the body loads.
 class BodyContactTerm final : public ForceTerm {
  public:
   std::string_view name() const override { return "body_contacts"; }
   double ghost_width(const ParticleStore&) const override { return 0.0; }
   void rebuild(RebuildContext& ctx) override;
   void compute(ComputeContext& ctx) override;
-  void export_history(ContactHistory& out) const override;
+  ContactSpringStore* springs() override { return &springs_; }
+  const ContactSpringStore* springs() const override { return &springs_; }
   void find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies, double fraction,
                      std::vector<ContactOverlap>& out) const override;
 
@@ -33,8 +34,8 @@ class BodyContactTerm final : public ForceTerm {
 
  private:
   std::vector<std::uint32_t> particle_, body_;
-  std::vector<std::int64_t> gid_;
-  std::vector<Vec3> spring_;
+  /// Row w: contact w (gid of particle_[w], partner the body's number).
+  ContactSpringStore springs_{ContactSpringStore::Partner::kRigidBody};
   SlotRange slots_;
   std::vector<BodyLoad> body_loads_;
 };

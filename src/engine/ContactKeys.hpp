@@ -4,7 +4,7 @@
 #include <unordered_map>
 
 #include "core/Vec3.hpp"
-#include "domain/ContactHistory.hpp"
+#include "domain/ContactSpringStore.hpp"
 #include "domain/ParticleStore.hpp"
 
 namespace ringdem {
@@ -23,11 +23,11 @@ struct PairKeyHash {
 };
 using SpringMap = std::unordered_map<PairKey, Vec3, PairKeyHash>;
 
-/// The carried springs of one partner kind, by key.
-inline SpringMap springs_by_key(const ContactHistory& history, ContactHistoryEntry::Partner kind) {
+/// The springs a store carries, by key.
+inline SpringMap springs_by_key(const ContactSpringStore& store) {
   SpringMap out;
-  for (const auto& h : history)
-    if (h.partner_kind == kind) out.emplace(PairKey{h.gid, h.partner}, h.spring);
+  for (std::size_t k = 0; k < store.size(); ++k)
+    out.emplace(PairKey{store.gid[k], store.partner[k]}, store.spring[k]);
   return out;
 }
 

@@ -4,7 +4,7 @@
 #include <string_view>
 #include <vector>
 
-#include "domain/ContactHistory.hpp"
+#include "domain/ContactSpringStore.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
 #include "engine/EnergyLedger.hpp"
@@ -28,8 +28,6 @@ struct RebuildContext {
   /// Pairs that must not touch (intact bonds): bonded terms append both ends' entries in
   /// their rebuild, which runs before that of the contact terms (term order, Simulation).
   std::vector<ExcludedPair>& excluded;
-  /// Contact history carried across the rebuild (tangential springs, by gid pair).
-  const ContactHistory& history;
   SlotAllocator& allocator;
   GatherMap& gather;
   std::uint32_t term_number;  ///< position in the term list: the gather order's tie-break
@@ -73,8 +71,11 @@ class ForceTerm {
   virtual void rebuild(RebuildContext& ctx) = 0;
   /// Writes this term's slots for the current state.
   virtual void compute(ComputeContext& ctx) = 0;
-  /// Appends the history (tangential springs) of touching pairs, for migration and checkpoints.
-  virtual void export_history(ContactHistory& /*out*/) const {}
+  /// The term's store of tangential springs (its contact state), or nullptr for a term without
+  /// one. Migration and checkpoints reach it only through this and its field registry; its
+  /// rows survive a rebuild when the term's rebuild() reads them back by key.
+  virtual ContactSpringStore* springs() { return nullptr; }
+  virtual const ContactSpringStore* springs() const { return nullptr; }
   /// Appends this term's contact candidates (since the last rebuild) that overlap by more than
   /// `fraction` of the smaller radius (a body's radius counts as infinite).
   virtual void find_overlaps(const ParticleStore& /*p*/, const std::vector<RigidBody>& /*bodies*/,

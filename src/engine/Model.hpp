@@ -26,7 +26,8 @@ struct Model {
   std::string bond_model = "timoshenko";        ///< name in the bond model table
   std::string contact_model = "hertz_mindlin";  ///< name in the contact model table
   std::vector<std::string> group_names;
-  /// Particles and bonds the case's sources create at start-up, over all ranks.
+  /// Particles and bonds the case's sources create at start-up, over all ranks (the pre-flight
+  /// report and start-up checks; a restart restores the checkpoint's own counts instead).
   std::int64_t initial_particles = 0;
   std::int64_t initial_bonds = 0;
 

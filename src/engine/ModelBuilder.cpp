@@ -11,7 +11,6 @@
 #include "engine/ModelTable.hpp"
 #include "engine/RingSource.hpp"
 #include "engine/SphereListSource.hpp"
-#include "io/ScenarioKind.hpp"
 
 namespace ringdem {
 
@@ -286,18 +285,6 @@ ModelPlan plan_model(const CaseConfig& c) {
     if (b.motion == Motion::kFree && b.shape == RigidShape::kPlane)
       throw std::invalid_argument("rigid body '" + b.name + "': a plane cannot be free");
     model.bodies.push_back(b);
-  }
-
-  // Tensile test: the pins of the moving plate travel at the loading rate.
-  if (scenario_kind(c) == ScenarioKind::kTensileTest) {
-    const TensileTestConfig& t = c.scenario.tensile_test;
-    for (const std::string& name : t.moving_bodies) {
-      const auto it = std::find_if(model.bodies.begin(), model.bodies.end(),
-                                   [&](const RigidBody& b) { return b.name == name; });
-      if (it == model.bodies.end() || it->motion != Motion::kPrescribed)
-        throw std::invalid_argument("tensile test: '" + name + "' is not a prescribed rigid body");
-      it->velocity = t.loading_rate * normalized(t.pull_direction);
-    }
   }
 
   return plan;

@@ -16,12 +16,6 @@ double PairContactTerm::ghost_width(const ParticleStore& p) const {
   return 2.0 * r_max;
 }
 
-void PairContactTerm::export_history(ContactHistory& out) const {
-  for (std::size_t m = 0; m < pairs_.size(); ++m)
-    if (norm2(spring_[m]) > 0.0)
-      out.push_back({ContactHistoryEntry::Partner::kParticle, gid_a_[m], gid_b_[m], spring_[m]});
-}
-
 void PairContactTerm::find_overlaps(const ParticleStore& p, const std::vector<RigidBody>&,
                                     double fraction, std::vector<ContactOverlap>& out) const {
   for (std::size_t m = 0; m < pairs_.size(); ++m) {
@@ -49,24 +43,23 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
   }
 
   search_.build(p, ctx.skin, exclusions_, pairs_);
-  const auto old_springs = springs_by_key(ctx.history, ContactHistoryEntry::Partner::kParticle);
+  // The store's rows (the springs carried across the migration) become the new candidates.
+  const auto old_springs = springs_by_key(springs_);
   const std::size_t np = pairs_.size();
-  spring_.assign(np, Vec3{});
-  gid_a_.resize(np);
-  gid_b_.resize(np);
+  springs_.resize(np);
   for (std::size_t m = 0; m < np; ++m) {
-    gid_a_[m] = p.gid[pairs_.i[m]];
-    gid_b_[m] = p.gid[pairs_.j[m]];
-    const auto it = old_springs.find(PairKey{gid_a_[m], gid_b_[m]});
-    if (it != old_springs.end()) spring_[m] = it->second;
+    springs_.gid[m] = p.gid[pairs_.i[m]];
+    springs_.partner[m] = p.gid[pairs_.j[m]];
+    const auto it = old_springs.find(PairKey{springs_.gid[m], springs_.partner[m]});
+    springs_.spring[m] = it != old_springs.end() ? it->second : Vec3{};
   }
 
   slots_a_ = ctx.allocator.take(np);
   slots_b_ = ctx.allocator.take(np);
   for (std::size_t m = 0; m < np; ++m) {
     const auto s = static_cast<std::uint32_t>(m);
-    ctx.gather.add(pairs_.i[m], gid_b_[m], ctx.term_number, slots_a_.begin + s, true);
-    ctx.gather.add(pairs_.j[m], gid_a_[m], ctx.term_number, slots_b_.begin + s, true);
+    ctx.gather.add(pairs_.i[m], springs_.partner[m], ctx.term_number, slots_a_.begin + s, true);
+    ctx.gather.add(pairs_.j[m], springs_.gid[m], ctx.term_number, slots_b_.begin + s, true);
   }
 }
 
@@ -75,6 +68,7 @@ void PairContactTerm::compute(ComputeContext& ctx) {
   ForceSlots& slots = ctx.slots;
   EnergyLedger& ledger = ctx.ledger;
   const std::size_t np = pairs_.size();
+  std::vector<Vec3>& spring = springs_.spring;
   // Particle contacts (physics.md §3).
   for (std::size_t m = 0; m < np; ++m) {
     const std::uint32_t a = pairs_.i[m];
@@ -85,7 +79,7 @@ void PairContactTerm::compute(ComputeContext& ctx) {
     const double reach = p.radius[a] + p.radius[b];
     const double dist2 = norm2(d);
     if (dist2 >= reach * reach) {
-      spring_[m] = {};
+      spring[m] = {};
       slots.set(slot_a, {}, {});
       slots.set(slot_b, {}, {});
       ledger.record(slot_a) = {};
@@ -110,17 +104,19 @@ void PairContactTerm::compute(ComputeContext& ctx) {
     in.omega_i = p.omega[a];
     in.omega_j = p.omega[b];
     const auto r =
-        HertzMindlin::compute(ctx.materials.pair(p.material[a], p.material[b]), in, spring_[m]);
+        HertzMindlin::compute(ctx.materials.pair(p.material[a], p.material[b]), in, spring[m]);
     slots.set(slot_a, r.force_i, cross(n * arm_a, r.force_i) + r.rolling_torque_i);
     slots.set(slot_b, -r.force_i, cross(n * arm_b, r.force_i) + r.rolling_torque_j);
     // Ledger: each end's loads; the tangential energy half to each end.
-    const Vec3& spring = spring_[m];
     ledger.record(slot_a) = {
-        r.damping_force_i,     spring, n * arm_a, r.rolling_torque_i, 0.5 * r.tangential_energy,
+        r.damping_force_i,     spring[m], n * arm_a, r.rolling_torque_i, 0.5 * r.tangential_energy,
         0.5 * r.elastic_energy};
-    ledger.record(slot_b) = {
-        -r.damping_force_i,    -spring, n * (-arm_b), r.rolling_torque_j, 0.5 * r.tangential_energy,
-        0.5 * r.elastic_energy};
+    ledger.record(slot_b) = {-r.damping_force_i,
+                             -spring[m],
+                             n * (-arm_b),
+                             r.rolling_torque_j,
+                             0.5 * r.tangential_energy,
+                             0.5 * r.elastic_energy};
   }
 }
 

@@ -9,15 +9,17 @@
 namespace ringdem {
 
 /// Contacts between particles (Hertz–Mindlin, physics.md §3): cell-grid candidate pairs with
-/// a Verlet skin, each pair's tangential spring (history keyed by the gid pair), two slots
-/// per pair (one for each end) and a dissipation record per slot for the ledger.
+/// a Verlet skin, each pair's tangential spring (its ContactSpringStore, one row per candidate,
+/// keyed by the gid pair), two slots per pair (one for each end) and a dissipation record per
+/// slot for the ledger.
 class PairContactTerm final : public ForceTerm {
  public:
   std::string_view name() const override { return "particle_contacts"; }
   double ghost_width(const ParticleStore& p) const override;
   void rebuild(RebuildContext& ctx) override;
   void compute(ComputeContext& ctx) override;
-  void export_history(ContactHistory& out) const override;
+  ContactSpringStore* springs() override { return &springs_; }
+  const ContactSpringStore* springs() const override { return &springs_; }
   void find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies, double fraction,
                      std::vector<ContactOverlap>& out) const override;
 
@@ -27,8 +29,8 @@ class PairContactTerm final : public ForceTerm {
   NeighbourSearch search_;
   PairExclusions exclusions_;
   PairCandidates pairs_;
-  std::vector<Vec3> spring_;
-  std::vector<std::int64_t> gid_a_, gid_b_;  ///< gids of pairs_ (history keys)
+  /// Row m: pair m of pairs_ (gid of its end a, partner the gid of its end b).
+  ContactSpringStore springs_{ContactSpringStore::Partner::kParticle};
   SlotRange slots_a_, slots_b_;
 };
 

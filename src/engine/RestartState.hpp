@@ -1,11 +1,12 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
-#include "domain/ContactHistory.hpp"
+#include "domain/ContactSpringStore.hpp"
 
 namespace ringdem {
 
@@ -15,7 +16,13 @@ struct RestartState {
   std::int64_t steps = 0;
   double dt = 0.0;
   std::int64_t rebuilds = 0;
-  ContactHistory history;  ///< every tangential spring once (any rank may hold any entry)
+  /// Each contact term's tangential springs, by term name (ForceTerm::name): every spring once
+  /// over the ranks (a checkpoint's writer holds those of its owned particles; its reader any).
+  struct TermSprings {
+    std::string term;
+    ContactSpringStore store;
+  };
+  std::vector<TermSprings> springs;
   /// Step and time from which dt is the time step (0 unless a restart changed it): the step
   /// that reaches a given time is counted from there (Simulation::steps_until).
   std::int64_t dt_origin_step = 0;

@@ -93,8 +93,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   find_typed_terms();
   ParticleStore& p = model_.particles;
   // Each rank built a slice of every source; move the particles to the owners of their blocks.
-  ContactHistory no_history;
-  decomposition_.distribute_initial(p, model_.bonds, no_history);
+  decomposition_.distribute_initial(p, model_.bonds, spring_stores());
   // After the distribution: every intact bond then has both ends on the ranks that hold it.
   init_limits();
   dt_ = settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
@@ -145,9 +144,17 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   }
   // Each rank read a block of the checkpoint's rows: particles go to the owners of their
   // blocks, bonds and contact springs to the owners of their particles.
-  ContactHistory history = restart.history;
-  decomposition_.distribute_initial(p, model_.bonds, history);
-  build_lists(std::move(history));
+  for (const RestartState::TermSprings& saved : restart.springs) {
+    ContactSpringStore* store = nullptr;
+    for (auto& t : terms_)
+      if (t->name() == saved.term) store = t->springs();
+    if (store == nullptr)
+      throw std::runtime_error("restart state holds springs of '" + saved.term +
+                               "', which is no contact term of this model");
+    store->assign_rows(saved.store);
+  }
+  decomposition_.distribute_initial(p, model_.bonds, spring_stores());
+  build_lists();
   std::swap(p.position, p.position_at_rebuild);
   decomposition_.update_ghosts(p);
   for (std::size_t b = 0; b < bodies.size(); ++b) {
@@ -165,7 +172,7 @@ RestartState Simulation::restart_state() const {
   s.steps = steps_;
   s.dt = dt_;
   s.rebuilds = rebuilds_;
-  s.history = owned_contact_history();
+  s.springs = owned_springs();
   s.dt_origin_step = dt_origin_step_;
   s.dt_origin_time = dt_origin_time_;
   s.body_position_at_rebuild = body_position_at_rebuild_;
@@ -254,25 +261,34 @@ OverlapReport Simulation::overlaps(double fraction, std::size_t listed) const {
   return report;
 }
 
-ContactHistory Simulation::owned_contact_history() const {
+std::vector<RestartState::TermSprings> Simulation::owned_springs() const {
   const ParticleStore& p = model_.particles;
-  ContactHistory out;
-  ContactHistory all;
-  for (const auto& t : terms_)
-    t->export_history(all);
-  for (const auto& h : all) {
-    const std::int64_t i = p.index_of(h.gid);
-    // A pair across ranks is evaluated on both: keep it where its first particle is owned.
-    if (i >= 0 && static_cast<std::size_t>(i) < p.n_local()) out.push_back(h);
+  std::vector<RestartState::TermSprings> out;
+  for (const auto& t : terms_) {
+    const ContactSpringStore* store = t->springs();
+    if (store == nullptr) continue;
+    std::vector<char> keep(store->size());
+    for (std::size_t k = 0; k < store->size(); ++k) {
+      const std::int64_t i = p.index_of(store->gid[k]);
+      // A pair across ranks is evaluated on both: keep it where its first particle is owned.
+      keep[k] =
+          norm2(store->spring[k]) > 0.0 && i >= 0 && static_cast<std::size_t>(i) < p.n_local();
+    }
+    out.push_back({std::string(t->name()), *store});
+    out.back().store.keep_rows(keep);
   }
   return out;
 }
 
+std::vector<ContactSpringStore*> Simulation::spring_stores() {
+  std::vector<ContactSpringStore*> stores;
+  for (auto& t : terms_)
+    if (ContactSpringStore* s = t->springs()) stores.push_back(s);
+  return stores;
+}
+
 void Simulation::rebuild() {
-  ContactHistory history;
-  for (const auto& t : terms_)
-    t->export_history(history);
-  build_lists(std::move(history));
+  build_lists();
   ParticleStore& p = model_.particles;
   std::copy(p.position.begin(), p.position.begin() + static_cast<std::ptrdiff_t>(p.n_local()),
             p.position_at_rebuild.begin());
@@ -293,15 +309,20 @@ std::size_t Simulation::n_contact_candidates() const {
   return 0;
 }
 
-void Simulation::build_lists(ContactHistory history) {
+void Simulation::build_lists() {
   ParticleStore& p = model_.particles;
-  decomposition_.redistribute(p, model_.bonds, history);
+  // Only touching contacts carry a spring across the rebuild; migration moves those rows with
+  // their particles, and each term's rebuild() reads its own store back by key.
+  const std::vector<ContactSpringStore*> stores = spring_stores();
+  for (ContactSpringStore* s : stores)
+    s->drop_released();
+  decomposition_.redistribute(p, model_.bonds, stores);
   // Each term takes its slots and registers them with the gather map, in term order; bonded
   // terms first, so the contact terms see their exclusions.
   allocator_.reset();
   gather_.begin(p.n_local());
   excluded_.clear();
-  RebuildContext ctx{p, model_.bodies, settings_.skin, excluded_, history, allocator_, gather_, 0};
+  RebuildContext ctx{p, model_.bodies, settings_.skin, excluded_, allocator_, gather_, 0};
   for (auto& t : terms_) {
     t->rebuild(ctx);
     ++ctx.term_number;

@@ -87,12 +87,12 @@ class Simulation {
   Simulation(Model model, const Communicator& comm, const SimulationSettings& settings,
              const RestartState& restart);
 
-  /// Tangential springs of the contacts of owned particles (each contact once over the ranks),
-  /// for checkpoints.
-  ContactHistory owned_contact_history() const;
+  /// Each contact term's tangential springs of touching contacts whose particle (the first
+  /// of a pair) is owned here: each contact once over the ranks, for checkpoints.
+  std::vector<RestartState::TermSprings> owned_springs() const;
   /// Everything a checkpoint needs besides the model's fields: time, step, dt, rebuilds, the
-  /// owned contact history and what the rebuild criterion reads. Collective (whether a bond
-  /// broke anywhere in the last force evaluation).
+  /// owned springs and what the rebuild criterion reads. Collective (whether a bond broke
+  /// anywhere in the last force evaluation).
   RestartState restart_state() const;
 
   /// From now on steps of `dt` (a restart that applies a changed time step). The energy
@@ -172,8 +172,11 @@ class Simulation {
   /// A neighbour-list rebuild of the trajectory: lists from the current positions, which
   /// become the reference of the skin criterion.
   void rebuild();
-  /// Migration, lists, slots and gather map from the current positions and `history`.
-  void build_lists(ContactHistory history);
+  /// Migration, lists, slots and gather map from the current positions and the terms'
+  /// spring stores.
+  void build_lists();
+  /// The spring stores of the terms that have one, in term order (what migration moves).
+  std::vector<ContactSpringStore*> spring_stores();
   void compute_forces();
   void reduce_body_loads();
   bool needs_rebuild();

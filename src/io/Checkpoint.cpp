@@ -25,13 +25,11 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // 2: bond columns of unread section values dropped; 3: the case it was written by (/case/text,
 // model_fingerprint) and the time-step origin (dt_origin_step, dt_origin_time); 4: what the
 // neighbour-list rebuild criterion reads (particles/position_at_rebuild, the bodies' position
-// and orientation at the last rebuild, rebuild_forced, bonds_broke).
-constexpr std::int64_t kFormatVersion = 4;
-// The oldest version still read: a version 3 file lacks the rebuild criterion's state and is
-// continued as before version 4 (the restart counts as the last rebuild: the rebuilds that
-// follow may come at other steps than in the run never interrupted; the results do not
-// depend on when the lists are rebuilt).
-constexpr std::int64_t kOldestReadVersion = 3;
+// and orientation at the last rebuild, rebuild_forced, bonds_broke); 5: one set of spring
+// datasets per contact term (/history/<term>.<field>, its store's registry) instead of one
+// table with a partner-kind column. Only this version is read: the spring layout of older
+// files is not, so a restart from one could not go on bit for bit.
+constexpr std::int64_t kFormatVersion = 5;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
 /// global row index, so partial sums of blocks written by any number of ranks add up to the
@@ -93,6 +91,24 @@ void write_concatenated(Hdf5File& f, const Communicator& comm, const std::string
   set_checksum(f, name, total(comm, rows_checksum(local, first)));
 }
 
+constexpr const char* kParticlePartner = "particle";
+constexpr const char* kBodyPartner = "rigid_body";
+
+/// The dataset of field `field` of a contact term's spring store.
+std::string spring_dataset(const std::string& term, std::string_view field) {
+  return "/history/" + term + "." + std::string(field);
+}
+
+/// The contact terms whose springs a checkpoint holds (the names of its /history/<term>.gid).
+std::vector<std::string> spring_terms(const Hdf5File& f) {
+  std::vector<std::string> terms;
+  if (!f.exists("/history")) return terms;
+  for (const std::string& name : f.list("/history"))
+    if (name.size() > 4 && name.compare(name.size() - 4, 4, ".gid") == 0)
+      terms.push_back(name.substr(0, name.size() - 4));
+  return terms;
+}
+
 /// How the ranks read a table: each its own block of rows, or every rank all of them.
 enum class ReadBy { kBlocks, kEveryRank };
 
@@ -140,18 +156,18 @@ struct BodyRows {
   std::vector<Vec3> position, velocity, omega, force, torque, position_at_rebuild;
   std::vector<Quat> orientation, orientation_at_rebuild;
   std::vector<Motion> motion;  ///< drivers change it (a boulder released)
-  /// f(name, rows, since): `since` is the format version that added the column.
+  /// f(name, rows) for each column.
   template <class F>
   void for_each(F&& f) {
-    f("motion", motion, 1);
-    f("position", position, 1);
-    f("orientation", orientation, 1);
-    f("velocity", velocity, 1);
-    f("omega", omega, 1);
-    f("force", force, 1);
-    f("torque", torque, 1);
-    f("position_at_rebuild", position_at_rebuild, 4);
-    f("orientation_at_rebuild", orientation_at_rebuild, 4);
+    f("motion", motion);
+    f("position", position);
+    f("orientation", orientation);
+    f("velocity", velocity);
+    f("omega", omega);
+    f("force", force);
+    f("torque", torque);
+    f("position_at_rebuild", position_at_rebuild);
+    f("orientation_at_rebuild", orientation_at_rebuild);
   }
 };
 
@@ -264,21 +280,17 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
       write_field(f, comm, bond_blocks, "/bonds/" + std::string(info.name), mine);
     });
 
+    // Springs: each contact term's store, its registry's kCheckpoint fields as
+    // /history/<term>.<field>, with what `partner` names; every rank holds the same terms.
     f.create_group("/history");
-    const ContactHistory& history = state.history;
-    std::vector<std::uint8_t> kind;
-    std::vector<std::int64_t> gid, partner;
-    std::vector<Vec3> spring;
-    for (const auto& h : history) {
-      kind.push_back(static_cast<std::uint8_t>(h.partner_kind));
-      gid.push_back(h.gid);
-      partner.push_back(h.partner);
-      spring.push_back(h.spring);
+    for (const RestartState::TermSprings& t : state.springs) {
+      t.store.for_each_field([&](const FieldInfo& info, const auto& v) {
+        if (info.has(field_flag::kCheckpoint))
+          write_concatenated(f, comm, spring_dataset(t.term, info.name), v);
+      });
+      f.set_attribute(spring_dataset(t.term, "partner"), "names",
+                      std::string(t.store.partner_is_particle() ? kParticlePartner : kBodyPartner));
     }
-    write_concatenated(f, comm, "/history/partner_kind", kind);
-    write_concatenated(f, comm, "/history/gid", gid);
-    write_concatenated(f, comm, "/history/partner", partner);
-    write_concatenated(f, comm, "/history/spring", spring);
 
     // Bodies and driver state: the same on every rank; rank 0's rows land in the file.
     f.create_group("/bodies");
@@ -300,7 +312,7 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
       body_rows.motion.push_back(b.motion);
     }
     f.set_attribute("/bodies", "names", join(body_names));
-    body_rows.for_each([&](const char* name, const auto& rows, std::int64_t) {
+    body_rows.for_each([&](const char* name, const auto& rows) {
       auto mine = rows;
       if (!comm.is_root()) mine.clear();
       write_concatenated(f, comm, std::string("/bodies/") + name, mine);
@@ -334,13 +346,13 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   if (!f.has_attribute("/", "format") || f.attribute_string("/", "format") != kFormat)
     throw Hdf5Error(path + ": not a ringdem checkpoint");
   const std::int64_t version = f.attribute_int("/", "format_version");
-  if (version < kOldestReadVersion || version > kFormatVersion)
+  if (version != kFormatVersion)
     throw Hdf5Error(fmt::format(
-        "{}: checkpoint format version {} is not one this ringdem reads ({} to {}){}", path,
-        version, kOldestReadVersion, kFormatVersion,
+        "{}: checkpoint format version {} is not the one this ringdem reads ({}){}", path, version,
+        kFormatVersion,
         version < kFormatVersion
-            ? ": it was written by an older ringdem and lacks the case it belongs to, which a "
-              "restart checks; continue it with that version or start afresh"
+            ? ": it was written by an older ringdem, whose checkpoints lack what this one needs "
+              "to go on bit for bit; continue it with that version or start afresh"
             : ": it was written by a newer ringdem"));
   if (!f.has_attribute("/", "complete"))
     throw Hdf5Error(path + ": incomplete checkpoint (the run stopped while writing it)");
@@ -358,8 +370,10 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   info.particles = f.attribute_int("/", "particles");
   info.bonds = f.attribute_int("/", "bonds");
   info.bodies = f.attribute_int("/", "bodies");
-  const auto d = f.dims("/history/gid");
-  info.history_entries = d.empty() ? 0 : d[0];
+  for (const std::string& term : spring_terms(f)) {
+    const auto d = f.dims(spring_dataset(term, "gid"));
+    info.history_entries += d.empty() ? 0 : d[0];
+  }
   info.dt_origin_step = f.attribute_int("/", "dt_origin_step");
   info.dt_origin_time = f.attribute_double("/", "dt_origin_time");
   info.model_fingerprint = f.attribute_string("/", "model_fingerprint");
@@ -371,20 +385,34 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   return info;
 }
 
-RestartState read_checkpoint(const Communicator& comm, const std::string& path, Model& model,
-                             DriverState& driver, CheckpointInfo* info_out) {
+RestartState read_checkpoint(const Communicator& comm, const std::string& path,
+                             const CaseConfig& config, Model& model, DriverState& driver,
+                             CheckpointInfo* info_out) {
   const CheckpointInfo info = read_checkpoint_info(path);
   ParticleStore& p = model.particles;
   BondStore& bonds = model.bonds;
   if (p.n_total() != 0 || bonds.size() != 0)
     throw std::logic_error("read_checkpoint: the model must be built without particles");
-  if (info.particles != model.initial_particles || info.bonds != model.initial_bonds ||
-      info.bodies != static_cast<std::int64_t>(model.bodies.size()))
-    throw Hdf5Error(fmt::format(
-        "{}: the checkpoint holds {} particles, {} bonds and {} rigid bodies, the case builds {}, "
-        "{} and {}: it belongs to another case",
-        path, info.particles, info.bonds, info.bodies, model.initial_particles, model.initial_bonds,
-        model.bodies.size()));
+  // Whose state it is: the fingerprint belongs to the case text it holds, and that case defines
+  // the same model as `config`. Not the particle or bond count the case's sources create at
+  // start-up: particles come and go during a run (inflow, outflow), so the checkpoint's own
+  // counts are the truth, and every dataset is checked against them as it is read.
+  if (model_fingerprint(info.case_text) != info.model_fingerprint)
+    throw Hdf5Error(path +
+                    ": its model fingerprint does not match the case it holds: the checkpoint is "
+                    "corrupted");
+  const std::string given = canonical_case_text(config);
+  if (model_identity(info.case_text) != model_identity(given)) {
+    std::string keys;
+    for (const CaseChange& c : case_changes(info.case_text, given))
+      if (c.rule->kind == RestartKeyKind::kFixed)
+        keys += (keys.empty() ? "" : "; ") + describe_change(c);
+    throw Hdf5Error(
+        fmt::format("{}: it belongs to another case (the model differs: {})", path, keys));
+  }
+  if (info.bodies != static_cast<std::int64_t>(model.bodies.size()))
+    throw Hdf5Error(fmt::format("{}: the checkpoint holds {} rigid bodies, the case builds {}",
+                                path, info.bodies, model.bodies.size()));
   const Hdf5File f = Hdf5File::open_parallel_read(path, comm);
   // Each rank reads one block of every table's rows; the first distribution then moves the
   // rows to their owners.
@@ -394,17 +422,13 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path, 
   };
   const auto [p_first, p_end] = block_of(info.particles);
   p.resize_local(static_cast<std::size_t>(p_end - p_first));
-  const bool has_rebuild_state = info.format_version >= 4;
   p.for_each_field([&](const FieldInfo& field, auto& v) {
     if (!field.has(field_flag::kCheckpoint)) return;
-    if (!has_rebuild_state && field.name == "position_at_rebuild") return;
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
     auto rows = read_verified_block<T>(f, comm, "/particles/" + std::string(field.name),
                                        info.particles, p_first, p_end);
     std::copy(rows.begin(), rows.end(), v.begin());
   });
-  // Version 3: the restart counts as the last rebuild (kOldestReadVersion).
-  if (!has_rebuild_state) p.position_at_rebuild = p.position;
   // Rows in strictly increasing gid order, across the blocks too.
   bool ordered = std::is_sorted(p.gid.begin(), p.gid.end()) &&
                  std::adjacent_find(p.gid.begin(), p.gid.end()) == p.gid.end();
@@ -438,26 +462,29 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path, 
   state.rebuilds = info.rebuilds;
   state.dt_origin_step = info.dt_origin_step;
   state.dt_origin_time = info.dt_origin_time;
-  if (has_rebuild_state) {
-    state.rebuild_forced = f.attribute_int("/", "rebuild_forced") != 0;
-    state.bonds_broke = f.attribute_int("/", "bonds_broke") != 0;
+  state.rebuild_forced = f.attribute_int("/", "rebuild_forced") != 0;
+  state.bonds_broke = f.attribute_int("/", "bonds_broke") != 0;
+  for (const std::string& term : spring_terms(f)) {
+    const std::string partner = f.attribute_string(spring_dataset(term, "partner"), "names");
+    if (partner != kParticlePartner && partner != kBodyPartner)
+      throw Hdf5Error(path + ": springs of '" + term + "' name an unknown partner '" + partner +
+                      "'");
+    RestartState::TermSprings& t = state.springs.emplace_back(RestartState::TermSprings{
+        term,
+        ContactSpringStore(partner == kParticlePartner ? ContactSpringStore::Partner::kParticle
+                                                       : ContactSpringStore::Partner::kRigidBody)});
+    const auto d = f.dims(spring_dataset(term, "gid"));
+    const std::int64_t rows = d.empty() ? 0 : d[0];
+    const auto [h_first, h_end] = block_of(rows);
+    t.store.resize(static_cast<std::size_t>(h_end - h_first));
+    t.store.for_each_field([&](const FieldInfo& field, auto& v) {
+      if (!field.has(field_flag::kCheckpoint)) return;
+      using T = typename std::remove_cvref_t<decltype(v)>::value_type;
+      const auto block =
+          read_verified_block<T>(f, comm, spring_dataset(term, field.name), rows, h_first, h_end);
+      std::copy(block.begin(), block.end(), v.begin());
+    });
   }
-  const std::int64_t nh = info.history_entries;
-  const auto [h_first, h_end] = block_of(nh);
-  const auto kind =
-      read_verified_block<std::uint8_t>(f, comm, "/history/partner_kind", nh, h_first, h_end);
-  const auto gid = read_verified_block<std::int64_t>(f, comm, "/history/gid", nh, h_first, h_end);
-  const auto partner =
-      read_verified_block<std::int64_t>(f, comm, "/history/partner", nh, h_first, h_end);
-  const auto spring = read_verified_block<Vec3>(f, comm, "/history/spring", nh, h_first, h_end);
-  state.history.resize(kind.size());
-  bool valid = true;
-  for (std::size_t k = 0; k < state.history.size(); ++k) {
-    valid = valid && kind[k] <= 1;
-    state.history[k] = {static_cast<ContactHistoryEntry::Partner>(kind[k] <= 1 ? kind[k] : 0),
-                        gid[k], partner[k], spring[k]};
-  }
-  if (comm.any(!valid)) throw Hdf5Error(path + ": invalid contact history entry");
 
   const auto names = split(f.attribute_string("/bodies", "names"));
   for (std::size_t b = 0; b < model.bodies.size(); ++b)
@@ -467,16 +494,11 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path, 
                       model.bodies[b].name + "' in the case");
   BodyRows rows;
   const auto n_bodies = static_cast<std::int64_t>(model.bodies.size());
-  rows.for_each([&](const char* name, auto& v, std::int64_t since) {
+  rows.for_each([&](const char* name, auto& v) {
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
-    if (info.format_version >= since)
-      v = read_verified_block<T>(f, comm, std::string("/bodies/") + name, n_bodies, 0, n_bodies,
-                                 ReadBy::kEveryRank);
+    v = read_verified_block<T>(f, comm, std::string("/bodies/") + name, n_bodies, 0, n_bodies,
+                               ReadBy::kEveryRank);
   });
-  if (!has_rebuild_state) {
-    rows.position_at_rebuild = rows.position;
-    rows.orientation_at_rebuild = rows.orientation;
-  }
   state.body_position_at_rebuild = rows.position_at_rebuild;
   state.body_orientation_at_rebuild = rows.orientation_at_rebuild;
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {

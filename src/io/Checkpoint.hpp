@@ -46,15 +46,15 @@ struct CheckpointInfo {
 
 /// Checkpoints (DESIGN §5): every piece of state the next step reads — particle and bond fields
 /// flagged kCheckpoint in the registries (rows by gid and bond id, so the file does not depend
-/// on the rank count), the contact history, the rigid bodies, time, step, dt and the driver's
-/// state — written collectively to "<name>.tmp" and renamed, with a checksum per dataset.
+/// on the rank count), each contact term's springs, the rigid bodies, time, step, dt and the
+/// driver's state — written collectively to "<name>.tmp" and renamed, with a checksum per dataset.
 class CheckpointStore {
  public:
   /// `dir` is created by rank 0 if missing; `keep` newest checkpoints are kept.
   CheckpointStore(std::string dir, int keep = 2);
 
   /// Collective: writes `model`'s fields and `state` (Simulation::restart_state(), whose
-  /// history holds each rank's owned contacts), and `config`, the case the model was built
+  /// springs are each rank's owned contacts), and `config`, the case the model was built
   /// from, as canonical text with its model fingerprint (a restart compares it with the case
   /// it is given). Returns the final path.
   std::string write(const Communicator& comm, Model& model, const RestartState& state,
@@ -70,15 +70,18 @@ class CheckpointStore {
   int keep_;
 };
 
-/// Collective: reads a checkpoint into `model` (built from the same case without particles,
+/// Collective: reads a checkpoint into `model` (built from `config` without particles,
 /// build_model_without_particles) and returns the simulation state; fills `driver`. Each rank
-/// reads one block of the particle, bond and contact-history rows (no rank reads them all);
-/// the Simulation's first distribution moves them to their owners. Rigid bodies and the
-/// driver state are read by every rank. Throws Hdf5Error with a clear message for a missing,
-/// truncated, incomplete or corrupted file, or one that does not match the model (other
-/// particle, bond or body counts).
-RestartState read_checkpoint(const Communicator& comm, const std::string& path, Model& model,
-                             DriverState& driver, CheckpointInfo* info = nullptr);
+/// reads one block of the particle, bond and spring rows (no rank reads them all); the
+/// Simulation's first distribution moves them to their owners. Rigid bodies and the driver
+/// state are read by every rank. The row counts are the checkpoint's own (particles may have
+/// come and gone since the start); it belongs to `config` when its model fingerprint matches
+/// its case text and that case's kFixed keys are those of `config` (io/RestartChanges,
+/// model_identity). Throws Hdf5Error with a clear message for a missing, truncated, incomplete
+/// or corrupted file, or one of another case.
+RestartState read_checkpoint(const Communicator& comm, const std::string& path,
+                             const CaseConfig& config, Model& model, DriverState& driver,
+                             CheckpointInfo* info = nullptr);
 
 /// Root attributes and the case text (ringdem info, --restart auto). Throws Hdf5Error for a file
 /// that is no complete checkpoint of a format version this ringdem reads (3 and 4; older ones

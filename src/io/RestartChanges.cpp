@@ -124,14 +124,28 @@ std::vector<CaseChange> case_changes(const std::string& before, const std::strin
   return changes;
 }
 
-std::string model_fingerprint(const std::string& canonical_text) {
+namespace {
+
+/// FNV-1a over the canonical lines of the keys whose rule is at least `least` (kFree < kApplied
+/// < kFixed).
+std::string keys_hash(const std::string& canonical_text, RestartKeyKind least) {
   std::uint64_t hash = fnv1a64(nullptr, 0);
   for (const CaseKey& k : case_text_keys(canonical_text)) {
-    if (restart_rule_of(k.path).kind == RestartKeyKind::kFree) continue;
+    if (static_cast<int>(restart_rule_of(k.path).kind) < static_cast<int>(least)) continue;
     const std::string line = k.path + " = " + k.value + "\n";
     hash = fnv1a64(line.data(), line.size(), hash);
   }
   return fmt::format("{:016x}", hash);
+}
+
+}  // namespace
+
+std::string model_fingerprint(const std::string& canonical_text) {
+  return keys_hash(canonical_text, RestartKeyKind::kApplied);
+}
+
+std::string model_identity(const std::string& canonical_text) {
+  return keys_hash(canonical_text, RestartKeyKind::kFixed);
 }
 
 std::string describe_restart_rules() {

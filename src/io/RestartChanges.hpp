@@ -51,6 +51,11 @@ std::vector<CaseChange> case_changes(const std::string& before, const std::strin
 /// canonical lines of every key that is not kFree (what a restart compares).
 std::string model_fingerprint(const std::string& canonical_text);
 
+/// The same hash over the kFixed keys alone: the identity of the model a checkpoint's state
+/// belongs to, equal on both sides of every restart that may go on (read_checkpoint checks it;
+/// kApplied keys may differ with --allow-changes).
+std::string model_identity(const std::string& canonical_text);
+
 /// The verdict on a restart's changes. Throws InputError (exit code 2), one line per key, when a
 /// kFixed key differs, or a kApplied one without `allow_changes`. `case_file` and `checkpoint`
 /// name the two sides in the messages.

@@ -82,8 +82,7 @@ TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
   make_lattice(p, bonds, c.rank(), c.size());
   const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
   DomainDecomposition d(c, kBlock, 0.1);
-  ContactHistory no_history;
-  d.distribute_initial(p, bonds, no_history);
+  d.distribute_initial(p, bonds, {});
   const auto owner = owners(c, p, n_total);
   // Rank-encoded refresh: owners write rank + 1, ghosts must read their owner's rank + 1.
   for (std::size_t k = 0; k < p.n_local(); ++k)
@@ -125,8 +124,7 @@ TEST_F(Decomposition, MigrationCarriesParticlesBondsAndHistory) {
   make_lattice(p, bonds, c.rank(), c.size());
   const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
   DomainDecomposition d(c, kBlock, /*imbalance_threshold=*/0.0);
-  ContactHistory no_history;
-  d.distribute_initial(p, bonds, no_history);
+  d.distribute_initial(p, bonds, {});
   // Mark state that must travel: a broken bond with its break time, a history entry per
   // owned particle (spring = gid-encoded), and rank-encoded velocities.
   for (std::size_t b = 0; b < bonds.size(); ++b)
@@ -134,18 +132,17 @@ TEST_F(Decomposition, MigrationCarriesParticlesBondsAndHistory) {
       bonds.broken[b] = 1;
       bonds.break_time[b] = 0.125;
     }
-  ContactHistory history;
+  ContactSpringStore history(ContactSpringStore::Partner::kRigidBody);
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     p.velocity[k] = {c.rank() + 1.0, 0, 0};
-    history.push_back(
-        {ContactHistoryEntry::Partner::kRigidBody, p.gid[k], 0, Vec3{3.0 * p.gid[k], 0, 0}});
+    history.append(p.gid[k], 0, Vec3{3.0 * p.gid[k], 0, 0});
   }
   const auto before = owners(c, p, n_total);
   // Shift the lattice by 4 blocks along x and mirror it in y, so that most particles land in
   // blocks that other ranks own (imbalance threshold 0: the blocks are partitioned again).
   for (std::size_t k = 0; k < p.n_total(); ++k)
     p.position[k] = {p.position[k].x + 4 * kBlock, 0.066 - p.position[k].y, p.position[k].z};
-  d.redistribute(p, bonds, history);
+  d.redistribute(p, bonds, {&history});
   const auto after = owners(c, p, n_total);
   int moved = 0;
   for (const auto& [gid, rank] : after)
@@ -161,8 +158,8 @@ TEST_F(Decomposition, MigrationCarriesParticlesBondsAndHistory) {
   EXPECT_TRUE(std::is_sorted(p.gid.begin(), p.gid.begin() + static_cast<long>(p.n_local())));
   // History: exactly one entry per owned particle, with its value.
   std::map<std::int64_t, double> springs;
-  for (const auto& h : history)
-    springs[h.gid] = h.spring.x;
+  for (std::size_t h = 0; h < history.size(); ++h)
+    springs[history.gid[h]] = history.spring[h].x;
   for (std::size_t k = 0; k < p.n_local(); ++k)
     EXPECT_EQ(springs.at(p.gid[k]), 3.0 * p.gid[k]);
   // The broken bond is held by the owner(s) of its ends with its state.
@@ -186,13 +183,12 @@ TEST_F(Decomposition, FirstDistributionSendsBondsAndSpringsHeldAnywhereToTheirPa
   make_lattice(p, bonds, c.rank(), c.size());
   const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
   // Springs between gid g and g + 12, held by a rank unrelated to either particle.
-  ContactHistory history;
+  ContactSpringStore history(ContactSpringStore::Partner::kParticle);
   for (std::int64_t g = 0; g + 12 < n_total; ++g)
     if ((5 * g + 1) % c.size() == c.rank())
-      history.push_back(
-          {ContactHistoryEntry::Partner::kParticle, g, g + 12, Vec3{static_cast<double>(g), 0, 0}});
+      history.append(g, g + 12, Vec3{static_cast<double>(g), 0, 0});
   DomainDecomposition d(c, kBlock, 0.1);
-  d.distribute_initial(p, bonds, history);
+  d.distribute_initial(p, bonds, {&history});
   const auto owner = owners(c, p, n_total);
   // Brute force: every bond of the whole lattice is held exactly by the owners of its ends.
   ParticleStore all;
@@ -214,10 +210,11 @@ TEST_F(Decomposition, FirstDistributionSendsBondsAndSpringsHeldAnywhereToTheirPa
   std::set<std::int64_t> springs_expected, springs_held;
   for (std::int64_t g = 0; g + 12 < n_total; ++g)
     if (owner.at(g) == c.rank() || owner.at(g + 12) == c.rank()) springs_expected.insert(g);
-  for (const auto& h : history) {
-    EXPECT_EQ(h.partner, h.gid + 12);
-    EXPECT_EQ(h.spring.x, static_cast<double>(h.gid));
-    EXPECT_TRUE(springs_held.insert(h.gid).second) << "spring " << h.gid << " held twice";
+  for (std::size_t h = 0; h < history.size(); ++h) {
+    EXPECT_EQ(history.partner[h], history.gid[h] + 12);
+    EXPECT_EQ(history.spring[h].x, static_cast<double>(history.gid[h]));
+    EXPECT_TRUE(springs_held.insert(history.gid[h]).second)
+        << "spring " << history.gid[h] << " held twice";
   }
   EXPECT_EQ(springs_held, springs_expected);
   // Ghosts: the far end of every held bond is here.
@@ -235,8 +232,7 @@ TEST_F(Decomposition, FirstDistributionRefusesABondToAMissingParticle) {
   // On the last rank only: a bond to a particle nobody has. Every rank must throw.
   if (c.rank() == c.size() - 1) bonds.append(999, 0, 100000, 0);
   DomainDecomposition d(c, kBlock, 0.1);
-  ContactHistory no_history;
-  EXPECT_THROW(d.distribute_initial(p, bonds, no_history), std::runtime_error);
+  EXPECT_THROW(d.distribute_initial(p, bonds, {}), std::runtime_error);
 }
 
 TEST_F(Decomposition, FirstDistributionRefusesAParticleHeldTwice) {
@@ -246,8 +242,7 @@ TEST_F(Decomposition, FirstDistributionRefusesAParticleHeldTwice) {
   BondStore bonds;
   make_lattice(p, bonds);  // the whole lattice on every rank
   DomainDecomposition d(c, kBlock, 0.1);
-  ContactHistory no_history;
-  EXPECT_THROW(d.distribute_initial(p, bonds, no_history), std::logic_error);
+  EXPECT_THROW(d.distribute_initial(p, bonds, {}), std::logic_error);
 }
 
 }  // namespace

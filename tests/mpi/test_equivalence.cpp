@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "TestCases.hpp"
+#include "app/ScenarioDriver.hpp"
 #include "app/TensileTest.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
@@ -164,7 +165,7 @@ EquivalenceResult run_both(const CaseConfig& c, std::int64_t steps,
     s.imbalance_threshold = imbalance_threshold;
     SimulationSettings compared = s;
     compared.skin = compared_skin(s.skin);
-    Simulation parallel(build_model(c, comm), comm, compared);
+    Simulation parallel(build_scenario_model(c, comm), comm, compared);
     for (const auto& rank :
          parallel.decomposition().report(parallel.model().particles, parallel.model().bonds)) {
       r.cut_bonds += rank.cut_bonds;
@@ -194,7 +195,7 @@ EquivalenceResult run_both(const CaseConfig& c, std::int64_t steps,
     r.parallel_rebuilds = parallel.rebuilds();
 
     const Communicator self = Communicator::self();
-    Simulation serial(build_model(c, self), self, s);
+    Simulation serial(build_scenario_model(c, self), self, s);
     serial.run_steps(steps);
     r.reference = gather_state(serial);
     r.reference_energies = serial.energies();

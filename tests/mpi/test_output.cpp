@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "TestCases.hpp"
+#include "app/ScenarioDriver.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
@@ -156,23 +157,24 @@ struct SpringKey {
 };
 
 struct HistoryRow {
-  std::uint8_t kind;
+  std::string term;
   std::int64_t gid, partner;
   Vec3 spring;
 };
 
-/// The contact history of a checkpoint as a sorted set (ranks write it in their own order).
+/// The springs of a checkpoint as a sorted set (ranks write them in their own order).
 std::vector<HistoryRow> history_of(const std::string& path) {
   const Hdf5File f = Hdf5File::open_read(path);
-  const auto kind = f.read_rows<std::uint8_t>("/history/partner_kind");
-  const auto gid = f.read_rows<std::int64_t>("/history/gid");
-  const auto partner = f.read_rows<std::int64_t>("/history/partner");
-  const auto spring = f.read_rows<Vec3>("/history/spring");
   std::vector<HistoryRow> rows;
-  for (std::size_t k = 0; k < kind.size(); ++k)
-    rows.push_back({kind[k], gid[k], partner[k], spring[k]});
+  for (const std::string term : {"particle_contacts", "body_contacts"}) {
+    const auto gid = f.read_rows<std::int64_t>("/history/" + term + ".gid");
+    const auto partner = f.read_rows<std::int64_t>("/history/" + term + ".partner");
+    const auto spring = f.read_rows<Vec3>("/history/" + term + ".spring");
+    for (std::size_t k = 0; k < gid.size(); ++k)
+      rows.push_back({term, gid[k], partner[k], spring[k]});
+  }
   std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) {
-    return std::tie(a.kind, a.gid, a.partner) < std::tie(b.kind, b.gid, b.partner);
+    return std::tie(a.term, a.gid, a.partner) < std::tie(b.term, b.gid, b.partner);
   });
   return rows;
 }
@@ -182,8 +184,8 @@ void expect_same_checkpoint_state(const std::string& ref, const std::string& got
   const auto a = history_of(ref), b = history_of(got);
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t k = 0; k < a.size(); ++k) {
-    EXPECT_EQ(std::tie(a[k].kind, a[k].gid, a[k].partner),
-              std::tie(b[k].kind, b[k].gid, b[k].partner));
+    EXPECT_EQ(std::tie(a[k].term, a[k].gid, a[k].partner),
+              std::tie(b[k].term, b[k].gid, b[k].partner));
     EXPECT_EQ(a[k].spring, b[k].spring) << "spring of " << a[k].gid << "-" << a[k].partner;
   }
   const CheckpointInfo ia = read_checkpoint_info(ref), ib = read_checkpoint_info(got);
@@ -199,7 +201,7 @@ std::unique_ptr<Simulation> restart(const CaseConfig& c, const std::string& path
                                     const Communicator& comm) {
   Model model = build_model_without_particles(c);
   DriverState driver;
-  const RestartState state = read_checkpoint(comm, path, model, driver);
+  const RestartState state = read_checkpoint(comm, path, c, model, driver);
   EXPECT_EQ(driver.get("marker"), 42.0);
   return std::make_unique<Simulation>(std::move(model), comm, settings_from_case(c), state);
 }
@@ -226,8 +228,11 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
       // Each tangential spring is held by exactly one rank (a contact across ranks is
       // evaluated on both), and the checkpoint holds each once.
       std::vector<SpringKey> springs;
-      for (const auto& h : sim.owned_contact_history())
-        springs.push_back({static_cast<std::uint8_t>(h.partner_kind), h.gid, h.partner});
+      const auto owned = sim.owned_springs();
+      for (std::size_t t = 0; t < owned.size(); ++t)
+        for (std::size_t h = 0; h < owned[t].store.size(); ++h)
+          springs.push_back(
+              {static_cast<std::uint8_t>(t), owned[t].store.gid[h], owned[t].store.partner[h]});
       springs = comm.allgather(springs);
       std::sort(springs.begin(), springs.end());
       EXPECT_EQ(std::adjacent_find(springs.begin(), springs.end()), springs.end())
@@ -479,14 +484,14 @@ TEST(Checkpoint, PlasticBondStateRestartsBitwiseMidYield) {
     std::string straight, middle, resumed;
     double work_middle = 0.0, work_end = 0.0;
     {
-      Simulation sim(build_model(c, comm), comm, s);
+      Simulation sim(build_scenario_model(c, comm), comm, s);
       sim.run_steps(2 * kHalf);
       work_end = sim.energies().plastic_work;
       straight = CheckpointStore(dir + "/straight")
                      .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
     }
     {
-      Simulation sim(build_model(c, comm), comm, s);
+      Simulation sim(build_scenario_model(c, comm), comm, s);
       sim.run_steps(kHalf);
       work_middle = sim.energies().plastic_work;
       middle = CheckpointStore(dir + "/middle")

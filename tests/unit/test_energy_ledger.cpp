@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "TestCases.hpp"
+#include "app/ScenarioDriver.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
@@ -429,7 +430,7 @@ TEST(EnergyLedger, TensileTestBoundaryWork) {
       load_case(std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_calibrated.yaml",
                 {"scenario.tensile_test.loading_rate=0.5"});
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c, comm), comm, settings_from_case(c));
+  Simulation sim(build_scenario_model(c, comm), comm, settings_from_case(c));
   const Energies e0 = sim.energies();
   double worst = 0.0;
   Energies e;

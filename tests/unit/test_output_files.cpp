@@ -169,7 +169,7 @@ class CorruptCheckpoint : public ::testing::Test {
     Model model = build_model_without_particles(config_);
     DriverState d;
     try {
-      read_checkpoint(testing::self_comm(), path, model, d);
+      read_checkpoint(testing::self_comm(), path, config_, model, d);
       ADD_FAILURE() << path << " was accepted";
     } catch (const Hdf5Error& e) {
       EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
@@ -184,21 +184,30 @@ TEST_F(CorruptCheckpoint, GoodOneRestoresTheState) {
   Model model = build_model_without_particles(config_);
   DriverState d;
   CheckpointInfo info;
-  const RestartState s = read_checkpoint(testing::self_comm(), good_, model, d, &info);
+  const RestartState s = read_checkpoint(testing::self_comm(), good_, config_, model, d, &info);
   EXPECT_EQ(s.steps, 5);
   // The case's dt, and the time of 5 steps of it (summed step by step: a few ulp).
   EXPECT_EQ(s.dt, 1e-6);
   EXPECT_NEAR(s.time, 5 * 1e-6, 1e-20);
   EXPECT_EQ(d.get("next_record_time"), 0.5);
-  EXPECT_GT(s.history.size(), 0u) << "the ring touches the floor";
-  // Every registry field flagged kCheckpoint, the 4 history columns, 9 body rows (7 of state,
-  // 2 of the rebuild reference), the driver, the case text.
+  // Both contact terms' stores, the floor's springs in the body-contact one.
+  ASSERT_EQ(s.springs.size(), 2u);
+  const auto& floor = s.springs[0].term == "body_contacts" ? s.springs[0] : s.springs[1];
+  EXPECT_EQ(floor.term, "body_contacts");
+  EXPECT_FALSE(floor.store.partner_is_particle());
+  EXPECT_GT(floor.store.size(), 0u) << "the ring touches the floor";
+  // Every registry field flagged kCheckpoint (particles, bonds, each term's springs), 9 body
+  // rows (7 of state, 2 of the rebuild reference), the driver, the case text.
   std::size_t fields = 0;
-  model.particles.for_each_field(
-      [&](const FieldInfo& i, auto&) { fields += i.has(field_flag::kCheckpoint); });
-  model.bonds.for_each_field(
-      [&](const FieldInfo& i, auto&) { fields += i.has(field_flag::kCheckpoint); });
-  EXPECT_EQ(verify_checkpoint(good_).size(), fields + 4u + 9u + 1u + 1u);
+  const auto count = [&](const FieldInfo& i, const auto&) {
+    fields += i.has(field_flag::kCheckpoint);
+  };
+  for (const auto& t : s.springs)
+    t.store.for_each_field(count);
+  EXPECT_EQ(fields, 2u * 3u);  // gid, partner, spring of each term
+  model.particles.for_each_field(count);
+  model.bonds.for_each_field(count);
+  EXPECT_EQ(verify_checkpoint(good_).size(), fields + 9u + 1u + 1u);
 }
 
 TEST_F(CorruptCheckpoint, TruncatedFileIsRefused) {
@@ -206,7 +215,7 @@ TEST_F(CorruptCheckpoint, TruncatedFileIsRefused) {
   fs::resize_file(path, fs::file_size(path) / 2);
   Model model = build_model_without_particles(config_);
   DriverState d;
-  EXPECT_THROW(read_checkpoint(testing::self_comm(), path, model, d), Hdf5Error);
+  EXPECT_THROW(read_checkpoint(testing::self_comm(), path, config_, model, d), Hdf5Error);
 }
 
 TEST_F(CorruptCheckpoint, FlippedDataByteFailsTheChecksum) {
@@ -254,6 +263,55 @@ TEST_F(CorruptCheckpoint, IncompleteCheckpointIsRefused) {
 TEST_F(CorruptCheckpoint, CheckpointOfAnotherCaseIsRefused) {
   config_.rings.push_back(testing::paper_ring({1.0, 0, 0.2}));
   expect_refused(good_, "belongs to another case");
+}
+
+// The same particle, bond and body counts, another model (a material's density, which the
+// saved masses came from): refused by the model identity, not by counting.
+TEST_F(CorruptCheckpoint, SameCountsOfAnotherModelAreRefused) {
+  config_.materials[0].density *= 2.0;
+  expect_refused(good_, "belongs to another case (the model differs: materials[");
+}
+
+// A key that a restart may apply (with --allow-changes, RunControl decides): the checkpoint
+// still belongs to the case.
+TEST_F(CorruptCheckpoint, AppliedKeyChangeKeepsTheIdentity) {
+  config_.materials[0].friction = 0.5;
+  Model model = build_model_without_particles(config_);
+  DriverState d;
+  EXPECT_NO_THROW(read_checkpoint(testing::self_comm(), good_, config_, model, d));
+}
+
+// A run whose particle count is no longer what the case's sources create at start-up (inflow
+// adds particles, outflow removes them; here one free particle is added to the built model):
+// its checkpoint holds its own count and restores it, and the run goes on from it.
+TEST_F(CorruptCheckpoint, ParticleCountOfTheRunNotOfTheSourcesIsRestored) {
+  const Communicator self = testing::self_comm();
+  Model built = build_model(config_, self);
+  ParticleStore::NewParticle extra;
+  extra.gid = 1000000;
+  extra.position = {0.5, 0.5, 0.3};
+  extra.radius = 0.0045;
+  extra.density = 7850.0;
+  built.particles.add(extra);
+  const std::int64_t start_up = built.initial_particles;
+  ASSERT_EQ(static_cast<std::int64_t>(built.particles.n_local()), start_up + 1);
+  std::string path;
+  {
+    Simulation sim(std::move(built), self, settings_from_case(config_));
+    sim.run_steps(3);
+    path = CheckpointStore(dir_ + "/grown")
+               .write(self, sim.model(), sim.restart_state(), DriverState{}, 0, config_);
+  }
+  Model model = build_model_without_particles(config_);
+  DriverState d;
+  CheckpointInfo info;
+  const RestartState state = read_checkpoint(self, path, config_, model, d, &info);
+  EXPECT_EQ(info.particles, start_up + 1);
+  ASSERT_EQ(static_cast<std::int64_t>(model.particles.n_local()), start_up + 1);
+  EXPECT_EQ(model.particles.gid.back(), 1000000);
+  Simulation resumed(std::move(model), self, settings_from_case(config_), state);
+  resumed.run_steps(2);
+  EXPECT_EQ(resumed.global_particles(), start_up + 1);
 }
 
 TEST_F(CorruptCheckpoint, InfoCommandReportsAndVerifies) {

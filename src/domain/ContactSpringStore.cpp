@@ -1,0 +1,30 @@
+#include "domain/ContactSpringStore.hpp"
+
+#include <stdexcept>
+
+namespace ringdem {
+
+void ContactSpringStore::keep_rows(const std::vector<char>& keep) {
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < size(); ++k) {
+    if (!keep[k]) continue;
+    for_each_field([&](const FieldInfo&, auto& v) { v[kept] = v[k]; });
+    ++kept;
+  }
+  resize(kept);
+}
+
+void ContactSpringStore::drop_released() {
+  std::vector<char> keep(size());
+  for (std::size_t k = 0; k < size(); ++k)
+    keep[k] = norm2(spring[k]) > 0.0;
+  keep_rows(keep);
+}
+
+void ContactSpringStore::assign_rows(const ContactSpringStore& other) {
+  if (other.partner_ != partner_)
+    throw std::logic_error("ContactSpringStore: rows of another partner kind");
+  *this = other;
+}
+
+}  // namespace ringdem

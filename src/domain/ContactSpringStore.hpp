@@ -1,0 +1,73 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/Vec3.hpp"
+#include "domain/ParticleStore.hpp"
+
+namespace ringdem {
+
+/// The tangential springs of one contact term (physics.md §3), structure of arrays, one row per
+/// contact keyed by (gid, partner). What `partner` names is a property of the store, not of a
+/// row: another particle's gid (particle pairs, gid < partner) or a rigid body's number
+/// (particle–rigid-body contacts). for_each_field() is the store's field registry, with the
+/// particle registry's flags: migration, checkpoints and their checksums loop over it.
+///
+/// Between two neighbour-list rebuilds the rows are the term's contact candidates, in its
+/// order, and its kernel updates `spring` in place. At a rebuild the store first keeps only the
+/// touching contacts (drop_released()), migration moves those rows to the owners of their
+/// particles, and the term's rebuild() reads them back by key for its new candidates.
+class ContactSpringStore {
+ public:
+  enum class Partner : std::uint8_t { kParticle, kRigidBody };
+
+  explicit ContactSpringStore(Partner kind = Partner::kParticle) : partner_(kind) {}
+
+  std::vector<std::int64_t> gid;      ///< the particle
+  std::vector<std::int64_t> partner;  ///< the other particle's gid, or the rigid body's number
+  std::vector<Vec3> spring;           ///< tangential spring (physics.md §3), zero when released
+
+  /// The field registry: calls f(FieldInfo, std::vector<T>&) for every field.
+  template <class F>
+  void for_each_field(F&& f) {
+    fields(*this, f);
+  }
+  template <class F>
+  void for_each_field(F&& f) const {
+    fields(*this, f);
+  }
+
+  Partner partner_kind() const { return partner_; }
+  bool partner_is_particle() const { return partner_ == Partner::kParticle; }
+  std::size_t size() const { return gid.size(); }
+  void resize(std::size_t n) {
+    for_each_field([n](const FieldInfo&, auto& v) { v.resize(n); });
+  }
+  void append(std::int64_t gid_value, std::int64_t partner_value, const Vec3& spring_value) {
+    gid.push_back(gid_value);
+    partner.push_back(partner_value);
+    spring.push_back(spring_value);
+  }
+  /// Keeps the rows k with keep[k] != 0, in order.
+  void keep_rows(const std::vector<char>& keep);
+  /// Keeps the rows whose spring is not zero (touching contacts), in order: what a rebuild
+  /// carries.
+  void drop_released();
+  /// Takes the rows of `other` (a store of the same partner kind read from a checkpoint).
+  void assign_rows(const ContactSpringStore& other);
+
+ private:
+  template <class Self, class F>
+  static void fields(Self& s, F& f) {
+    using namespace field_flag;
+    constexpr unsigned kState = kMigrate | kCheckpoint;
+    f(FieldInfo{"gid", kState}, s.gid);
+    f(FieldInfo{"partner", kState}, s.partner);
+    f(FieldInfo{"spring", kState}, s.spring);
+  }
+
+  Partner partner_;
+};
+
+}  // namespace ringdem
