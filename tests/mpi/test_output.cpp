@@ -425,7 +425,7 @@ TEST(Checkpoint, BondBrokenBeforeTheCheckpointRebuildsAfterTheRestart) {
     std::int64_t seen = 0, rebuilds_seen = 0;  // the step that reports the first break
     std::string straight, middle, resumed;
     {
-      Simulation sim(build_model(c, comm), comm, s);
+      Simulation sim(build_scenario_model(c, comm), comm, s);
       while (!sim.bonds_broke_anywhere() && sim.steps() < 20000)
         sim.step();
       ASSERT_TRUE(sim.bonds_broke_anywhere()) << "no bond broke in 20000 steps";
@@ -438,7 +438,7 @@ TEST(Checkpoint, BondBrokenBeforeTheCheckpointRebuildsAfterTheRestart) {
     ASSERT_GT(seen, 10);
     std::int64_t rebuilds_middle = 0;
     {
-      Simulation sim(build_model(c, comm), comm, s);
+      Simulation sim(build_scenario_model(c, comm), comm, s);
       sim.run_steps(seen - 1);  // the break happened in this last step's force evaluation
       rebuilds_middle = sim.rebuilds();
       middle = CheckpointStore(dir + "/middle")
