@@ -228,6 +228,7 @@ void RockfallDriver::restore(const DriverState& d) {
   rebound_speed_ = d.get("rebound_speed", 0.0);
   release_time_ = d.get("release_time", 0.0);
   release_top_ = d.get("release_top", 0.0);
+  ledger_before_removal_ = d.get("ledger_before_removal", -std::numeric_limits<double>::infinity());
   release_broken_ = d.get("release_broken", 0.0);
   for (std::size_t i = 0; i < release_dissipated_.size(); ++i)
     release_dissipated_[i] = d.get(fmt::format("release_dissipated{}", i), 0.0);
@@ -272,6 +273,7 @@ DriverState RockfallDriver::state() const {
   d.set("rebound_speed", rebound_speed_);
   d.set("release_time", release_time_);
   d.set("release_top", release_top_);
+  d.set("ledger_before_removal", ledger_before_removal_);
   d.set("release_broken", release_broken_);
   for (std::size_t i = 0; i < release_dissipated_.size(); ++i)
     d.set(fmt::format("release_dissipated{}", i), release_dissipated_[i]);
@@ -430,11 +432,12 @@ bool RockfallDriver::close_impact(Simulation& sim) {
         impact_, rf_.impacts, sim.time(), r.peak_acceleration, r.deflection, r.rebound_speed,
         static_cast<long long>(r.broken_bonds));
   // The boulder goes back where it waited before the first release, at rest, out of play. A
-  // body with prescribed motion is outside the energy ledger: what it held leaves with it.
-  const double before = e.ledger();
+  // body with prescribed motion is outside the energy ledger: its kinetic and potential energy
+  // leave with it, and so does the elastic energy of its contacts with the net, which the
+  // contact forces drop at the next step. after_steps() books the difference then.
+  ledger_before_removal_ = e.ledger();
   sim.place_body(boulder_, config_.rigid_bodies.back().position, {0, 0, 0}, Motion::kPrescribed);
   sim.model().bodies[boulder_].active = false;
-  energy_added_ += sim.energies().ledger() - before;
   phase_ = kResettle;
   rest_start_ = sim.time();
   peak_sag_kinetic_ = 0.0;
@@ -482,6 +485,11 @@ bool RockfallDriver::between_steps(Simulation& sim) {
 }
 
 bool RockfallDriver::after_steps(Simulation& sim) {
+  if (std::isfinite(ledger_before_removal_)) {
+    // The step after the removal: what left the ledger with the boulder.
+    energy_added_ += sim.energies().ledger() - ledger_before_removal_;
+    ledger_before_removal_ = -std::numeric_limits<double>::infinity();
+  }
   if (phase_ == kImpact) {
     const RigidBody& b = sim.model().bodies[boulder_];
     sum_force_ += b.force;

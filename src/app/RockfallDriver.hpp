@@ -116,6 +116,8 @@ class RockfallDriver : public ScenarioDriver {
   /// Dissipated energies at the release: plastic, friction, contact damping, global damping.
   std::array<double, 4> release_dissipated_{};
   std::vector<ImpactRecord> impacts_;  ///< impacts that have ended
+  /// Ledger before the boulder was removed, until the step after (-inf: none pending).
+  double ledger_before_removal_ = -std::numeric_limits<double>::infinity();
 
   // ---- this segment only ----
   double kinetic_ = std::numeric_limits<double>::infinity();  ///< at the last sag check
