@@ -387,7 +387,7 @@ TEST(RockfallRepeated, RestartWhileTheNetResettlesIsBitForBit) {
   std::unique_ptr<ScenarioDriver> driver = make_scenario_driver(checkpointed);
   ASSERT_EQ(run_scenario(*driver, run, testing::self_comm()), 0);
   for (const char* file : {"series.csv", "sag.csv", "resettle.csv"})
-    EXPECT_EQ(file_text(restarted / file), file_text(dir / "straight" / file)) << file;
+    EXPECT_TRUE(file_text(restarted / file) == file_text(dir / "straight" / file)) << file;
   EXPECT_EQ(summary_without_timings(restarted / "summary.json").dump(1), s.dump(1));
   fs::remove_all(dir);
 }
