@@ -522,7 +522,8 @@ std::string RockfallDriver::progress(const Simulation& sim, double rate) const {
   else
     extra = fmt::format("{:.4f} s after contact, boulder vz {:.3f} m/s", sim.time() - contact_time_,
                         sim.model().bodies[boulder_].velocity.z);
-  if (rf_.impacts > 1) extra += fmt::format(" (impact {} of {})", impact_, rf_.impacts);
+  if (rf_.impacts > 1 && phase_ != kSag)
+    extra += fmt::format(" (impact {} of {})", impact_, rf_.impacts);
   const char* label = phase_ == kSag ? "sag   " : phase_ == kResettle ? "settle" : "impact";
   return fmt::format("{} step {:>9} t = {:.5f} s  {:>7.0f} steps/s  {}", label, sim.steps(),
                      sim.time(), rate, extra);
