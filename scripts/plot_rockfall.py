@@ -111,10 +111,16 @@ def main():
     for folder, s, ser in runs:
         t = ser["time_from_contact_s"]
         ok = np.isfinite(t)
-        line, = ax.plot(t[ok], ser["acceleration_m_s2"][ok], lw=1.2,
-                        label=f"{label_of(s, folder)}: peak {s['peak_acceleration_m_s2']:.0f} m/s² "
-                              f"({s['peak_acceleration_g']:.1f} g) at {s['time_of_peak_s']:.3f} s")
-        ax.plot([s["time_of_peak_s"]], [s["peak_acceleration_m_s2"]], "o", color=line.get_color())
+        # Repeated impacts (scenario.rockfall.impacts): each from its own first contact.
+        impact = ser.get("impact", np.ones_like(t))
+        entries = s.get("impacts") or [s]
+        for k, i in enumerate(entries, start=1):
+            sel = ok & (impact == k)
+            name = label_of(s, folder) + (f", impact {k}" if len(entries) > 1 else "")
+            line, = ax.plot(t[sel], ser["acceleration_m_s2"][sel], lw=1.2,
+                            label=f"{name}: peak {i['peak_acceleration_m_s2']:.0f} m/s² "
+                                  f"({i['peak_acceleration_g']:.1f} g) at {i['time_of_peak_s']:.3f} s")
+            ax.plot([i["time_of_peak_s"]], [i["peak_acceleration_m_s2"]], "o", color=line.get_color())
     ax.set_xlabel("time from first contact (s)")
     ax.set_ylabel("boulder acceleration (m/s²)")
     sec = ax.secondary_yaxis("right", functions=(lambda a: a / g, lambda a: a * g))
@@ -130,6 +136,9 @@ def main():
     print("wrote", name)
 
     folder, s, ser = runs[0]
+    if "impact" in ser:  # the ledger of the first impact (the boulder leaves it at its removal)
+        first = ser["impact"] == 1
+        ser = {k: v[first] for k, v in ser.items()}
     t = ser["time_s"] - s["first_contact_time_s"]
     fig, ax = plt.subplots(figsize=(8, 5))
     # Where the energy is: kinetic and elastic now, dissipated since the release.

@@ -9,6 +9,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "app/GroupExtent.hpp"
 #include "app/RunCommand.hpp"
 #include "app/RunControl.hpp"
 #include "core/Version.hpp"
@@ -23,58 +24,6 @@ constexpr const char* kBoulderName = "boulder";
 
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-/// Extent of a particle group over all ranks (owned particles), and the top of the group
-/// within a horizontal distance of an axis.
-struct GroupExtent {
-  Vec3 lo, hi;
-  double top_near_axis = -std::numeric_limits<double>::infinity();
-  double lowest_near_axis = std::numeric_limits<double>::infinity();
-};
-
-GroupExtent group_extent(const Simulation& sim, int group, double axis_x, double axis_y,
-                         double axis_radius) {
-  const ParticleStore& p = sim.model().particles;
-  const double inf = std::numeric_limits<double>::infinity();
-  Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
-  double top = -inf, low = inf;
-  for (std::size_t k = 0; k < p.n_local(); ++k) {
-    if (p.group[k] != group) continue;
-    const Vec3& x = p.position[k];
-    lo = {std::min(lo.x, x.x), std::min(lo.y, x.y), std::min(lo.z, x.z - p.radius[k])};
-    hi = {std::max(hi.x, x.x), std::max(hi.y, x.y), std::max(hi.z, x.z + p.radius[k])};
-    const double dx = x.x - axis_x, dy = x.y - axis_y;
-    if (dx * dx + dy * dy <= axis_radius * axis_radius) {
-      top = std::max(top, x.z + p.radius[k]);
-      low = std::min(low, x.z - p.radius[k]);
-    }
-  }
-  const Communicator& c = sim.comm();
-  const auto maxima = c.max(std::array<double, 6>{-lo.x, -lo.y, -lo.z, hi.x, hi.y, hi.z});
-  const auto near = c.max(std::array<double, 2>{top, -low});
-  GroupExtent e;
-  e.lo = {-maxima[0], -maxima[1], -maxima[2]};
-  e.hi = {maxima[3], maxima[4], maxima[5]};
-  e.top_near_axis = near[0];
-  e.lowest_near_axis = -near[1];
-  return e;
-}
-
-/// Contact load on the particles of a group (their total force less gravity), summed exactly
-/// (comm/ExactSum) so that it does not depend on the rank count.
-Vec3 group_contact_load(const Simulation& sim, int group, const Vec3& gravity) {
-  const ParticleStore& p = sim.model().particles;
-  std::vector<ExactSum> partial(3);
-  for (std::size_t k = 0; k < p.n_local(); ++k) {
-    if (p.group[k] != group) continue;
-    const Vec3 f = p.force[k] - p.mass[k] * gravity;
-    partial[0].add(f.x);
-    partial[1].add(f.y);
-    partial[2].add(f.z);
-  }
-  const std::vector<double> s = sim.comm().sum_exact(partial);
-  return {s[0], s[1], s[2]};
 }
 
 int group_or_throw(const Model& m, const std::string& name, const char* key) {
@@ -133,7 +82,7 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
   impact_velocity_ = std::sqrt(2.0 * g_ * rf_.drop_height);
   restore(control_->driver_state());
   // Out of play while parked: the frames leave it out of the scene (docs/output.md).
-  sim.model().bodies[boulder_].active = phase_ != kSag;
+  sim.model().bodies[boulder_].active = phase_ == kImpact;
 
   static const std::vector<std::string> columns{"time_s",
                                                 "time_from_contact_s",
@@ -158,23 +107,25 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
                                                 "broken_bonds_J",
                                                 "boundary_work_J",
                                                 "balance_error_J",
-                                                "plastic_work_J"};
+                                                "plastic_work_J",
+                                                "impact"};
   if (comm.is_root() && !output_dir_.empty()) {
     const double until = control_->restarted() ? control_->restart_time() : -1.0;
     series_ = SeriesWriter::resume(output_dir_ + "/series.csv", columns, until);
     sag_series_ = SeriesWriter::resume(output_dir_ + "/sag.csv",
                                        {"time_s", "kinetic_J", "net_top_near_axis_m"}, until);
+    if (rf_.impacts > 1)
+      resettle_series_ = SeriesWriter::resume(
+          output_dir_ + "/resettle.csv",
+          {"time_s", "after_impact", "kinetic_J", "net_top_near_axis_m"}, until);
   }
   segment_start_ = impact_start_ = Clock::now();
 
   if (control_->restarted()) {
     // The net's damping of this phase, from the case (a restart may have applied a change).
-    const std::optional<double> net_damping =
-        phase_ == kSag ? rf_.sag_damping
-                       : (rf_.impact_damping ? rf_.impact_damping : rf_.sag_damping);
-    if (net_damping) sim.set_group_damping(net_, *net_damping);
+    if (const std::optional<double> damping = net_damping()) sim.set_group_damping(net_, *damping);
     // The checkpoint was written after between_steps(): nothing is due before the next step.
-    return phase_ == kImpact && impact_over(sim);
+    return finished_ || (phase_ == kImpact && impact_over(sim));
   }
 
   // Centre of the net, its initial top, and the reference of the energy ledger.
@@ -220,6 +171,20 @@ void RockfallDriver::restore(const DriverState& d) {
   sum_steps_ = d.get("sum_steps", 0.0);
   sum_force_ = {d.get("sum_fx", 0.0), d.get("sum_fy", 0.0), d.get("sum_fz", 0.0)};
   sag_wall_ = d.get("sag_wall", 0.0);
+  finished_ = d.get("finished", 0.0) != 0.0;
+  impact_ = static_cast<int>(d.get("impact", 0.0));
+  rest_start_ = d.get("rest_start", 0.0);
+  rebound_speed_ = d.get("rebound_speed", 0.0);
+  release_time_ = d.get("release_time", 0.0);
+  release_top_ = d.get("release_top", 0.0);
+  ledger_before_removal_ = d.get("ledger_before_removal", -std::numeric_limits<double>::infinity());
+  release_broken_ = d.get("release_broken", 0.0);
+  for (std::size_t i = 0; i < release_dissipated_.size(); ++i)
+    release_dissipated_[i] = d.get(fmt::format("release_dissipated{}", i), 0.0);
+  impacts_.clear();
+  const int ended = static_cast<int>(d.get("impacts_ended", 0.0));
+  for (int i = 1; i <= ended; ++i)
+    impacts_.push_back(ImpactRecord::load(d, i));
 }
 
 DriverState RockfallDriver::state() const {
@@ -251,6 +216,19 @@ DriverState RockfallDriver::state() const {
   d.set("sum_fy", sum_force_.y);
   d.set("sum_fz", sum_force_.z);
   d.set("sag_wall", phase_ == kSag ? sag_wall_ + seconds_since(segment_start_) : sag_wall_);
+  d.set("finished", finished_ ? 1.0 : 0.0);
+  d.set("impact", static_cast<double>(impact_));
+  d.set("rest_start", rest_start_);
+  d.set("rebound_speed", rebound_speed_);
+  d.set("release_time", release_time_);
+  d.set("release_top", release_top_);
+  d.set("ledger_before_removal", ledger_before_removal_);
+  d.set("release_broken", release_broken_);
+  for (std::size_t i = 0; i < release_dissipated_.size(); ++i)
+    d.set(fmt::format("release_dissipated{}", i), release_dissipated_[i]);
+  d.set("impacts_ended", static_cast<double>(impacts_.size()));
+  for (std::size_t i = 0; i < impacts_.size(); ++i)
+    impacts_[i].save(d, static_cast<int>(i + 1));
   return d;
 }
 
@@ -259,30 +237,72 @@ bool RockfallDriver::net_at_rest(Simulation& sim) {
   next_sag_check_ += rf_.sag_check_interval;
   kinetic_ = sim.energies().kinetic;
   const double top = group_extent(sim, net_, drop_x_, drop_y_, radius_).top_near_axis;
-  if (sim.comm().is_root() && !output_dir_.empty()) sag_series_.row({sim.time(), kinetic_, top});
+  if (sim.comm().is_root() && !output_dir_.empty()) {
+    if (phase_ == kSag)
+      sag_series_.row({sim.time(), kinetic_, top});
+    else
+      resettle_series_.row({sim.time(), static_cast<double>(impact_), kinetic_, top});
+  }
   peak_sag_kinetic_ = std::max(peak_sag_kinetic_, kinetic_);
-  // The net starts at rest: it is at rest again once its kinetic energy has fallen below
-  // the threshold and to half its peak (or, if it barely moves, after a while).
+  // The net starts at rest (or moves once the boulder is removed): it is at rest (again) once
+  // its kinetic energy has fallen below the threshold and to half its peak since the start of
+  // the phase (or, if it barely moves, after a while). rest_start_ is 0 in the sag phase.
+  const double since = sim.time() - rest_start_;
   const bool decayed =
       kinetic_ < 0.5 * peak_sag_kinetic_ ||
-      (peak_sag_kinetic_ < rf_.sag_kinetic_energy && sim.time() >= 10.0 * rf_.sag_min_time);
-  if (sim.time() >= rf_.sag_min_time && kinetic_ < rf_.sag_kinetic_energy && decayed) return true;
-  if (sim.time() > rf_.sag_max_time)
+      (peak_sag_kinetic_ < rf_.sag_kinetic_energy && since >= 10.0 * rf_.sag_min_time);
+  if (since >= rf_.sag_min_time && kinetic_ < rf_.sag_kinetic_energy && decayed) return true;
+  if (phase_ == kSag && since > rf_.sag_max_time)
     throw std::runtime_error(fmt::format(
         "the net is not at rest after {:.4g} s of sag (kinetic energy {:.4g} J > "
         "scenario.rockfall.sag_kinetic_energy {:.4g} J): raise sag_max_time, sag_damping "
         "or the threshold",
         sim.time(), kinetic_, rf_.sag_kinetic_energy));
+  if (phase_ == kResettle && since > rf_.resettle_max_time)
+    throw std::runtime_error(fmt::format(
+        "the net is not at rest {:.4g} s after the boulder of impact {} was removed (kinetic "
+        "energy {:.4g} J > scenario.rockfall.sag_kinetic_energy {:.4g} J): raise "
+        "resettle_max_time, sag_damping or the threshold",
+        since, impact_, kinetic_, rf_.sag_kinetic_energy));
   return false;
 }
 
+std::optional<double> RockfallDriver::net_damping() const {
+  // The sag's damping in the sag and re-settle phases, the impact's from a release on; where
+  // one is not given, the net keeps what it had.
+  const std::optional<double>& sag = rf_.sag_damping;
+  const std::optional<double>& impact = rf_.impact_damping;
+  if (phase_ == kSag) return sag;
+  if (phase_ == kResettle) return sag ? sag : impact;
+  return impact ? impact : sag;
+}
+
 void RockfallDriver::release(Simulation& sim) {
-  sag_wall_ += seconds_since(segment_start_);
-  sag_end_time_ = sim.time();
+  const int previous = phase_;
+  if (previous == kSag) sag_wall_ += seconds_since(segment_start_);
   const GroupExtent e = group_extent(sim, net_, drop_x_, drop_y_, radius_);
-  net_top_sagged_ = e.top_near_axis;
+  const double top = e.top_near_axis;
+  if (previous == kSag) {
+    sag_end_time_ = sim.time();
+    net_top_sagged_ = top;
+  }
+  // The results of this impact start here (no-ops before the first).
+  ++impact_;
+  contact_time_ = -1.0;
+  contact_z_ = 0.0;
+  peak_acceleration_ = time_of_peak_ = peak_instant_ = 0.0;
+  lowest_z_ = std::numeric_limits<double>::infinity();
+  stopping_time_ = -1.0;
+  max_frame_force_ = 0.0;
+  rebound_speed_ = 0.0;
+  release_time_ = sim.time();
+  release_top_ = top;
+  const Energies before = sim.energies();
+  release_dissipated_ = {before.plastic_work, before.friction, before.contact_damping,
+                         before.global_damping};
+  release_broken_ = static_cast<double>(sim.global_broken_bonds());
   if (rf_.impact_damping) sim.set_group_damping(net_, *rf_.impact_damping);
-  const double bottom_at_rest = net_top_sagged_ + rf_.drop_height;
+  const double bottom_at_rest = top + rf_.drop_height;
   double z_centre, vz;
   if (rf_.integrate_free_fall) {
     z_centre = bottom_at_rest + radius_;
@@ -291,34 +311,99 @@ void RockfallDriver::release(Simulation& sim) {
     // Free fall in vacuum, exactly: from rest at bottom_at_rest down to release_gap above
     // the net, v = sqrt(2 g (h - gap)); the net is at rest meanwhile.
     const double fall = rf_.drop_height - rf_.release_gap;
-    z_centre = net_top_sagged_ + rf_.release_gap + radius_;
+    z_centre = top + rf_.release_gap + radius_;
     vz = -std::sqrt(2.0 * g_ * fall);
     free_fall_time_ = -vz / g_;
   }
-  const Energies before = sim.energies();
   sim.place_body(boulder_, {drop_x_, drop_y_, z_centre}, {0, 0, vz}, Motion::kFree);
   sim.model().bodies[boulder_].active = true;
-  energy_added_ = sim.energies().ledger() - before.ledger();
+  energy_added_ += sim.energies().ledger() - before.ledger();
   phase_ = kImpact;
   next_record_ = sim.time();
   no_contact_limit_ = sim.time() + std::sqrt(2.0 * (rf_.drop_height + 1.0) / g_) + 1.0;  // generous
   impact_start_ = Clock::now();
-  if (print_)
+  if (!print_) return;
+  const std::string fall =
+      rf_.integrate_free_fall
+          ? ""
+          : fmt::format(
+                " (free fall of {:.4f} s advanced analytically to {:.3g} m above, "
+                "{:.4g} m/s)",
+                free_fall_time_, rf_.release_gap, -vz);
+  if (previous == kSag)
     fmt::print(
         "sag done at t = {:.4f} s ({} wall): net top under the drop axis {:.4f} m (sagged {:.4f} "
         "m), "
         "kinetic energy {:.3g} J; boulder released {:.4g} m above the net{}\n",
         sim.time(), format_duration(sag_wall_), net_top_sagged_, net_top_initial_ - net_top_sagged_,
-        kinetic_, rf_.drop_height,
-        rf_.integrate_free_fall
-            ? ""
-            : fmt::format(" (free fall of {:.4f} s advanced analytically to {:.3g} m above, "
-                          "{:.4g} m/s)",
-                          free_fall_time_, rf_.release_gap, -vz));
+        kinetic_, rf_.drop_height, fall);
+  else
+    fmt::print(
+        "impact {} of {}: boulder released {:.4g} m above the net top {:.4f} m at t = "
+        "{:.4f} s{}\n",
+        impact_, rf_.impacts, rf_.drop_height, top, sim.time(), fall);
 }
 
 bool RockfallDriver::impact_over(const Simulation& sim) const {
   return contact_time_ >= 0.0 && sim.time() >= contact_time_ + rf_.duration - 0.5 * sim.dt();
+}
+
+ImpactRecord RockfallDriver::impact_record(const Energies& e, std::int64_t broken) const {
+  ImpactRecord r;
+  r.release_time = release_time_;
+  r.release_net_top = release_top_;
+  r.contact_time = contact_time_ >= 0.0 ? contact_time_ : ImpactRecord::kNone;
+  r.peak_acceleration = peak_acceleration_;
+  r.time_of_peak = time_of_peak_;
+  r.peak_instant = peak_instant_;
+  r.deflection = contact_time_ >= 0.0 ? contact_z_ - lowest_z_ : ImpactRecord::kNone;
+  r.stopping_time = stopping_time_ >= 0.0 ? stopping_time_ : ImpactRecord::kNone;
+  r.rebound_speed = rebound_speed_;
+  r.max_frame_force = max_frame_force_;
+  r.broken_bonds = static_cast<double>(broken) - release_broken_;
+  r.plastic_work = e.plastic_work - release_dissipated_[0];
+  r.friction = e.friction - release_dissipated_[1];
+  r.contact_damping = e.contact_damping - release_dissipated_[2];
+  r.global_damping = e.global_damping - release_dissipated_[3];
+  return r;
+}
+
+bool RockfallDriver::close_impact(Simulation& sim) {
+  const Energies e = sim.energies();
+  ImpactRecord r = impact_record(e, sim.global_broken_bonds());
+  impacts_.push_back(r);
+  if (rf_.impacts == 1) return true;  // a single impact ends with the boulder in the net
+  if (print_)
+    fmt::print(
+        "impact {} of {} over at t = {:.4f} s: peak acceleration {:.4g} m/s^2, deflection "
+        "{:.4f} m, rebound {:.4g} m/s, {} bonds broken; boulder removed, the net "
+        "re-settles\n",
+        impact_, rf_.impacts, sim.time(), r.peak_acceleration, r.deflection, r.rebound_speed,
+        static_cast<long long>(r.broken_bonds));
+  // The boulder goes back where it waited before the first release, at rest, out of play. A
+  // body with prescribed motion is outside the energy ledger: its kinetic and potential energy
+  // leave with it, and so does the elastic energy of its contacts with the net, which the
+  // contact forces drop at the next step. after_steps() books the difference then.
+  ledger_before_removal_ = e.ledger();
+  sim.place_body(boulder_, config_.rigid_bodies.back().position, {0, 0, 0}, Motion::kPrescribed);
+  sim.model().bodies[boulder_].active = false;
+  phase_ = kResettle;
+  rest_start_ = sim.time();
+  peak_sag_kinetic_ = 0.0;
+  next_sag_check_ = sim.time() + rf_.sag_check_interval;
+  if (const std::optional<double> damping = net_damping()) sim.set_group_damping(net_, *damping);
+  return false;
+}
+
+void RockfallDriver::resettled(Simulation& sim) {
+  const double top = group_extent(sim, net_, drop_x_, drop_y_, radius_).top_near_axis;
+  ImpactRecord& r = impacts_.back();
+  r.residual_height = top - net_top_initial_;
+  if (print_)
+    fmt::print(
+        "net at rest again at t = {:.4f} s, {:.4f} s after impact {}: net top under the "
+        "drop axis {:.4f} m, residual height {:.4f} m from the initial top\n",
+        sim.time(), sim.time() - rest_start_, impact_, top, r.residual_height);
 }
 
 bool RockfallDriver::between_steps(Simulation& sim) {
@@ -328,13 +413,18 @@ bool RockfallDriver::between_steps(Simulation& sim) {
     if (phase_ == kImpact) record(sim);  // the final state
     return true;
   }
-  if (phase_ == kSag) {
+  if (phase_ == kSag || phase_ == kResettle) {
     if (!net_at_rest(sim)) return false;
+    if (phase_ == kResettle) {
+      resettled(sim);
+      if (impact_ >= rf_.impacts) return finished_ = true;
+    }
     release(sim);
   }
   if (impact_over(sim)) {
-    record(sim);  // the final state
-    return true;
+    record(sim);  // the final state of the impact
+    if (close_impact(sim)) return finished_ = true;
+    return false;
   }
   if (sim.time() + 0.5 * sim.dt() >= next_record_) {
     record(sim);
@@ -344,6 +434,11 @@ bool RockfallDriver::between_steps(Simulation& sim) {
 }
 
 bool RockfallDriver::after_steps(Simulation& sim) {
+  if (std::isfinite(ledger_before_removal_)) {
+    // The step after the removal: what left the ledger with the boulder.
+    energy_added_ += sim.energies().ledger() - ledger_before_removal_;
+    ledger_before_removal_ = -std::numeric_limits<double>::infinity();
+  }
   if (phase_ == kImpact) {
     const RigidBody& b = sim.model().bodies[boulder_];
     sum_force_ += b.force;
@@ -362,6 +457,7 @@ bool RockfallDriver::after_steps(Simulation& sim) {
       peak_instant_ = std::max(peak_instant_, norm(b.force) / rf_.boulder_mass);
       if (b.position.z < lowest_z_) lowest_z_ = b.position.z;
       if (stopping_time_ < 0.0 && b.velocity.z >= 0.0) stopping_time_ = sim.time() - contact_time_;
+      rebound_speed_ = std::max(rebound_speed_, b.velocity.z);
     }
   }
   return between_steps(sim);
@@ -410,14 +506,15 @@ void RockfallDriver::record(Simulation& sim) {
                e.broken_bonds,
                e.boundary_work,
                balance,
-               e.plastic_work});
+               e.plastic_work,
+               static_cast<double>(impact_)});
 }
 
 std::string RockfallDriver::progress(const Simulation& sim, double rate) const {
   std::string extra;
-  if (phase_ == kSag && !std::isfinite(kinetic_))  // no rest check yet in this run segment
+  if (phase_ != kImpact && !std::isfinite(kinetic_))  // no rest check yet in this run segment
     extra = fmt::format("net kinetic energy: first rest check at t = {:.4g} s", next_sag_check_);
-  else if (phase_ == kSag)
+  else if (phase_ != kImpact)
     extra = fmt::format("net kinetic energy {:.4g} J (rest below {:.3g} J)", kinetic_,
                         rf_.sag_kinetic_energy);
   else if (contact_time_ < 0)
@@ -425,8 +522,11 @@ std::string RockfallDriver::progress(const Simulation& sim, double rate) const {
   else
     extra = fmt::format("{:.4f} s after contact, boulder vz {:.3f} m/s", sim.time() - contact_time_,
                         sim.model().bodies[boulder_].velocity.z);
-  return fmt::format("{} step {:>9} t = {:.5f} s  {:>7.0f} steps/s  {}",
-                     phase_ == kSag ? "sag   " : "impact", sim.steps(), sim.time(), rate, extra);
+  if (rf_.impacts > 1 && phase_ != kSag)
+    extra += fmt::format(" (impact {} of {})", impact_, rf_.impacts);
+  const char* label = phase_ == kSag ? "sag   " : phase_ == kResettle ? "settle" : "impact";
+  return fmt::format("{} step {:>9} t = {:.5f} s  {:>7.0f} steps/s  {}", label, sim.steps(),
+                     sim.time(), rate, extra);
 }
 
 void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
@@ -444,20 +544,30 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
   const std::int64_t broken = sim.global_broken_bonds();
   const std::int64_t n_bonds = sim.global_bonds();
   const FrameWriter* frames = control_->frames();
+  // Every impact, the one cut off by simulation.end_time included.
+  std::vector<ImpactRecord> impacts = impacts_;
+  if (phase_ == kImpact && impacts.size() < static_cast<std::size_t>(impact_))
+    impacts.push_back(impact_record(e, broken));
+  // The keys of one impact describe the first (with a single impact, as they always have).
+  ImpactRecord first = impact_record(e, broken);
+  first.deflection = contact_z_ - lowest_z_;
+  first.stopping_time = stopping_time_ >= 0.0 ? stopping_time_ : std::nan("");
+  first.contact_time = contact_time_;
+  if (rf_.impacts > 1 && !impacts_.empty()) first = impacts_[0];
   if (comm.is_root() && !output_dir_.empty()) {
     JsonObject s;
     s.set("ringdem_version", kVersion)
         .set("case", config_.name)
         .set("scenario", scenario_name(ScenarioKind::kRockfall))
-        .set("peak_acceleration_m_s2", peak_acceleration_)
-        .set("peak_acceleration_g", peak_acceleration_ / g_)
-        .set("time_of_peak_s", time_of_peak_)
-        .set("peak_acceleration_single_step_m_s2", peak_instant_)
-        .set("max_deflection_m", contact_z_ - lowest_z_)
+        .set("peak_acceleration_m_s2", first.peak_acceleration)
+        .set("peak_acceleration_g", first.peak_acceleration / g_)
+        .set("time_of_peak_s", first.time_of_peak)
+        .set("peak_acceleration_single_step_m_s2", first.peak_instant)
+        .set("max_deflection_m", first.deflection)
         // null (NaN) while the boulder had not turned by the end of the run.
-        .set("stopping_time_s", stopping_time_ >= 0.0 ? stopping_time_ : std::nan(""))
-        .set("broken_bonds", static_cast<long long>(broken))
-        .set("max_frame_force_N", max_frame_force_)
+        .set("stopping_time_s", first.stopping_time)
+        .set("broken_bonds", static_cast<long long>(broken))  // the whole run
+        .set("max_frame_force_N", first.max_frame_force)
         .set("energy_balance_error", max_balance_error_ / impact_energy_)
         .set("energy_balance_error_final",
              std::abs(e.ledger() - ledger_start_ - energy_added_) / impact_energy_)
@@ -470,7 +580,7 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("free_fall_integrated", rf_.integrate_free_fall)
         .set("sag_time_s", sag_end_time_)
         .set("net_sag_m", net_top_initial_ - net_top_sagged_)
-        .set("first_contact_time_s", contact_time_)
+        .set("first_contact_time_s", first.contact_time)
         .set("stopped_at_end_time", reached_end_time_)
         .set("energy_dissipated_J",
              std::vector<double>{e.contact_damping, e.friction, e.global_damping, e.broken_bonds,
@@ -495,17 +605,36 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
     for (int ph = 0; ph < Simulation::kPhaseCount; ++ph)
       phases.set(Simulation::phase_name(ph), sim.phase_seconds()[ph]);
     s.set("time_per_phase_s", phases);
+    s.set("impacts_planned", rf_.impacts);
+    set_impacts(s, impacts, g_, impact_energy_);
     s.write(output_dir_ + "/summary.json");
   }
   if (print_) {
     print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size());
     if (reached_end_time_)
-      fmt::print("rockfall: stopped at simulation.end_time = {:.6g} s, {}\n",
-                 config_.simulation.end_time,
-                 phase_ == kSag        ? "still in the sag phase (no impact)"
-                 : contact_time_ < 0.0 ? "before the boulder reached the net"
-                                       : "before scenario.rockfall.duration after contact");
-    if (phase_ == kImpact && contact_time_ >= 0.0) {
+      fmt::print(
+          "rockfall: stopped at simulation.end_time = {:.6g} s, {}\n", config_.simulation.end_time,
+          phase_ == kSag        ? std::string("still in the sag phase (no impact)")
+          : phase_ == kResettle ? fmt::format("while the net re-settled after impact {}", impact_)
+          : contact_time_ < 0.0 ? std::string("before the boulder reached the net")
+                                : std::string("before scenario.rockfall.duration after "
+                                              "contact"));
+    if (rf_.impacts > 1) {
+      for (std::size_t i = 0; i < impacts.size(); ++i) {
+        const ImpactRecord& r = impacts[i];
+        fmt::print(
+            "rockfall impact {}: peak acceleration {:.4g} m/s^2 ({:.3g} g), deflection {:.4f} m, "
+            "rebound {:.4g} m/s, {} bonds broken, frame force up to {:.4g} kN, plastic work "
+            "{:.3g} %, friction {:.3g} %, contact damping {:.3g} %, global damping {:.3g} % of "
+            "the impact energy, residual height {}\n",
+            i + 1, r.peak_acceleration, r.peak_acceleration / g_, r.deflection, r.rebound_speed,
+            static_cast<long long>(r.broken_bonds), 1e-3 * r.max_frame_force,
+            100.0 * r.plastic_work / impact_energy_, 100.0 * r.friction / impact_energy_,
+            100.0 * r.contact_damping / impact_energy_, 100.0 * r.global_damping / impact_energy_,
+            std::isnan(r.residual_height) ? std::string("not measured")
+                                          : fmt::format("{:.4f} m", r.residual_height));
+      }
+    } else if (phase_ == kImpact && contact_time_ >= 0.0) {
       // stopping_time_ stays negative while the boulder still moves down: it never turned within
       // `duration`, so there is no stopping time to report.
       const std::string stopped =
@@ -522,7 +651,8 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
           peak_acceleration_, peak_acceleration_ / g_, time_of_peak_, contact_z_ - lowest_z_,
           stopped, broken, 1e-3 * max_frame_force_, 100.0 * max_balance_error_ / impact_energy_);
     }
-    fmt::print("results: {0}/summary.json, {0}/series.csv, {0}/sag.csv\n", output_dir_);
+    fmt::print("results: {0}/summary.json, {0}/series.csv, {0}/sag.csv{1}\n", output_dir_,
+               rf_.impacts > 1 ? fmt::format(", {}/resettle.csv", output_dir_) : "");
     if (frames)
       fmt::print("frames: open {} in ParaView ({} frames)\n", frames->xdmf_path(),
                  frames->frames());

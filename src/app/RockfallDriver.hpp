@@ -1,16 +1,22 @@
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "app/ImpactRecord.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "core/Vec3.hpp"
 #include "io/ResultsWriter.hpp"
 
 namespace ringdem {
+
+struct Energies;
 
 /// Radius of a sphere of `mass` and `density`.
 double sphere_radius(double mass, double density);
@@ -20,6 +26,9 @@ double sphere_radius(double mass, double density);
 /// net and the run goes on for `duration` after its first contact. Writes series.csv (time from
 /// first contact, boulder motion and acceleration, frame force, broken bonds, energies and the
 /// energy ledger), sag.csv and summary.json; frames and checkpoints as the output section says.
+/// With `impacts` > 1 (a repeated impact on the same net, EAD 340059-00-0106 SEL test) the
+/// boulder is removed `duration` after each contact, the net re-settles (resettle.csv) and the
+/// next boulder falls drop_height onto the deformed net; summary.json lists every impact.
 class RockfallDriver : public ScenarioDriver {
  public:
   /// Adds the boulder (a rigid body, parked far above at rest until the release) to the case.
@@ -36,15 +45,24 @@ class RockfallDriver : public ScenarioDriver {
 
  private:
   using Clock = std::chrono::steady_clock;
-  enum Phase { kSag = 0, kImpact = 1 };
+  enum Phase { kSag = 0, kImpact = 1, kResettle = 2 };
 
   /// What is due between two steps: the sag check and the release, the rows of series.csv, the
   /// end of the impact (after the last row). Returns true when the run is over.
   bool between_steps(Simulation& sim);
-  /// The sag check when due; true once the net is at rest.
+  /// The rest check of the sag or re-settle phase when due; true once the net is at rest.
   bool net_at_rest(Simulation& sim);
-  /// Places the boulder above the sagged net and starts the impact phase.
+  /// Places the boulder above the sagged (or re-settled) net and starts the next impact.
   void release(Simulation& sim);
+  /// The results of the impact in progress (energies and broken bonds from `now`).
+  ImpactRecord impact_record(const Energies& now, std::int64_t broken) const;
+  /// End of an impact: its record; with more than one impact, the boulder is removed and the
+  /// net re-settles. Returns true when the run is over.
+  bool close_impact(Simulation& sim);
+  /// The net is at rest again after impact impact_: its residual height.
+  void resettled(Simulation& sim);
+  /// The Cundall coefficient of the net in the current phase, where the case sets one.
+  std::optional<double> net_damping() const;
   bool impact_over(const Simulation& sim) const;
   /// One row of series.csv (means of the boulder load since the last row) and the peaks.
   void record(Simulation& sim);
@@ -56,7 +74,7 @@ class RockfallDriver : public ScenarioDriver {
   RunControl* control_ = nullptr;
   std::string output_dir_;
   bool print_ = false;
-  SeriesWriter series_, sag_series_;
+  SeriesWriter series_, sag_series_, resettle_series_;
   int net_ = -1, frame_ = -1;
   std::size_t boulder_ = 0;
   double g_ = 0.0;
@@ -88,7 +106,18 @@ class RockfallDriver : public ScenarioDriver {
   /// Boulder contact load summed over the steps since the last row (row means).
   double sum_steps_ = 0.0;
   Vec3 sum_force_{};
-  double sag_wall_ = 0.0;  ///< wall seconds of the sag phase before this run segment
+  double sag_wall_ = 0.0;    ///< wall seconds of the sag phase before this run segment
+  bool finished_ = false;    ///< the scenario is over (a restart from the last checkpoint)
+  int impact_ = 0;           ///< the impact in progress or the last one (1..impacts; 0: sag)
+  double rest_start_ = 0.0;  ///< start of the sag (0) or of the re-settle phase
+  double rebound_speed_ = 0.0;
+  double release_time_ = 0.0, release_top_ = 0.0;  ///< of the impact in progress
+  double release_broken_ = 0.0;                    ///< broken bonds at the release
+  /// Dissipated energies at the release: plastic, friction, contact damping, global damping.
+  std::array<double, 4> release_dissipated_{};
+  std::vector<ImpactRecord> impacts_;  ///< impacts that have ended
+  /// Ledger before the boulder was removed, until the step after (-inf: none pending).
+  double ledger_before_removal_ = -std::numeric_limits<double>::infinity();
 
   // ---- this segment only ----
   double kinetic_ = std::numeric_limits<double>::infinity();  ///< at the last sag check

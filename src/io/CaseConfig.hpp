@@ -225,6 +225,8 @@ struct RockfallConfig {
   double release_gap = 0.005;        ///< boulder bottom above the net top when stepping resumes
   double duration = 0.6;             ///< simulated time after first contact
   double record_interval = 1e-4;     ///< simulated seconds between rows of series.csv
+  int impacts = 1;                   ///< impacts on the same net without repair (EAD 340059 SEL)
+  double resettle_max_time = 2.0;    ///< give up waiting for the net to rest after an impact
 };
 
 struct ScenarioConfig {

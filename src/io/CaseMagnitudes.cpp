@@ -205,6 +205,13 @@ std::pair<double, std::string> run_duration(const CaseConfig& c) {
     std::string key = p + "sag_max_time";
     if (fall > std::max(rf.sag_max_time, rf.duration)) key = p + "drop_height";
     if (rf.duration > std::max(rf.sag_max_time, fall)) key = p + "duration";
+    if (rf.impacts > 1) {
+      // Each further impact: a re-settle (at most resettle_max_time), a fall and `duration`.
+      const double more = static_cast<double>(rf.impacts - 1);
+      return {
+          rf.sag_max_time + fall + rf.duration + more * (rf.resettle_max_time + fall + rf.duration),
+          key};
+    }
     return {rf.sag_max_time + fall + rf.duration, key};
   }
   return {c.simulation.end_time, "simulation.end_time"};

@@ -507,6 +507,15 @@ const Table<RockfallConfig>& rockfall_table() {
           schema::number("record_interval", &R::record_interval, above(0), "s",
                          "Simulated time between rows of series.csv (loads are averaged over "
                          "it)"),
+          schema::integer("impacts", &R::impacts, at_least(1),
+                          "Impacts on the same net without repair (the service energy level "
+                          "test of EAD 340059-00-0106 has 2): with more than one, the boulder "
+                          "is removed `duration` after each contact, the net re-settles to "
+                          "rest (with sag_damping and the sag's rest test) and the next "
+                          "boulder falls drop_height onto the deformed net"),
+          schema::number("resettle_max_time", &R::resettle_max_time, above(0), "s",
+                         "Stop with an error when the net is not at rest this long after a "
+                         "boulder was removed (impacts > 1)"),
       }};
   return table;
 }

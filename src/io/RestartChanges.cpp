@@ -78,6 +78,7 @@ const std::vector<RestartKeyRule>& restart_key_rules() {
       {"scenario.rockfall.sag_min_time", K::kApplied, E::kNone, kRestTest},
       {"scenario.rockfall.sag_kinetic_energy", K::kApplied, E::kNone, kRestTest},
       {"scenario.rockfall.sag_check_interval", K::kApplied, E::kNone, kRestTest},
+      {"scenario.rockfall.resettle_max_time", K::kApplied, E::kNone, kRestTest},
       // The model the saved state belongs to: refused even with --allow-changes.
       {"particles*", K::kFixed, E::kNone,
        "the particles and bonds were created from it; the checkpoint holds their state"},

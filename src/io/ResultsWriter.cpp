@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
+#include <utility>
 
 namespace ringdem {
 
@@ -39,6 +40,13 @@ JsonObject& JsonObject::set(const std::string& key, const JsonObject& v) {
 }
 JsonObject& JsonObject::set(const std::string& key, const std::vector<double>& v) {
   json_[key] = v;
+  return *this;
+}
+JsonObject& JsonObject::set(const std::string& key, const std::vector<JsonObject>& v) {
+  auto array = nlohmann::ordered_json::array();
+  for (const JsonObject& o : v)
+    array.push_back(o.json_);
+  json_[key] = std::move(array);
   return *this;
 }
 

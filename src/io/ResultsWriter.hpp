@@ -21,6 +21,7 @@ class JsonObject {
   JsonObject& set(const std::string& key, bool v);
   JsonObject& set(const std::string& key, const JsonObject& v);
   JsonObject& set(const std::string& key, const std::vector<double>& v);
+  JsonObject& set(const std::string& key, const std::vector<JsonObject>& v);
 
   /// The object as text, indented by 2 per level.
   std::string str() const;

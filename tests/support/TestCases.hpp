@@ -1,6 +1,6 @@
 #pragma once
 
-// Small cases built in code (no YAML), shared by tests and benchmarks.
+// Small cases built in code, and one tiny rockfall case file, shared by tests and benchmarks.
 
 #include <mpi.h>
 
@@ -78,5 +78,25 @@ inline CaseConfig ring_patch_hit_by_sphere(double clearance, double speed, doubl
   c.rigid_bodies = {boulder};
   return c;
 }
+
+/// A rockfall case of a 2 x 3 net and a 5 kg boulder: the sag ends after t = 0.01 s, the
+/// impact 2 ms after the first contact (a second takes about as long, `impacts: 2`).
+inline constexpr const char* kTinyRockfall = R"(schema_version: 1
+simulation: {dt: 2.0e-6, end_time: 5.0, progress_interval: 1.0e-3}
+materials:
+  - {name: steel, density: 7800, youngs_modulus: 200.0e9, poisson_ratio: 0.3, restitution: 0.5, friction: 0.3}
+  - {name: rock, density: 2600, youngs_modulus: 30.0e9, poisson_ratio: 0.25, restitution: 0.3, friction: 0.5}
+bonds:
+  - {name: ring, derive_from: {windings: 12, wire_diameter: 0.003}, radius_multiplier: 0.43}
+particles:
+  nets:
+    - {group: net, rows: 2, columns: 3, bond: ring, material: steel, mass: 0.647, n_particles: 40,
+       shackles: {n_particles: 12}}
+scenario:
+  type: rockfall
+  rockfall: {boulder_mass: 5, boulder_density: 2600, boulder_material: rock, drop_height: 0.2,
+             sag_damping: 0.9, sag_kinetic_energy: 0.05, sag_min_time: 0.01,
+             sag_check_interval: 0.005, duration: 0.002, record_interval: 5.0e-4}
+)";
 
 }  // namespace ringdem::testing

@@ -437,6 +437,29 @@ TEST(CaseLoader, RockfallReferencesAndGravityAreChecked) {
   EXPECT_NO_THROW(load_case_from_string(good, "case.yaml", {}));
 }
 
+// A repeated rockfall (issue 14 point 4): at least one impact, a positive re-settle time,
+// each error on its own line; impacts defaults to 1 (one impact, as before).
+TEST(CaseLoader, RockfallImpactsAndResettleTimeAreChecked) {
+  const std::string rockfall =
+      kValidCase + std::string(
+                       "scenario:\n  type: rockfall\n  rockfall:\n    net_group: rings\n"
+                       "    frame_group: debris\n    boulder_material: rock\n");
+  EXPECT_EQ(load_case_from_string(rockfall, "case.yaml", {}).scenario.rockfall.impacts, 1);
+  const std::string text = rockfall + "    impacts: 0\n    resettle_max_time: 0\n";
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 2u) << all(diags);
+  const Diagnostic* d = find_path(diags, "scenario.rockfall.impacts");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "impacts: 0"));
+  EXPECT_EQ(d->message, "must be >= 1, got 0");
+  d = find_path(diags, "scenario.rockfall.resettle_max_time");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "resettle_max_time: 0"));
+  EXPECT_EQ(load_case_from_string(rockfall + "    impacts: 2\n", "case.yaml", {})
+                .scenario.rockfall.impacts,
+            2);
+}
+
 TEST(CaseLoader, DuplicateKeyAndNonVectorNormal) {
   std::string text = replaced(kValidCase, "  end_time: 0.5\n", "  end_time: 0.5\n  end_time: 1\n");
   text = replaced(text, "normal: [0, 2, 0]", "normal: [0, 0, 0]");

@@ -1,0 +1,80 @@
+#include "app/ImpactRecord.hpp"
+
+#include <fmt/format.h>
+
+#include <string>
+#include <utility>
+
+namespace ringdem {
+
+namespace {
+
+/// The fields a checkpoint holds, by name: one list for save() and load().
+template <class Record, class F>
+void for_each_field(Record& r, F&& f) {
+  f("release_time", r.release_time);
+  f("release_net_top", r.release_net_top);
+  f("contact_time", r.contact_time);
+  f("peak_acceleration", r.peak_acceleration);
+  f("time_of_peak", r.time_of_peak);
+  f("peak_instant", r.peak_instant);
+  f("deflection", r.deflection);
+  f("stopping_time", r.stopping_time);
+  f("rebound_speed", r.rebound_speed);
+  f("max_frame_force", r.max_frame_force);
+  f("broken_bonds", r.broken_bonds);
+  f("plastic_work", r.plastic_work);
+  f("friction", r.friction);
+  f("contact_damping", r.contact_damping);
+  f("global_damping", r.global_damping);
+  f("residual_height", r.residual_height);
+}
+
+}  // namespace
+
+void ImpactRecord::save(DriverState& state, int number) const {
+  for_each_field(*this, [&](const char* name, const double& v) {
+    state.set(fmt::format("impact{}.{}", number, name), v);
+  });
+}
+
+ImpactRecord ImpactRecord::load(const DriverState& state, int number) {
+  ImpactRecord r;
+  for_each_field(r, [&](const char* name, double& v) {
+    v = state.get(fmt::format("impact{}.{}", number, name), v);
+  });
+  return r;
+}
+
+JsonObject ImpactRecord::json(int number, double g, double impact_energy) const {
+  JsonObject o;
+  o.set("impact", number)
+      .set("release_time_s", release_time)
+      .set("release_net_top_m", release_net_top)
+      .set("first_contact_time_s", contact_time)
+      .set("peak_acceleration_m_s2", peak_acceleration)
+      .set("peak_acceleration_g", peak_acceleration / g)
+      .set("time_of_peak_s", time_of_peak)
+      .set("peak_acceleration_single_step_m_s2", peak_instant)
+      .set("max_deflection_m", deflection)
+      .set("stopping_time_s", stopping_time)
+      .set("rebound_speed_m_s", rebound_speed)
+      .set("max_frame_force_N", max_frame_force)
+      .set("broken_bonds", static_cast<long long>(broken_bonds))
+      .set("plastic_work_share", plastic_work / impact_energy)
+      .set("friction_share", friction / impact_energy)
+      .set("contact_damping_share", contact_damping / impact_energy)
+      .set("global_damping_share", global_damping / impact_energy)
+      .set("residual_height_m", residual_height);  // null: not re-settled
+  return o;
+}
+
+void set_impacts(JsonObject& summary, const std::vector<ImpactRecord>& impacts, double g,
+                 double impact_energy) {
+  std::vector<JsonObject> list;
+  for (std::size_t i = 0; i < impacts.size(); ++i)
+    list.push_back(impacts[i].json(static_cast<int>(i + 1), g, impact_energy));
+  summary.set("impacts", list);
+}
+
+}  // namespace ringdem
