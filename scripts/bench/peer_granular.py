@@ -3,8 +3,9 @@
 
 Called by scripts/bench/peer_granular.sh, which installs the packages and builds ringdem.
 Each (variant, size) is run by every code in turn, `repeats` times interleaved, on one rank.
-Each code's own loop time is read from its log (ringdem: "done: N steps in"; LAMMPS and
-LIGGGHTS: "Loop time of"), peak resident memory from /usr/bin/time. Medians are printed.
+Each code's own loop time is read from its output (ringdem: the loop's particle-step rate in
+summary.json; LAMMPS and LIGGGHTS: "Loop time of"), set-up excluded; peak resident memory of
+the whole process from /usr/bin/time. Medians are printed.
 
 Variants (issue 12, docs/performance.md):
   bed   resting bed: spheres of 5 mm on a jittered 10.5 mm lattice above a floor plane
@@ -218,8 +219,11 @@ def run_one(code, path, work, ringdem):
         out = os.path.join(work, "out_" + os.path.basename(path), "summary.json")
         with open(out) as f:
             summary = json.load(f)
-        return dict(loop=summary["wall_time_s"], steps=int(m.group(1)),
-                    atoms=summary["particles"], rss=rss, pairs=None)
+        # Its own loop time, as LAMMPS's "Loop time" (set-up and the first neighbour build and
+        # force evaluation excluded): the steps over the loop's particle-step rate.
+        steps = int(m.group(1))
+        loop = summary["particles"] * steps / summary["particle_steps_per_s"]
+        return dict(loop=loop, steps=steps, atoms=summary["particles"], rss=rss, pairs=None)
     m = re.search(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps with (\d+) atoms",
                   text)
     if not m:
