@@ -19,17 +19,30 @@ export OMPI_MCA_btl_base_warn_component_unused=0
 
 ringdem_log() { printf '[ringdem] %s\n' "$*" >&2; }
 
-ringdem_install_packages() {
-  local missing=()
-  for p in "${RINGDEM_PACKAGES[@]}"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+# ringdem_missing_packages PACKAGE...: the ones not installed, one per line.
+ringdem_missing_packages() {
+  local p
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || echo "$p"
   done
+}
+
+# ringdem_apt_install PACKAGE...: apt-get without questions (root only).
+ringdem_apt_install() {
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq </dev/null
+  apt-get install -y -qq --no-install-recommends "$@" </dev/null
+}
+
+# ringdem_install_packages: what the build and the tests need (RINGDEM_PACKAGES); as root it
+# installs the missing ones, otherwise it says how and stops.
+ringdem_install_packages() {
+  local missing
+  mapfile -t missing < <(ringdem_missing_packages "${RINGDEM_PACKAGES[@]}")
   [ ${#missing[@]} -eq 0 ] && return 0
   if [ "$(id -u)" -eq 0 ]; then
     ringdem_log "installing missing Debian packages: ${missing[*]}"
-    export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq </dev/null
-    apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
+    ringdem_apt_install "${missing[@]}"
   else
     ringdem_log "missing Debian packages: ${missing[*]}"
     ringdem_log "install them with: sudo apt-get install ${missing[*]}"
@@ -40,18 +53,13 @@ ringdem_install_packages() {
 # ringdem_install_optional WHAT PACKAGE...: installs packages an optional test needs (ctest
 # label clients) when root; otherwise says how, and returns 1 (the test then skips itself).
 ringdem_install_optional() {
-  local what="$1"
+  local what="$1" missing
   shift
-  local missing=()
-  for p in "$@"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-  done
+  mapfile -t missing < <(ringdem_missing_packages "$@")
   [ ${#missing[@]} -eq 0 ] && return 0
   if [ "$(id -u)" -eq 0 ]; then
     ringdem_log "installing for the $what test: ${missing[*]}"
-    export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq </dev/null
-    apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
+    ringdem_apt_install "${missing[@]}"
   else
     ringdem_log "the $what test is skipped: it needs ${missing[*]}" \
       "(sudo apt-get install --no-install-recommends ${missing[*]})"
