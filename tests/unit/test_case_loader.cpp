@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "CaseLoaderFixtures.hpp"
 #include "app/SweepCommand.hpp"
 #include "io/CaseLoader.hpp"
 
@@ -23,91 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kValidCase = R"(schema_version: 1
-description: "a ring, debris and a boulder"
-simulation:
-  dt: auto
-  end_time: 0.5
-  gravity: [0, 0, -9.81]
-materials:
-  - {name: steel, density: 7800, youngs_modulus: 200e9, poisson_ratio: 0.3}
-  - name: rock
-    density: 2600
-    youngs_modulus: 30e9
-    restitution: 0.4
-    friction: 0.6
-interactions:
-  - {materials: [steel, rock], friction: 0.5}
-bonds:
-  - {name: ring, youngs_modulus: 120e9, radius_multiplier: 0.8, seed: 7}
-damping:
-  global: 0.05
-  groups: {rings: 0.3}
-particles:
-  rings:
-    - group: rings
-      centre: [0, 0, 1]
-      normal: [0, 2, 0]
-      internal_diameter: 0.3
-      n_particles: 100
-      particle_radius: 0.0045
-      material: steel
-      bond: ring
-  lattices:
-    - {group: debris, origin: [0, 0, 2], count: [2, 3, 4], spacing: 0.02, particle_radius: 0.005, material: rock}
-  spheres:
-    - {position: [1, 1, 1], radius: 0.01, material: rock, motion: fixed}
-rigid_bodies:
-  - {name: floor, shape: plane, position: [0, 0, 0], normal: [0, 0, 3], material: steel}
-  - name: pin
-    shape: cylinder
-    position: [0, 0, 0.1]
-    axis: [2, 0, 0]
-    radius: 0.01
-    length: 0.1
-    motion: prescribed
-    velocity: [0, 0, 0.005]
-  - {name: boulder, shape: sphere, position: [0, 0, 3], radius: 0.4, motion: free, mass: 825, material: rock}
-)";
-
-/// 1-based line of the first occurrence of `needle` in `text` (0 if absent).
-int line_of(const std::string& text, const std::string& needle) {
-  const std::size_t pos = text.find(needle);
-  if (pos == std::string::npos) return 0;
-  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + pos, '\n'));
-}
-
-/// `text` with the first occurrence of `from` replaced by `to`.
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const std::size_t pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << "fixture does not contain: " << from;
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
-
-/// The diagnostics of loading `text`; fails the test if it loads.
-std::vector<Diagnostic> errors_of(const std::string& text,
-                                  const std::vector<std::string>& overrides = {}) {
-  try {
-    load_case_from_string(text, "case.yaml", overrides);
-  } catch (const InputError& e) {
-    EXPECT_FALSE(e.diagnostics.empty());
-    EXPECT_EQ(e.format(), std::string(e.what()));
-    return e.diagnostics;
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return {};
-}
-
-const Diagnostic* find_path(const std::vector<Diagnostic>& diags, const std::string& path) {
-  for (const Diagnostic& d : diags)
-    if (d.key_path == path) return &d;
-  return nullptr;
-}
-
-std::string all(const std::vector<Diagnostic>& diags) {
-  return InputError(diags).format();
-}
+using namespace case_fixture;
 
 TEST(CaseLoader, ValidCaseLoadsValuesAndDefaults) {
   const CaseConfig c = load_case_from_string(kValidCase, "cases/ring_drop.yaml");
@@ -402,64 +319,6 @@ TEST(CaseLoader, CrossChecks) {
   EXPECT_EQ(d->line, line_of(text, "  - name: pin"));
 }
 
-// The rockfall driver's group and material names and its gravity are input errors with a
-// line, found before any particle is built (they used to surface as a runtime error, exit 1).
-TEST(CaseLoader, RockfallReferencesAndGravityAreChecked) {
-  std::string text = replaced(kValidCase, "gravity: [0, 0, -9.81]", "gravity: [0, -9.81, 0]");
-  text +=
-      "scenario:\n  type: rockfall\n  rockfall:\n    net_group: ring\n"
-      "    boulder_material: rok\n";
-  const auto diags = errors_of(text);
-  EXPECT_EQ(diags.size(), 4u) << all(diags);
-  const Diagnostic* d = find_path(diags, "scenario.rockfall.net_group");
-  ASSERT_NE(d, nullptr) << all(diags);
-  EXPECT_EQ(d->line, line_of(text, "net_group: ring"));
-  EXPECT_EQ(d->message,
-            "particle group 'ring' is not used by any particles; did you mean 'rings'?");
-  d = find_path(diags, "scenario.rockfall.frame_group");  // default 'shackles', not given
-  ASSERT_NE(d, nullptr) << all(diags);
-  EXPECT_EQ(d->line, line_of(text, "net_group: ring"));  // first line of the rockfall map
-  EXPECT_NE(d->message.find("'shackles' (the default, key not given)"), std::string::npos);
-  d = find_path(diags, "scenario.rockfall.boulder_material");
-  ASSERT_NE(d, nullptr) << all(diags);
-  EXPECT_EQ(d->line, line_of(text, "boulder_material: rok"));
-  EXPECT_EQ(d->message, "material 'rok' is not defined in 'materials'; did you mean 'rock'?");
-  d = find_path(diags, "simulation.gravity");
-  ASSERT_NE(d, nullptr) << all(diags);
-  EXPECT_EQ(d->line, line_of(text, "gravity: [0, -9.81, 0]"));
-  EXPECT_NE(d->message.find("needs gravity along -z"), std::string::npos);
-
-  // The same names, spelled right, load.
-  std::string good = kValidCase;
-  good +=
-      "scenario:\n  type: rockfall\n  rockfall:\n    net_group: rings\n"
-      "    frame_group: debris\n    boulder_material: rock\n";
-  EXPECT_NO_THROW(load_case_from_string(good, "case.yaml", {}));
-}
-
-// A repeated rockfall (issue 14 point 4): at least one impact, a positive re-settle time,
-// each error on its own line; impacts defaults to 1 (one impact, as before).
-TEST(CaseLoader, RockfallImpactsAndResettleTimeAreChecked) {
-  const std::string rockfall =
-      kValidCase + std::string(
-                       "scenario:\n  type: rockfall\n  rockfall:\n    net_group: rings\n"
-                       "    frame_group: debris\n    boulder_material: rock\n");
-  EXPECT_EQ(load_case_from_string(rockfall, "case.yaml", {}).scenario.rockfall.impacts, 1);
-  const std::string text = rockfall + "    impacts: 0\n    resettle_max_time: 0\n";
-  const auto diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 2u) << all(diags);
-  const Diagnostic* d = find_path(diags, "scenario.rockfall.impacts");
-  ASSERT_NE(d, nullptr) << all(diags);
-  EXPECT_EQ(d->line, line_of(text, "impacts: 0"));
-  EXPECT_EQ(d->message, "must be >= 1, got 0");
-  d = find_path(diags, "scenario.rockfall.resettle_max_time");
-  ASSERT_NE(d, nullptr) << all(diags);
-  EXPECT_EQ(d->line, line_of(text, "resettle_max_time: 0"));
-  EXPECT_EQ(load_case_from_string(rockfall + "    impacts: 2\n", "case.yaml", {})
-                .scenario.rockfall.impacts,
-            2);
-}
-
 TEST(CaseLoader, DuplicateKeyAndNonVectorNormal) {
   std::string text = replaced(kValidCase, "  end_time: 0.5\n", "  end_time: 0.5\n  end_time: 1\n");
   text = replaced(text, "normal: [0, 2, 0]", "normal: [0, 0, 0]");
@@ -469,80 +328,6 @@ TEST(CaseLoader, DuplicateKeyAndNonVectorNormal) {
   EXPECT_EQ(diags[0].message, "duplicate key 'end_time'");
   EXPECT_EQ(diags[1].key_path, "particles.rings[0].normal");
   EXPECT_EQ(diags[1].message, "must be a non-zero vector, got [0, 0, 0]");
-}
-
-// bonds[].plastic (model timoshenko_plastic): required by the plastic model, refused by the
-// elastic one, the wire bundle from the section or from derive_from but not from both; each
-// error on the line of the key (or of the section, for a key that is missing).
-TEST(CaseLoader, PlasticLimitsAreCheckedAgainstTheBondModel) {
-  const std::string bond =
-      "  - {name: ring, youngs_modulus: 120e9, radius_multiplier: 0.8, seed: 7}\n";
-  const auto with_bond = [&](const std::string& lines) {
-    return replaced(kValidCase, bond, lines);
-  };
-
-  // A complete plastic bond loads, and its dump loads again to the same case.
-  const std::string good = with_bond(
-      "  - name: ring\n"
-      "    model: timoshenko_plastic\n"
-      "    derive_from: {windings: 12, wire_diameter: 0.003}\n"
-      "    plastic: {yield_stress: 1.5e9, hardening_ratio: 0.03, failure_strain: 0.04}\n");
-  const CaseConfig c = load_case_from_string(good, "x.yaml");
-  ASSERT_TRUE(c.bonds[0].plastic.has_value());
-  EXPECT_EQ(c.bonds[0].plastic->yield_stress, 1.5e9);
-  EXPECT_EQ(c.bonds[0].plastic->hardening_ratio, 0.03);
-  EXPECT_EQ(c.bonds[0].plastic->failure_strain, 0.04);
-  EXPECT_EQ(c.bonds[0].plastic->windings, 0);  // from derive_from
-  EXPECT_FALSE(c.bonds[0].plastic->wire_diameter.has_value());
-  EXPECT_EQ(dump_case(load_case_from_string(dump_case(c), "x.yaml")), dump_case(c));
-
-  // Plastic limits on the elastic model.
-  std::string text = with_bond(
-      "  - name: ring\n"
-      "    plastic: {yield_stress: 1.5e9, windings: 12, wire_diameter: 0.003}\n");
-  auto diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic");
-  EXPECT_EQ(diags[0].line, line_of(text, "plastic: {"));
-  EXPECT_EQ(diags[0].message,
-            "model 'timoshenko' is elastic and reads no plastic limits; use model "
-            "timoshenko_plastic or remove this section");
-
-  // The plastic model without them: reported at its model key.
-  text = with_bond("  - name: ring\n    model: timoshenko_plastic\n");
-  diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic");
-  EXPECT_EQ(diags[0].line, line_of(text, "model: timoshenko_plastic"));
-  EXPECT_NE(diags[0].message.find("needs the section bonds[0].plastic"), std::string::npos)
-      << diags[0].message;
-
-  // No derive_from and no wire diameter; windings given twice.
-  text = with_bond(
-      "  - name: ring\n"
-      "    model: timoshenko_plastic\n"
-      "    youngs_modulus: 120e9\n"
-      "    plastic:\n"
-      "      yield_stress: 1.5e9\n"
-      "      windings: 12\n");
-  diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic.wire_diameter");
-  EXPECT_EQ(diags[0].line, line_of(text, "yield_stress: 1.5e9"));  // the section's first line
-  EXPECT_EQ(diags[0].message,
-            "missing key 'wire_diameter' (the bond has no derive_from to take it from)");
-  text = with_bond(
-      "  - name: ring\n"
-      "    model: timoshenko_plastic\n"
-      "    derive_from: {windings: 12, wire_diameter: 0.003}\n"
-      "    plastic:\n"
-      "      yield_stress: 1.5e9\n"
-      "      windings: 19\n");
-  diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic.windings");
-  EXPECT_EQ(diags[0].line, line_of(text, "windings: 19"));
-  EXPECT_EQ(diags[0].message, "bonds[0].derive_from gives windings: give it in one place only");
 }
 
 TEST(CaseLoader, EmptyFileReportsEveryRequiredSection) {

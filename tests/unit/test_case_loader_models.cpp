@@ -1,0 +1,150 @@
+// Case-file loader, the checks that involve a model or a scenario: the rockfall's references,
+// gravity and repeated impacts, and the plastic bond's limits (each error checked against the
+// line where the mistake is in the fixture text).
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "CaseLoaderFixtures.hpp"
+#include "io/CaseLoader.hpp"
+
+namespace ringdem {
+namespace {
+
+using namespace case_fixture;
+
+// The rockfall driver's group and material names and its gravity are input errors with a
+// line, found before any particle is built (they used to surface as a runtime error, exit 1).
+TEST(CaseLoader, RockfallReferencesAndGravityAreChecked) {
+  std::string text = replaced(kValidCase, "gravity: [0, 0, -9.81]", "gravity: [0, -9.81, 0]");
+  text +=
+      "scenario:\n  type: rockfall\n  rockfall:\n    net_group: ring\n"
+      "    boulder_material: rok\n";
+  const auto diags = errors_of(text);
+  EXPECT_EQ(diags.size(), 4u) << all(diags);
+  const Diagnostic* d = find_path(diags, "scenario.rockfall.net_group");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "net_group: ring"));
+  EXPECT_EQ(d->message,
+            "particle group 'ring' is not used by any particles; did you mean 'rings'?");
+  d = find_path(diags, "scenario.rockfall.frame_group");  // default 'shackles', not given
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "net_group: ring"));  // first line of the rockfall map
+  EXPECT_NE(d->message.find("'shackles' (the default, key not given)"), std::string::npos);
+  d = find_path(diags, "scenario.rockfall.boulder_material");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "boulder_material: rok"));
+  EXPECT_EQ(d->message, "material 'rok' is not defined in 'materials'; did you mean 'rock'?");
+  d = find_path(diags, "simulation.gravity");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "gravity: [0, -9.81, 0]"));
+  EXPECT_NE(d->message.find("needs gravity along -z"), std::string::npos);
+
+  // The same names, spelled right, load.
+  std::string good = kValidCase;
+  good +=
+      "scenario:\n  type: rockfall\n  rockfall:\n    net_group: rings\n"
+      "    frame_group: debris\n    boulder_material: rock\n";
+  EXPECT_NO_THROW(load_case_from_string(good, "case.yaml", {}));
+}
+
+// A repeated rockfall (issue 14 point 4): at least one impact, a positive re-settle time,
+// each error on its own line; impacts defaults to 1 (one impact, as before).
+TEST(CaseLoader, RockfallImpactsAndResettleTimeAreChecked) {
+  const std::string rockfall =
+      kValidCase + std::string(
+                       "scenario:\n  type: rockfall\n  rockfall:\n    net_group: rings\n"
+                       "    frame_group: debris\n    boulder_material: rock\n");
+  EXPECT_EQ(load_case_from_string(rockfall, "case.yaml", {}).scenario.rockfall.impacts, 1);
+  const std::string text = rockfall + "    impacts: 0\n    resettle_max_time: 0\n";
+  const auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 2u) << all(diags);
+  const Diagnostic* d = find_path(diags, "scenario.rockfall.impacts");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "impacts: 0"));
+  EXPECT_EQ(d->message, "must be >= 1, got 0");
+  d = find_path(diags, "scenario.rockfall.resettle_max_time");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "resettle_max_time: 0"));
+  EXPECT_EQ(load_case_from_string(rockfall + "    impacts: 2\n", "case.yaml", {})
+                .scenario.rockfall.impacts,
+            2);
+}
+
+// bonds[].plastic (model timoshenko_plastic): required by the plastic model, refused by the
+// elastic one, the wire bundle from the section or from derive_from but not from both; each
+// error on the line of the key (or of the section, for a key that is missing).
+TEST(CaseLoader, PlasticLimitsAreCheckedAgainstTheBondModel) {
+  const std::string bond =
+      "  - {name: ring, youngs_modulus: 120e9, radius_multiplier: 0.8, seed: 7}\n";
+  const auto with_bond = [&](const std::string& lines) {
+    return replaced(kValidCase, bond, lines);
+  };
+
+  // A complete plastic bond loads, and its dump loads again to the same case.
+  const std::string good = with_bond(
+      "  - name: ring\n"
+      "    model: timoshenko_plastic\n"
+      "    derive_from: {windings: 12, wire_diameter: 0.003}\n"
+      "    plastic: {yield_stress: 1.5e9, hardening_ratio: 0.03, failure_strain: 0.04}\n");
+  const CaseConfig c = load_case_from_string(good, "x.yaml");
+  ASSERT_TRUE(c.bonds[0].plastic.has_value());
+  EXPECT_EQ(c.bonds[0].plastic->yield_stress, 1.5e9);
+  EXPECT_EQ(c.bonds[0].plastic->hardening_ratio, 0.03);
+  EXPECT_EQ(c.bonds[0].plastic->failure_strain, 0.04);
+  EXPECT_EQ(c.bonds[0].plastic->windings, 0);  // from derive_from
+  EXPECT_FALSE(c.bonds[0].plastic->wire_diameter.has_value());
+  EXPECT_EQ(dump_case(load_case_from_string(dump_case(c), "x.yaml")), dump_case(c));
+
+  // Plastic limits on the elastic model.
+  std::string text = with_bond(
+      "  - name: ring\n"
+      "    plastic: {yield_stress: 1.5e9, windings: 12, wire_diameter: 0.003}\n");
+  auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic");
+  EXPECT_EQ(diags[0].line, line_of(text, "plastic: {"));
+  EXPECT_EQ(diags[0].message,
+            "model 'timoshenko' is elastic and reads no plastic limits; use model "
+            "timoshenko_plastic or remove this section");
+
+  // The plastic model without them: reported at its model key.
+  text = with_bond("  - name: ring\n    model: timoshenko_plastic\n");
+  diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic");
+  EXPECT_EQ(diags[0].line, line_of(text, "model: timoshenko_plastic"));
+  EXPECT_NE(diags[0].message.find("needs the section bonds[0].plastic"), std::string::npos)
+      << diags[0].message;
+
+  // No derive_from and no wire diameter; windings given twice.
+  text = with_bond(
+      "  - name: ring\n"
+      "    model: timoshenko_plastic\n"
+      "    youngs_modulus: 120e9\n"
+      "    plastic:\n"
+      "      yield_stress: 1.5e9\n"
+      "      windings: 12\n");
+  diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic.wire_diameter");
+  EXPECT_EQ(diags[0].line, line_of(text, "yield_stress: 1.5e9"));  // the section's first line
+  EXPECT_EQ(diags[0].message,
+            "missing key 'wire_diameter' (the bond has no derive_from to take it from)");
+  text = with_bond(
+      "  - name: ring\n"
+      "    model: timoshenko_plastic\n"
+      "    derive_from: {windings: 12, wire_diameter: 0.003}\n"
+      "    plastic:\n"
+      "      yield_stress: 1.5e9\n"
+      "      windings: 19\n");
+  diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic.windings");
+  EXPECT_EQ(diags[0].line, line_of(text, "windings: 19"));
+  EXPECT_EQ(diags[0].message, "bonds[0].derive_from gives windings: give it in one place only");
+}
+
+}  // namespace
+}  // namespace ringdem
