@@ -75,7 +75,7 @@ void BM_BondLoop(benchmark::State& state) {
   ForceSlots slots;
   slots.assign(allocator.size());
   EnergyLedger ledger;
-  ComputeContext ctx{model.particles, model.bodies, model.materials, slots, ledger, 0.0, 0.0};
+  ComputeContext ctx{model.particles, model.bodies, model.materials, slots, ledger, 0.0, 0.0, {}};
   for (auto _ : state)
     bonds.compute(ctx);
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * model.bonds.size()));

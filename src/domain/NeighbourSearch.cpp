@@ -61,13 +61,27 @@ void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclu
     s = e;
   }
 
+  // The pairs in ascending (gid of a, gid of b) order: a term that adds each pair's loads to
+  // both ends in list order then gives every particle its contacts in ascending partner gid,
+  // whatever the storage order or the rank count (PairContactTerm). The owned range and the
+  // ghost range are each usually sorted already; the check is linear.
   const std::size_t n_local = p.n_local();
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::uint32_t a = static_cast<std::uint32_t>(k);
-    const Vec3 rel = (p.position[k] - lo) * inv_h;
+  const auto by_gid = [&p](std::uint32_t x, std::uint32_t y) { return p.gid[x] < p.gid[y]; };
+  by_gid_.resize(n);
+  for (std::uint32_t k = 0; k < n; ++k)
+    by_gid_[k] = k;
+  const auto middle = by_gid_.begin() + static_cast<std::ptrdiff_t>(n_local);
+  if (!std::is_sorted(by_gid_.begin(), middle, by_gid)) std::sort(by_gid_.begin(), middle, by_gid);
+  if (!std::is_sorted(middle, by_gid_.end(), by_gid)) std::sort(middle, by_gid_.end(), by_gid);
+  std::inplace_merge(by_gid_.begin(), middle, by_gid_.end(), by_gid);
+
+  std::vector<std::uint32_t> partners;
+  for (const std::uint32_t a : by_gid_) {
+    const Vec3 rel = (p.position[a] - lo) * inv_h;
     const auto cx = static_cast<std::int64_t>(rel.x);
     const auto cy = static_cast<std::int64_t>(rel.y);
     const auto cz = static_cast<std::int64_t>(rel.z);
+    partners.clear();
     for (std::int64_t dx = -1; dx <= 1; ++dx)
       for (std::int64_t dy = -1; dy <= 1; ++dy)
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
@@ -75,12 +89,14 @@ void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclu
           if (it == cells_.end()) continue;
           for (std::uint32_t s = it->second.first; s < it->second.second; ++s) {
             const std::uint32_t b = keyed_[s].second;
-            if (is_candidate(p, n_local, skin, ex, a, b)) {
-              out.i.push_back(a);
-              out.j.push_back(b);
-            }
+            if (is_candidate(p, n_local, skin, ex, a, b)) partners.push_back(b);
           }
         }
+    std::sort(partners.begin(), partners.end(), by_gid);
+    for (const std::uint32_t b : partners) {
+      out.i.push_back(a);
+      out.j.push_back(b);
+    }
   }
 }
 

@@ -9,7 +9,8 @@
 
 namespace ringdem {
 
-/// Candidate contact pairs (i, j) as particle indices, i holding the lower gid.
+/// Candidate contact pairs (i, j) as particle indices, i holding the lower gid; from
+/// NeighbourSearch in ascending (gid of i, gid of j) order.
 struct PairCandidates {
   std::vector<std::uint32_t> i, j;
   std::size_t size() const { return i.size(); }
@@ -41,6 +42,7 @@ class NeighbourSearch {
 
  private:
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed_;
+  std::vector<std::uint32_t> by_gid_;
   std::unordered_map<std::uint64_t, std::pair<std::uint32_t, std::uint32_t>> cells_;
 };
 

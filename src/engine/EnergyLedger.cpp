@@ -8,7 +8,14 @@ void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
   record_of_slot_.assign(n_slots, static_cast<std::uint32_t>(ledger_slots.size()));
   for (std::size_t e = 0; e < ledger_slots.size(); ++e)
     record_of_slot_[ledger_slots[e]] = static_cast<std::uint32_t>(e);
-  list_changed_ = true;
+}
+
+void EnergyLedger::begin_step(std::size_t n_local) {
+  for (const std::uint32_t k : touched_list_)
+    if (k < touched_.size()) touched_[k] = 0;
+  touched_list_.clear();
+  touched_.resize(n_local, 0);
+  moments_.resize(n_local);
 }
 
 void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bodies,
@@ -28,71 +35,73 @@ void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bo
   const auto& particles = gather.ledger_particles();
   const auto& offsets = gather.ledger_offsets();
   const auto& ledger_slots = gather.ledger_slots();
+  const auto& driven = gather.driven_powers();
   auto add = [&](double& accumulated, double& last_power, double power) {
     accumulated = initial
                       ? ParticleStore::ledger_value(accumulated, last_power, dt) + 0.5 * dt * power
                       : accumulated + dt * power;
     last_power = power;
   };
-  if (list_changed_) {
-    // Particles off the list have no contact and are not driven: zero power from now on. A
-    // tangential spring energy still booked to one (its contact gone) is released as friction.
-    for (std::size_t i = 0, k = 0; k < p.n_local(); ++k) {
-      if (i < particles.size() && particles[i] == k) {
-        ++i;
-        continue;
-      }
-      p.power_damping[k] = p.power_friction[k] = p.power_boundary[k] = 0.0;
-      if (!initial) p.dissipated_friction[k] += p.tangential_energy[k];
-      p.tangential_energy[k] = 0.0;
-      p.contact_energy[k] = 0.0;
-    }
-    list_changed_ = false;
-  }
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const std::uint32_t k = particles[i];
+  const std::size_t n_local = p.n_local();
+  const bool have_moments = touched_.size() == n_local;  // begin_step() ran on this store
+  // Every owned particle, every step: one without contacts gets zero power, and a tangential
+  // spring energy still booked to it (its contact gone) is released as friction below.
+  for (std::size_t i = 0, d = 0, k = 0; k < n_local; ++k) {
+    const bool has_moments = have_moments && touched_[k] != 0;
+    const bool has_records = i < particles.size() && particles[i] == k;
+    const bool is_driven = d < driven.size() && driven[d].particle == k;
+    // Nothing to book and nothing booked last step: the tallies stay as they are, bit for bit.
+    if (!has_moments && !has_records && !is_driven && p.power_damping[k] == 0.0 &&
+        p.power_friction[k] == 0.0 && p.power_boundary[k] == 0.0 && p.tangential_energy[k] == 0.0 &&
+        p.contact_energy[k] == 0.0)
+      continue;
     const Vec3 v = p.velocity[k];
     const Vec3 w = p.omega[k];
     double damping = 0.0, friction = 0.0, boundary = 0.0, tangential = 0.0, elastic = 0.0;
-    // Contacts, in gather order (the same sum on any rank count). Each particle books the
-    // work its own contact loads do; over both ends of a pair this is the pair's dissipation.
-    // A rigid body's end is booked to the particle: against a driven body its surface
-    // velocity enters the relative velocity and the total contact load's power on the body
-    // is boundary work; a free body's own kinetic energy is in the ledger.
-    for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
-      const DissipationRecord& c = records_[e];
-      if (c.arm.x == 0.0 && c.arm.y == 0.0 && c.arm.z == 0.0) continue;  // not touching
-      Vec3 rel = v + cross(w, c.arm);  // velocity of the particle's contact point
-      if (c.body >= 0) {
-        const RigidBody& body = bodies[static_cast<std::size_t>(c.body)];
-        if (body.motion != Motion::kFixed) {
-          const Vec3 vb = body.velocity_at(p.position[k] + c.arm);
-          rel -= vb;
-          if (body.motion == Motion::kPrescribed) boundary += dot(slots.force(ledger_slots[e]), vb);
+    // Contacts summed per particle by their term, in partner order (ContactMoments): the power
+    // of the loads at the end-of-step velocities.
+    if (has_moments) {
+      const ContactMoments& m = moments_[k];
+      damping -= dot(m.damping, v) + dot(m.damping_moment, w);
+      friction -= dot(m.friction, v) + dot(m.friction_moment, w);
+      tangential = m.tangential_energy;
+      elastic = m.elastic_energy;
+    }
+    // Contacts with a record per slot, in gather order (the same sum on any rank count). Each
+    // particle books the work its own contact loads do; over both ends of a pair this is the
+    // pair's dissipation. A rigid body's end is booked to the particle: against a driven body
+    // its surface velocity enters the relative velocity and the total contact load's power on
+    // the body is boundary work; a free body's own kinetic energy is in the ledger.
+    if (has_records) {
+      for (std::uint32_t e = offsets[i]; e < offsets[i + 1]; ++e) {
+        const DissipationRecord& c = records_[e];
+        if (c.arm.x == 0.0 && c.arm.y == 0.0 && c.arm.z == 0.0) continue;  // not touching
+        Vec3 rel = v + cross(w, c.arm);  // velocity of the particle's contact point
+        if (c.body >= 0) {
+          const RigidBody& body = bodies[static_cast<std::size_t>(c.body)];
+          if (body.motion != Motion::kFixed) {
+            const Vec3 vb = body.velocity_at(p.position[k] + c.arm);
+            rel -= vb;
+            if (body.motion == Motion::kPrescribed)
+              boundary += dot(slots.force(ledger_slots[e]), vb);
+          }
         }
+        damping -= dot(c.damping, rel);
+        friction -= dot(c.friction, rel) + dot(c.rolling, w);
+        tangential += c.tangential_energy;
+        elastic += c.elastic_energy;
       }
-      damping -= dot(c.damping, rel);
-      friction -= dot(c.friction, rel) + dot(c.rolling, w);
-      tangential += c.tangential_energy;
-      elastic += c.elastic_energy;
+      ++i;
     }
-    if (p.motion[k] != Motion::kFree) {
-      // A driven particle: whatever its interactions push against, the driver supplies.
-      Vec3 f, t;
-      for (std::uint32_t e = gather.offset(k); e < gather.offset(k + 1); ++e) {
-        const std::uint32_t s = gather.slot(e);
-        f += slots.force(s);
-        t += slots.torque(s);
-      }
-      boundary -= dot(f, v) + dot(t, w);
-    }
+    // A driven particle: whatever its interactions push against, the driver supplies.
+    if (is_driven) boundary -= driven[d++].power;
     add(p.dissipated_damping[k], p.power_damping[k], damping);
     add(p.dissipated_friction[k], p.power_friction[k], friction);
     add(p.boundary_work[k], p.power_boundary[k], boundary);
     // Friction is what the tangential springs took in and do not hold any more.
     if (!initial) p.dissipated_friction[k] -= tangential - p.tangential_energy[k];
     p.tangential_energy[k] = tangential;
-    p.contact_energy[k] = elastic;  // summed in gather order: the same bits on any rank count
+    p.contact_energy[k] = elastic;  // summed in a fixed order: the same bits on any rank count
   }
   // External forces: F_ext . (x^{n+1} - x^n), exact for a constant force.
   if (!initial)

@@ -23,6 +23,19 @@ struct DissipationRecord {
   std::int32_t body = -1;          ///< rigid body on the other side, -1 for a particle
 };
 
+/// What the ledger needs of the contact loads on one particle from a term that sums per
+/// particle (ParticleLoads): the work of a load F at arm r is F . (v + w x r) = F . v +
+/// (r x F) . w, so the sums of F and of r x F over the contacts give the power at the
+/// end-of-step velocities v, w without a record per contact (physics.md §3 for the loads).
+struct ContactMoments {
+  Vec3 damping;                    ///< sum of the viscous forces (Eq. 7 + Eq. 9)
+  Vec3 damping_moment;             ///< sum of arm x viscous force
+  Vec3 friction;                   ///< sum of the tangential spring forces (Coulomb-capped)
+  Vec3 friction_moment;            ///< sum of arm x spring force, plus the rolling-friction torques
+  double tangential_energy = 0.0;  ///< this particle's shares of |F_t|^2 / 2 S_t
+  double elastic_energy = 0.0;     ///< this particle's shares of the contacts' elastic energy
+};
+
 /// The energy ledger, written once for every force term: per-particle tallies of the work of
 /// the dissipative loads and of driven bodies and particles (ParticleStore's dissipated_*,
 /// boundary_work), from the records the terms write and the gather order.
@@ -36,6 +49,19 @@ class EnergyLedger {
   /// books it, e.g. the ghost end of a pair).
   DissipationRecord& record(std::uint32_t slot) { return records_[record_of_slot_[slot]]; }
 
+  /// The moments of owned particle k for a per-particle term to add to: zeroed at the first
+  /// call of a force evaluation, so that particles without contacts cost nothing here.
+  ContactMoments& moments(std::uint32_t k) {
+    if (!touched_[k]) {
+      touched_[k] = 1;
+      touched_list_.push_back(k);
+      moments_[k] = ContactMoments{};
+    }
+    return moments_[k];
+  }
+  /// Before a force evaluation over `n_local` owned particles: no particle has moments yet.
+  void begin_step(std::size_t n_local);
+
   /// After the second half kick of particles and rigid bodies, with the velocities of the end
   /// of the step: adds the work of the last force evaluation to each owned particle's tallies.
   /// `initial`: the loads of the initial state, entered with weight dt/2 and no work over a step.
@@ -45,7 +71,9 @@ class EnergyLedger {
  private:
   std::vector<DissipationRecord> records_;
   std::vector<std::uint32_t> record_of_slot_;
-  bool list_changed_ = false;  ///< particles off the list get zero power once
+  std::vector<ContactMoments> moments_;      ///< valid where touched_
+  std::vector<std::uint8_t> touched_;        ///< moments_[k] written in this evaluation
+  std::vector<std::uint32_t> touched_list_;  ///< the k with touched_[k], to clear them
 };
 
 }  // namespace ringdem

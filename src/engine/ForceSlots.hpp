@@ -37,6 +37,19 @@ struct ForceSlots {
   Vec3 torque(std::size_t i) const { return {tx[i], ty[i], tz[i]}; }
 };
 
+/// The owned particles' force and torque, for a term that sums its loads per particle itself
+/// instead of writing slots (PairContactTerm). Such a term must add to particle k in ascending
+/// order of the partner's gid (DESIGN §4): the sum is then the same on any rank count. It runs
+/// after the loads are initialised (gravity and external force, GatherMap::initialise_loads)
+/// and before the slots are gathered, which is the gather order when its partners sort before
+/// every other term's (particle pairs: bonded pairs get no contact).
+struct ParticleLoads {
+  Vec3* force = nullptr;
+  Vec3* torque = nullptr;
+  std::size_t n_owned = 0;
+  bool owned(std::size_t k) const { return k < n_owned; }
+};
+
 /// Hands out slot ranges to the force terms at a rebuild, in term order; the total sizes the
 /// ForceSlots once.
 class SlotAllocator {

@@ -42,6 +42,7 @@ struct ComputeContext {
   EnergyLedger& ledger;
   double time;
   double dt;
+  ParticleLoads loads;  ///< for a term that sums per particle (ForceSlots.hpp)
 };
 
 /// A contact that overlaps (Simulation::initial_overlaps): particle `index` and its partner, a

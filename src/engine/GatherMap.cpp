@@ -23,47 +23,35 @@ void GatherMap::finish(const ParticleStore& p) {
   for (std::size_t k = 0; k < n_local_; ++k)
     gather_offset_[k + 1] += gather_offset_[k];
 
-  // Energy ledger: the owned particles with ledger slots (in gather order) or driven motion.
+  // Energy ledger: the owned particles with ledger slots (in gather order), and driven ones.
   ledger_particle_.clear();
   ledger_offset_.assign(1, 0);
   ledger_slot_.clear();
+  driven_particle_.clear();
   for (std::size_t e = 0, k = 0; k < n_local_; ++k) {
     const std::size_t first = ledger_slot_.size();
     for (; e < entries_.size() && entries_[e].particle == k; ++e)
       if (entries_[e].ledger) ledger_slot_.push_back(entries_[e].slot);
-    if (ledger_slot_.size() > first || p.motion[k] != Motion::kFree) {
+    if (ledger_slot_.size() > first) {
       ledger_particle_.push_back(static_cast<std::uint32_t>(k));
       ledger_offset_.push_back(static_cast<std::uint32_t>(ledger_slot_.size()));
     }
+    if (p.motion[k] != Motion::kFree) driven_particle_.push_back(static_cast<std::uint32_t>(k));
   }
 }
 
-void GatherMap::gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity) {
+void GatherMap::initialise_loads(ParticleStore& p, const Vec3& gravity) {
   const std::size_t n_local = p.n_local();
-  // Raw pointers, read once (nothing in the loop can move them).
   const double* const mass = p.mass.data();
   const Vec3* const external = p.external_force.data();
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
-  const std::uint32_t* const offset = gather_offset_.data();
-  const std::uint32_t* const slot = gather_slot_.data();
-  const double *const fx = slots.fx.data(), *const fy = slots.fy.data(),
-                      *const fz = slots.fz.data();
-  const double *const tx = slots.tx.data(), *const ty = slots.ty.data(),
-                      *const tz = slots.tz.data();
   bool any_external = false;
   for (std::size_t k = 0; k < n_local; ++k) {
     const Vec3 f_ext = external[k];
     any_external |= (f_ext.x != 0.0) | (f_ext.y != 0.0) | (f_ext.z != 0.0);
-    Vec3 f = gravity * mass[k] + f_ext;
-    Vec3 t;
-    for (std::uint32_t e = offset[k]; e < offset[k + 1]; ++e) {
-      const std::uint32_t s = slot[e];
-      f += Vec3{fx[s], fy[s], fz[s]};
-      t += Vec3{tx[s], ty[s], tz[s]};
-    }
-    force[k] = f;
-    torque[k] = t;
+    force[k] = gravity * mass[k] + f_ext;
+    torque[k] = {};
   }
   // Energy ledger: external forces on free particles and their power at the mid-step
   // velocity (the drift x += v dt used it).
@@ -73,6 +61,37 @@ void GatherMap::gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gr
       if ((external[k].x != 0.0 || external[k].y != 0.0 || external[k].z != 0.0) &&
           p.motion[k] == Motion::kFree)
         external_.push_back({static_cast<std::uint32_t>(k), dot(external[k], p.velocity[k])});
+}
+
+void GatherMap::gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity) {
+  const std::size_t n_local = p.n_local();
+  // Raw pointers, read once (nothing in the loop can move them).
+  Vec3* const force = p.force.data();
+  Vec3* const torque = p.torque.data();
+  const std::uint32_t* const offset = gather_offset_.data();
+  const std::uint32_t* const slot = gather_slot_.data();
+  const double *const fx = slots.fx.data(), *const fy = slots.fy.data(),
+                      *const fz = slots.fz.data();
+  const double *const tx = slots.tx.data(), *const ty = slots.ty.data(),
+                      *const tz = slots.tz.data();
+  for (std::size_t k = 0; k < n_local; ++k) {
+    if (offset[k] == offset[k + 1]) continue;
+    Vec3 f = force[k];
+    Vec3 t = torque[k];
+    for (std::uint32_t e = offset[k]; e < offset[k + 1]; ++e) {
+      const std::uint32_t s = slot[e];
+      f += Vec3{fx[s], fy[s], fz[s]};
+      t += Vec3{tx[s], ty[s], tz[s]};
+    }
+    force[k] = f;
+    torque[k] = t;
+  }
+  // Energy ledger: whatever a driven particle's interactions push against, the driver supplies.
+  driven_.clear();
+  for (const std::uint32_t k : driven_particle_) {
+    const Vec3 interaction = force[k] - gravity * p.mass[k] - p.external_force[k];
+    driven_.push_back({k, dot(interaction, p.velocity[k]) + dot(torque[k], p.omega[k])});
+  }
 }
 
 }  // namespace ringdem

@@ -25,29 +25,36 @@ class GatherMap {
            bool ledger) {
     if (particle < n_local_) entries_.push_back({particle, partner_key, term, slot, ledger});
   }
-  /// Sorts the entries into the gather order and builds the ledger's particle list: owned
+  /// Sorts the entries into the gather order and builds the ledger's particle lists: owned
   /// particles with ledger slots, and driven ones (`p.motion`).
   void finish(const ParticleStore& p);
 
-  /// force = gravity * mass + external force + sum of the slots, torque = sum of the slots
-  /// (owned particles). Notes the power F_ext . v of external forces on free particles at the
-  /// mid-step velocity, for the ledger.
+  /// Starts a force evaluation: force = gravity * mass + external force, torque = 0 (owned
+  /// particles). Notes the power F_ext . v of external forces on free particles at the mid-step
+  /// velocity, for the ledger. Terms that sum per particle (ParticleLoads) add to these next.
+  void initialise_loads(ParticleStore& p, const Vec3& gravity);
+  /// Adds each owned particle's slots in gather order. Notes the power of the interaction loads
+  /// on driven particles (their velocity is not changed by the kicks), for the ledger.
   void gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity);
 
   /// Slots of owned particle k in gather order: slot(e) for e in [offset(k), offset(k + 1)).
   std::uint32_t offset(std::size_t k) const { return gather_offset_[k]; }
   std::uint32_t slot(std::size_t e) const { return gather_slot_[e]; }
 
-  /// The owned particles the ledger visits every step, with their ledger slots in gather order.
+  /// The owned particles with ledger slots, with those slots in gather order.
   const std::vector<std::uint32_t>& ledger_particles() const { return ledger_particle_; }
   const std::vector<std::uint32_t>& ledger_offsets() const { return ledger_offset_; }
   const std::vector<std::uint32_t>& ledger_slots() const { return ledger_slot_; }
 
-  struct ExternalPower {
+  struct ParticlePower {
     std::uint32_t particle;
-    double power;  ///< F_ext . v at the mid-step velocity
+    double power;
   };
-  const std::vector<ExternalPower>& external_powers() const { return external_; }
+  /// F_ext . v at the mid-step velocity, for free particles with an external load.
+  const std::vector<ParticlePower>& external_powers() const { return external_; }
+  /// Power of the interaction loads on each driven particle (ascending index): what the
+  /// driver supplies is minus this.
+  const std::vector<ParticlePower>& driven_powers() const { return driven_; }
 
  private:
   struct Entry {
@@ -61,7 +68,8 @@ class GatherMap {
   std::vector<Entry> entries_;
   std::vector<std::uint32_t> gather_offset_, gather_slot_;
   std::vector<std::uint32_t> ledger_particle_, ledger_offset_, ledger_slot_;
-  std::vector<ExternalPower> external_;
+  std::vector<std::uint32_t> driven_particle_;
+  std::vector<ParticlePower> external_, driven_;
 };
 
 }  // namespace ringdem

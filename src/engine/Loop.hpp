@@ -23,6 +23,15 @@ template <class F>
     f(i);
 }
 
+/// Calls f(i) for every i of r in ascending order, one after the other: for a kernel whose
+/// iterations add to shared per-particle sums in a fixed order (PairContactTerm), which a
+/// threaded backend must keep (colouring, or one range per owner of the sums).
+template <class F>
+[[gnu::always_inline]] inline void for_each_in_order(IndexRange r, F&& f) {
+  for (std::size_t i = r.begin; i < r.end; ++i)
+    f(i);
+}
+
 /// Calls f(chunk) for consecutive chunks of at most `chunk` items covering r (kernels that
 /// first copy a chunk's scattered inputs into contiguous scratch, then run for_each on it).
 template <class F>

@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "engine/ContactKeys.hpp"
+#include "engine/Loop.hpp"
 #include "physics/HertzMindlin.hpp"
 
 namespace ringdem {
@@ -53,48 +54,41 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
     const auto it = old_springs.find(PairKey{springs_.gid[m], springs_.partner[m]});
     springs_.spring[m] = it != old_springs.end() ? it->second : Vec3{};
   }
-
-  slots_a_ = ctx.allocator.take(np);
-  slots_b_ = ctx.allocator.take(np);
-  for (std::size_t m = 0; m < np; ++m) {
-    const auto s = static_cast<std::uint32_t>(m);
-    ctx.gather.add(pairs_.i[m], springs_.partner[m], ctx.term_number, slots_a_.begin + s, true);
-    ctx.gather.add(pairs_.j[m], springs_.gid[m], ctx.term_number, slots_b_.begin + s, true);
-  }
 }
 
 void PairContactTerm::compute(ComputeContext& ctx) {
   const ParticleStore& p = ctx.particles;
-  ForceSlots& slots = ctx.slots;
+  const ParticleLoads loads = ctx.loads;
   EnergyLedger& ledger = ctx.ledger;
-  const std::size_t np = pairs_.size();
-  std::vector<Vec3>& spring = springs_.spring;
-  // Particle contacts (physics.md §3).
-  for (std::size_t m = 0; m < np; ++m) {
-    const std::uint32_t a = pairs_.i[m];
-    const std::uint32_t b = pairs_.j[m];
-    const std::uint32_t slot_a = slots_a_.begin + static_cast<std::uint32_t>(m);
-    const std::uint32_t slot_b = slots_b_.begin + static_cast<std::uint32_t>(m);
-    const Vec3 d = p.position[b] - p.position[a];
-    const double reach = p.radius[a] + p.radius[b];
+  // Raw pointers, read once (nothing in the loop can move them).
+  const std::uint32_t* const pair_a = pairs_.i.data();
+  const std::uint32_t* const pair_b = pairs_.j.data();
+  const Vec3* const position = p.position.data();
+  const double* const radius = p.radius.data();
+  Vec3* const spring = springs_.spring.data();
+  // Particle contacts (physics.md §3). The pairs come in ascending (gid of a, gid of b) order
+  // (NeighbourSearch), and each adds its loads to both ends at once: every particle then gets
+  // its contacts in ascending partner gid, the gather order (DESIGN §4), without a slot per
+  // pair. Most candidates do not touch: they cost a distance test and nothing is written.
+  for_each_in_order(IndexRange{0, pairs_.size()}, [&](std::size_t m) {
+    const std::uint32_t a = pair_a[m];
+    const std::uint32_t b = pair_b[m];
+    const Vec3 d = position[b] - position[a];
+    const double reach = radius[a] + radius[b];
     const double dist2 = norm2(d);
     if (dist2 >= reach * reach) {
-      spring[m] = {};
-      slots.set(slot_a, {}, {});
-      slots.set(slot_b, {}, {});
-      ledger.record(slot_a) = {};
-      ledger.record(slot_b) = {};
-      continue;
+      if (spring[m].x != 0.0 || spring[m].y != 0.0 || spring[m].z != 0.0) spring[m] = {};
+      return;
     }
     const double dist = std::sqrt(dist2);
     const Vec3 n = d / dist;
     const double overlap = reach - dist;
-    const double arm_a = p.radius[a] - 0.5 * overlap;
-    const double arm_b = p.radius[b] - 0.5 * overlap;
+    const double arm_a = radius[a] - 0.5 * overlap;
+    const double arm_b = radius[b] - 0.5 * overlap;
     HertzMindlin::Input in;
     in.normal = n;
     in.overlap = overlap;
-    in.r_star = p.radius[a] * p.radius[b] / reach;
+    in.r_star = radius[a] * radius[b] / reach;
     in.m_star = effective_mass(p.mass[a], p.motion[a], p.mass[b], p.motion[b]);
     in.v_rel = (p.velocity[b] + cross(p.omega[b], n * (-arm_b))) -
                (p.velocity[a] + cross(p.omega[a], n * arm_a));
@@ -105,19 +99,33 @@ void PairContactTerm::compute(ComputeContext& ctx) {
     in.omega_j = p.omega[b];
     const auto r =
         HertzMindlin::compute(ctx.materials.pair(p.material[a], p.material[b]), in, spring[m]);
-    slots.set(slot_a, r.force_i, cross(n * arm_a, r.force_i) + r.rolling_torque_i);
-    slots.set(slot_b, -r.force_i, cross(n * arm_b, r.force_i) + r.rolling_torque_j);
-    // Ledger: each end's loads; the tangential energy half to each end.
-    ledger.record(slot_a) = {
-        r.damping_force_i,     spring[m], n * arm_a, r.rolling_torque_i, 0.5 * r.tangential_energy,
-        0.5 * r.elastic_energy};
-    ledger.record(slot_b) = {-r.damping_force_i,
-                             -spring[m],
-                             n * (-arm_b),
-                             r.rolling_torque_j,
-                             0.5 * r.tangential_energy,
-                             0.5 * r.elastic_energy};
-  }
+    const Vec3 lever_a = n * arm_a;   // from a's centre to the contact point
+    const Vec3 lever_b = n * -arm_b;  // from b's centre to the contact point
+    // Each end's loads, and for the ledger its viscous and spring loads and moments
+    // (ContactMoments) with half of the pair's tangential and elastic energy.
+    if (loads.owned(a)) {
+      loads.force[a] += r.force_i;
+      loads.torque[a] += cross(lever_a, r.force_i) + r.rolling_torque_i;
+      ContactMoments& c = ledger.moments(a);
+      c.damping += r.damping_force_i;
+      c.damping_moment += cross(lever_a, r.damping_force_i);
+      c.friction += spring[m];
+      c.friction_moment += cross(lever_a, spring[m]) + r.rolling_torque_i;
+      c.tangential_energy += 0.5 * r.tangential_energy;
+      c.elastic_energy += 0.5 * r.elastic_energy;
+    }
+    if (loads.owned(b)) {
+      loads.force[b] += -r.force_i;
+      loads.torque[b] += cross(n * arm_b, r.force_i) + r.rolling_torque_j;
+      ContactMoments& c = ledger.moments(b);
+      c.damping += -r.damping_force_i;
+      c.damping_moment += cross(lever_b, -r.damping_force_i);
+      c.friction += -spring[m];
+      c.friction_moment += cross(lever_b, -spring[m]) + r.rolling_torque_j;
+      c.tangential_energy += 0.5 * r.tangential_energy;
+      c.elastic_energy += 0.5 * r.elastic_energy;
+    }
+  });
 }
 
 }  // namespace ringdem

@@ -9,9 +9,9 @@
 namespace ringdem {
 
 /// Contacts between particles (Hertz–Mindlin, physics.md §3): cell-grid candidate pairs with
-/// a Verlet skin, each pair's tangential spring (its ContactSpringStore, one row per candidate,
-/// keyed by the gid pair), two slots per pair (one for each end) and a dissipation record per
-/// slot for the ledger.
+/// a Verlet skin in ascending gid order, each pair's tangential spring (its ContactSpringStore,
+/// one row per candidate, keyed by the gid pair). It takes no slots: each pair adds its loads
+/// to both ends' ParticleLoads and ContactMoments, in the gather order (ForceSlots.hpp).
 class PairContactTerm final : public ForceTerm {
  public:
   std::string_view name() const override { return "particle_contacts"; }
@@ -31,7 +31,6 @@ class PairContactTerm final : public ForceTerm {
   PairCandidates pairs_;
   /// Row m: pair m of pairs_ (gid of its end a, partner the gid of its end b).
   ContactSpringStore springs_{ContactSpringStore::Partner::kParticle};
-  SlotRange slots_a_, slots_b_;
 };
 
 }  // namespace ringdem

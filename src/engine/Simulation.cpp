@@ -460,8 +460,20 @@ void Simulation::report_divergence(const std::string& energy_excess) const {
 }
 
 void Simulation::compute_forces() {
-  ComputeContext ctx{
-      model_.particles, model_.bodies, model_.materials, slots_, ledger_, time_, dt_};
+  ParticleStore& p = model_.particles;
+  {
+    PhaseTimer t(phase_seconds_[kGather]);
+    gather_.initialise_loads(p, settings_.gravity);
+    ledger_.begin_step(p.n_local());
+  }
+  ComputeContext ctx{p,
+                     model_.bodies,
+                     model_.materials,
+                     slots_,
+                     ledger_,
+                     time_,
+                     dt_,
+                     ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
   {
     PhaseTimer t(phase_seconds_[kBonds]);
     bond_term_->compute(ctx);
@@ -474,7 +486,7 @@ void Simulation::compute_forces() {
   }
   {
     PhaseTimer t(phase_seconds_[kGather]);
-    gather_.gather(model_.particles, slots_, settings_.gravity);
+    gather_.gather(p, slots_, settings_.gravity);
   }
 }
 

@@ -53,6 +53,10 @@ TEST(NeighbourSearch, EqualsBruteForceForPolydisperseCloud) {
   EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
   for (std::size_t m = 0; m < cells.size(); ++m)
     EXPECT_LT(p.gid[cells.i[m]], p.gid[cells.j[m]]);
+  // In ascending (gid of i, gid of j) order, which PairContactTerm's sums rely on.
+  for (std::size_t m = 1; m < cells.size(); ++m)
+    EXPECT_LT(std::make_pair(p.gid[cells.i[m - 1]], p.gid[cells.j[m - 1]]),
+              std::make_pair(p.gid[cells.i[m]], p.gid[cells.j[m]]));
 }
 
 // Ghosts: pairs of two ghosts are never candidates; owned–ghost pairs are.

@@ -1,0 +1,142 @@
+// The particle-pair contact term sums each particle's contact loads itself (no slot per pair):
+// each owned particle must get exactly the loads of its touching partners, added one by one in
+// ascending partner gid after gravity (DESIGN §4, the gather order), whatever the storage order
+// and whether the partner is a ghost. The reference below is an independent brute-force loop
+// over partners sorted by gid, calling the Hertz–Mindlin evaluator directly; the comparison is
+// bit for bit, since the order of the additions is the contract.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <type_traits>
+#include <vector>
+
+#include "engine/ContactKeys.hpp"
+#include "engine/PairContactTerm.hpp"
+#include "physics/HertzMindlin.hpp"
+
+namespace ringdem {
+namespace {
+
+// A dense cloud (many overlaps) with gids shuffled against the storage order; the last
+// `n_ghost` particles are ghosts.
+ParticleStore dense_cloud(int n, int n_ghost, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> pos(0.0, 0.03), rad(0.002, 0.004), vel(-0.5, 0.5);
+  std::vector<std::int64_t> gids(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k)
+    gids[static_cast<std::size_t>(k)] = 10 + 3 * k;
+  std::shuffle(gids.begin(), gids.end(), rng);
+  ParticleStore p;
+  for (int k = 0; k < n; ++k) {
+    ParticleStore::NewParticle np;
+    np.gid = gids[static_cast<std::size_t>(k)];
+    np.position = {pos(rng), pos(rng), pos(rng)};
+    np.velocity = {vel(rng), vel(rng), vel(rng)};
+    np.omega = {100 * vel(rng), 100 * vel(rng), 100 * vel(rng)};
+    np.radius = rad(rng);
+    np.density = 2600.0;
+    p.add(np);
+  }
+  // Ghosts: the last particles become ghosts, every field copied back (as the comm layer would).
+  ParticleStore all = p;
+  p.resize_local(static_cast<std::size_t>(n - n_ghost));
+  p.resize_ghosts(static_cast<std::size_t>(n_ghost));
+  p.for_each_field([&](const FieldInfo& info, auto& field) {
+    all.for_each_field([&](const FieldInfo& other, auto& source) {
+      if constexpr (std::is_same_v<std::decay_t<decltype(field)>, std::decay_t<decltype(source)>>)
+        if (info.name == other.name)
+          for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
+            field[k] = source[k];
+    });
+  });
+  p.rebuild_index();
+  return p;
+}
+
+TEST(PairContactTerm, EachParticleGetsItsContactsInAscendingPartnerGid) {
+  ParticleStore p = dense_cloud(400, 120, 11);
+  ASSERT_EQ(p.n_local(), 280u);
+  ASSERT_EQ(p.n_total(), 400u);
+  const MaterialTable materials({Material{"rock", 2600.0, 1e9, 0.25, 0.3, 0.5, 0.1}}, {});
+  const Vec3 gravity{0.0, 0.0, -9.81};
+  const double dt = 1e-6, skin = 0.0005;
+
+  PairContactTerm term;
+  std::vector<ExcludedPair> excluded;
+  SlotAllocator allocator;
+  GatherMap gather;
+  gather.begin(p.n_local());
+  std::vector<RigidBody> bodies;
+  RebuildContext rebuild{p, bodies, skin, excluded, allocator, gather, 0};
+  term.rebuild(rebuild);
+  EXPECT_EQ(allocator.size(), 0u) << "the pair term takes no slots";
+  ForceSlots slots;
+  EnergyLedger ledger;
+  gather.finish(p);
+  gather.initialise_loads(p, gravity);
+  ledger.begin_step(p.n_local());
+  ComputeContext ctx{
+      p,      bodies, materials, slots,
+      ledger, 0.0,    dt,        ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
+  term.compute(ctx);
+
+  // Reference: every partner of k (owned or ghost) in ascending gid, each contact evaluated
+  // with the lower gid as end i, from a fresh tangential spring.
+  std::size_t touching = 0, with_ghost = 0;
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    std::vector<std::size_t> partners;
+    for (std::size_t j = 0; j < p.n_total(); ++j)
+      if (j != k && norm(p.position[j] - p.position[k]) < p.radius[j] + p.radius[k])
+        partners.push_back(j);
+    std::sort(partners.begin(), partners.end(),
+              [&](std::size_t x, std::size_t y) { return p.gid[x] < p.gid[y]; });
+    Vec3 f = gravity * p.mass[k];
+    Vec3 t;
+    for (const std::size_t j : partners) {
+      const bool k_is_i = p.gid[k] < p.gid[j];
+      const std::size_t a = k_is_i ? k : j, b = k_is_i ? j : k;
+      const Vec3 d = p.position[b] - p.position[a];
+      const double reach = p.radius[a] + p.radius[b];
+      const double dist = std::sqrt(norm2(d));
+      const Vec3 n = d / dist;
+      const double overlap = reach - dist;
+      const double arm_a = p.radius[a] - 0.5 * overlap, arm_b = p.radius[b] - 0.5 * overlap;
+      HertzMindlin::Input in;
+      in.normal = n;
+      in.overlap = overlap;
+      in.r_star = p.radius[a] * p.radius[b] / reach;
+      in.m_star = effective_mass(p.mass[a], p.motion[a], p.mass[b], p.motion[b]);
+      in.v_rel = (p.velocity[b] + cross(p.omega[b], n * (-arm_b))) -
+                 (p.velocity[a] + cross(p.omega[a], n * arm_a));
+      in.dt = dt;
+      in.arm_i = arm_a;
+      in.arm_j = arm_b;
+      in.omega_i = p.omega[a];
+      in.omega_j = p.omega[b];
+      Vec3 spring;
+      const auto r = HertzMindlin::compute(materials.pair(0, 0), in, spring);
+      if (k_is_i) {
+        f += r.force_i;
+        t += cross(n * arm_a, r.force_i) + r.rolling_torque_i;
+      } else {
+        f += -r.force_i;
+        t += cross(n * arm_b, r.force_i) + r.rolling_torque_j;
+      }
+      ++touching;
+      with_ghost += j >= p.n_local();
+    }
+    EXPECT_EQ(p.force[k].x, f.x) << "particle " << k;
+    EXPECT_EQ(p.force[k].y, f.y) << "particle " << k;
+    EXPECT_EQ(p.force[k].z, f.z) << "particle " << k;
+    EXPECT_EQ(p.torque[k].x, t.x) << "particle " << k;
+    EXPECT_EQ(p.torque[k].y, t.y) << "particle " << k;
+    EXPECT_EQ(p.torque[k].z, t.z) << "particle " << k;
+  }
+  ASSERT_GT(touching, 500u) << "the cloud must be dense enough to test anything";
+  EXPECT_GT(with_ghost, 20u);
+}
+
+}  // namespace
+}  // namespace ringdem
