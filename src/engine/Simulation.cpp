@@ -65,6 +65,8 @@ void Simulation::find_typed_terms() {
   bond_term_ = static_cast<BondTerm*>(terms_.front().get());
   for (auto& t : terms_)
     if (auto* b = dynamic_cast<BodyContactTerm*>(t.get())) body_term_ = b;
+  // Only bonds read a particle's orientation: without any, the drift leaves it alone.
+  track_orientations_ = comm_.max(model_.bonds.size() > 0 ? 1.0 : 0.0) > 0.0;
 }
 
 double Simulation::block_size() const {
@@ -512,8 +514,9 @@ void Simulation::step() {
   ParticleStore& p = model_.particles;
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
-    drift_ = Integrator::first_half(p, dt_, p.position_at_rebuild,
-                                    kMaxStepFraction * settings_.skin, kMaxTurn);
+    drift_ =
+        Integrator::first_half(p, dt_, p.position_at_rebuild, kMaxStepFraction * settings_.skin,
+                               kMaxTurn, track_orientations_);
     max_move2_ = drift_.max_move2;
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);
   }

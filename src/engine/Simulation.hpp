@@ -218,9 +218,10 @@ class Simulation {
   bool bonds_broke_anywhere_ = false;
   bool stop_local_ = false;
   bool stop_agreed_ = false;
-  double max_move2_ = 0.0;    ///< largest squared particle move since the rebuild (this rank)
-  Integrator::Drift drift_;   ///< the last drift pass (this rank), for the divergence guard
-  EnergyGuard energy_guard_;  ///< the divergence guard's energy part, at every energies()
+  double max_move2_ = 0.0;          ///< largest squared particle move since the rebuild (this rank)
+  bool track_orientations_ = true;  ///< some particle has a bond (Integrator::first_half)
+  Integrator::Drift drift_;         ///< the last drift pass (this rank), for the divergence guard
+  EnergyGuard energy_guard_;        ///< the divergence guard's energy part, at every energies()
   std::vector<Vec3> body_position_at_rebuild_;
   std::vector<Quat> body_orientation_at_rebuild_;
   std::array<double, kPhaseCount> phase_seconds_{};

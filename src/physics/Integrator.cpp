@@ -48,9 +48,17 @@ inline void kick_rotation(RigidBody& b, double half_dt) {
 // A fixed particle has zero velocity and angular velocity (the model builder sets them), so
 // scaling its drift by 0 only guards against stray values.
 
-Integrator::Drift Integrator::first_half(ParticleStore& p, double dt,
-                                         const std::vector<Vec3>& reference, double max_step,
-                                         double max_turn) {
+namespace {
+
+struct DriftMaxima {
+  double max_move2 = 0.0;
+  double worst = 0.0;
+};
+
+/// The drift loop, with the orientation update compiled in or out.
+template <bool kTurn>
+DriftMaxima drift_pass(ParticleStore& p, double dt, const std::vector<Vec3>& reference,
+                       double step_scale, double turn_scale) {
   const double half = 0.5 * dt;
   const std::size_t n = p.n_local();
   const Motion* const motion = p.motion.data();
@@ -63,8 +71,6 @@ Integrator::Drift Integrator::first_half(ParticleStore& p, double dt,
   Vec3* const w = p.omega.data();
   Vec3* const x = p.position.data();
   Quat* const q = p.orientation.data();
-  const double step_scale = dt * dt / (max_step * max_step);
-  const double turn_scale = dt * dt / (max_turn * max_turn);
   double max_move2 = 0.0;
   double worst = 0.0;
 #pragma omp simd reduction(max : max_move2, worst)
@@ -74,14 +80,31 @@ Integrator::Drift Integrator::first_half(ParticleStore& p, double dt,
     v[k] += force[k] * (free * half / mass[k]);
     w[k] += torque[k] * (free * half / inertia[k]);
     x[k] += v[k] * (moving * dt);
-    q[k] = rotated(q[k], w[k] * moving, dt);
+    if constexpr (kTurn) q[k] = rotated(q[k], w[k] * moving, dt);
     const double move2 = norm2(x[k] - x_ref[k]);
     max_move2 = move2 > max_move2 ? move2 : max_move2;
     const double s = norm2(v[k]) * step_scale, t = norm2(w[k]) * turn_scale;
     double r = s > t ? s : t;
-    r = r <= kRunaway ? r : kRunaway;  // NaN and inf compare false: they count as runaway
+    r = r <= Integrator::kRunaway ? r : Integrator::kRunaway;  // NaN and inf compare false
     worst = r > worst ? r : worst;
   }
+  return {max_move2, worst};
+}
+
+}  // namespace
+
+Integrator::Drift Integrator::first_half(ParticleStore& p, double dt,
+                                         const std::vector<Vec3>& reference, double max_step,
+                                         double max_turn, bool orientations) {
+  const std::size_t n = p.n_local();
+  const Vec3* const v = p.velocity.data();
+  const Vec3* const w = p.omega.data();
+  const double step_scale = dt * dt / (max_step * max_step);
+  const double turn_scale = dt * dt / (max_turn * max_turn);
+  const DriftMaxima m = orientations ? drift_pass<true>(p, dt, reference, step_scale, turn_scale)
+                                     : drift_pass<false>(p, dt, reference, step_scale, turn_scale);
+  const double max_move2 = m.max_move2;
+  const double worst = m.worst;
   Drift d{max_move2, worst, 0};
   // Only when something ran away: which particle (the first of the largest ratio).
   if (worst > 1.0)
@@ -110,13 +133,20 @@ void Integrator::second_half(ParticleStore& p, double dt) {
   Vec3* const w = p.omega.data();
   double* const dissipated = p.dissipated_global.data();
   double* const power = p.power_global.data();
-#pragma GCC ivdep
   for (std::size_t k = 0; k < n; ++k) {
+    const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
+    if (alpha[k] == 0.0) {
+      // Undamped (most grains): the loads stay as they are and no power is taken out; only a
+      // coefficient that just went to 0 leaves a last power to clear.
+      v[k] += force[k] * (free * half / mass[k]);
+      w[k] += torque[k] * (free * half / inertia[k]);
+      if (power[k] != 0.0) power[k] = 0.0;
+      continue;
+    }
     const Vec3 damping_force = damping_load(force[k], v[k], alpha[k]);
     const Vec3 damping_torque = damping_load(torque[k], w[k], alpha[k]);
     force[k] -= damping_force;
     torque[k] -= damping_torque;
-    const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
     v[k] += force[k] * (free * half / mass[k]);
     w[k] += torque[k] * (free * half / inertia[k]);
     // Energy ledger: the power the Cundall loads take out, at the synchronised velocity

@@ -25,9 +25,10 @@ struct Integrator {
     std::size_t worst_index = 0;  ///< the particle of worst_runaway
   };
   static constexpr double kRunaway = 1e300;
-  /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles.
+  /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles. `orientations`:
+  /// also turn the orientations (only bonds read them; spheres are isotropic).
   static Drift first_half(ParticleStore& p, double dt, const std::vector<Vec3>& reference,
-                          double max_step, double max_turn);
+                          double max_step, double max_turn, bool orientations);
   /// Applies the global damping to the new loads (physics.md §4), then v += F/m dt/2,
   /// omega += T/I dt/2 for owned free particles; the damped loads stay for the next step.
   /// Adds the energy the damping took out (its power at the new velocities, times dt) to the
