@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include "engine/ContactKeys.hpp"
 #include "engine/Loop.hpp"
@@ -44,15 +43,34 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
   }
 
   search_.build(p, ctx.skin, exclusions_, pairs_);
-  // The store's rows (the springs carried across the migration) become the new candidates.
-  const auto old_springs = springs_by_key(springs_);
+  // The store's rows (the springs carried across the migration) become the new candidates'.
+  // The candidates are in ascending (gid, partner) order, and so are the carried rows once
+  // sorted (they are, unless migration appended arrivals): one merge pass pairs them. Of two
+  // rows with one key (both ends' ranks held the pair) the first in storage order is taken.
+  ContactSpringStore carried{ContactSpringStore::Partner::kParticle};
+  std::swap(carried, springs_);
+  const std::size_t n_carried = carried.size();
+  carried_order_.resize(n_carried);
+  for (std::uint32_t r = 0; r < n_carried; ++r)
+    carried_order_[r] = r;
+  const auto row_before = [&carried](std::uint32_t x, std::uint32_t y) {
+    return PairKey::less(carried.gid[x], carried.partner[x], carried.gid[y], carried.partner[y]);
+  };
+  if (!std::is_sorted(carried_order_.begin(), carried_order_.end(), row_before))
+    std::stable_sort(carried_order_.begin(), carried_order_.end(), row_before);
   const std::size_t np = pairs_.size();
   springs_.resize(np);
+  std::size_t c = 0;
   for (std::size_t m = 0; m < np; ++m) {
-    springs_.gid[m] = p.gid[pairs_.i[m]];
-    springs_.partner[m] = p.gid[pairs_.j[m]];
-    const auto it = old_springs.find(PairKey{springs_.gid[m], springs_.partner[m]});
-    springs_.spring[m] = it != old_springs.end() ? it->second : Vec3{};
+    const std::int64_t key_a = p.gid[pairs_.i[m]], key_b = p.gid[pairs_.j[m]];
+    springs_.gid[m] = key_a;
+    springs_.partner[m] = key_b;
+    while (c < n_carried && PairKey::less(carried.gid[carried_order_[c]],
+                                          carried.partner[carried_order_[c]], key_a, key_b))
+      ++c;
+    const bool found = c < n_carried && carried.gid[carried_order_[c]] == key_a &&
+                       carried.partner[carried_order_[c]] == key_b;
+    springs_.spring[m] = found ? carried.spring[carried_order_[c]] : Vec3{};
   }
 }
 

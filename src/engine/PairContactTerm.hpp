@@ -31,6 +31,7 @@ class PairContactTerm final : public ForceTerm {
   PairCandidates pairs_;
   /// Row m: pair m of pairs_ (gid of its end a, partner the gid of its end b).
   ContactSpringStore springs_{ContactSpringStore::Partner::kParticle};
+  std::vector<std::uint32_t> carried_order_;  ///< rebuild scratch: the carried rows' key order
 };
 
 }  // namespace ringdem

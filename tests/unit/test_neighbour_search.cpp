@@ -47,6 +47,7 @@ TEST(NeighbourSearch, EqualsBruteForceForPolydisperseCloud) {
   PairCandidates cells;
   const double skin = 0.001;
   search.build(p, skin, none, cells);
+  EXPECT_FALSE(search.used_dense_grid()) << "4096 cells for 2000 particles: hashed";
   const PairCandidates brute = brute_force_pairs(p, skin, none);
   ASSERT_GT(brute.size(), 100u) << "the cloud must be dense enough to test anything";
   EXPECT_EQ(cells.size(), brute.size());  // no duplicates
@@ -54,6 +55,23 @@ TEST(NeighbourSearch, EqualsBruteForceForPolydisperseCloud) {
   for (std::size_t m = 0; m < cells.size(); ++m)
     EXPECT_LT(p.gid[cells.i[m]], p.gid[cells.j[m]]);
   // In ascending (gid of i, gid of j) order, which PairContactTerm's sums rely on.
+  for (std::size_t m = 1; m < cells.size(); ++m)
+    EXPECT_LT(std::make_pair(p.gid[cells.i[m - 1]], p.gid[cells.j[m - 1]]),
+              std::make_pair(p.gid[cells.i[m]], p.gid[cells.j[m]]));
+}
+
+// A cloud that fills its box takes the dense grid; it must find the same pairs, in the same
+// (gid, gid) order, as the O(N^2) search.
+TEST(NeighbourSearch, DenseGridEqualsBruteForce) {
+  const ParticleStore p = random_cloud(3000, 0.1, 0.002, 0.006, 5);
+  NeighbourSearch search;
+  PairCandidates cells;
+  search.build(p, 0.001, PairExclusions{}, cells);
+  EXPECT_TRUE(search.used_dense_grid()) << "512 cells for 3000 particles: dense";
+  const PairCandidates brute = brute_force_pairs(p, 0.001, PairExclusions{});
+  ASSERT_GT(brute.size(), 1000u);
+  EXPECT_EQ(cells.size(), brute.size());
+  EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
   for (std::size_t m = 1; m < cells.size(); ++m)
     EXPECT_LT(std::make_pair(p.gid[cells.i[m - 1]], p.gid[cells.j[m - 1]]),
               std::make_pair(p.gid[cells.i[m]], p.gid[cells.j[m]]));

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 #include <type_traits>
 #include <vector>
@@ -136,6 +137,60 @@ TEST(PairContactTerm, EachParticleGetsItsContactsInAscendingPartnerGid) {
   }
   ASSERT_GT(touching, 500u) << "the cloud must be dense enough to test anything";
   EXPECT_GT(with_ghost, 20u);
+}
+
+// At a rebuild the carried springs (touching contacts, in whatever order migration left them)
+// must go back to their pairs by key. Here the rows are reversed, as arrivals appended after
+// migration would leave them out of order.
+TEST(PairContactTerm, RebuildGivesEveryPairItsCarriedSpring) {
+  ParticleStore p = dense_cloud(400, 120, 12);
+  const MaterialTable materials({Material{"rock", 2600.0, 1e9, 0.25, 0.3, 0.5, 0.0}}, {});
+  PairContactTerm term;
+  std::vector<ExcludedPair> excluded;
+  std::vector<RigidBody> bodies;
+  const auto rebuild = [&] {
+    SlotAllocator allocator;
+    GatherMap gather;
+    gather.begin(p.n_local());
+    RebuildContext ctx{p, bodies, 0.0005, excluded, allocator, gather, 0};
+    term.rebuild(ctx);
+  };
+  rebuild();
+  ForceSlots slots;
+  EnergyLedger ledger;
+  ledger.begin_step(p.n_local());
+  ComputeContext ctx{
+      p,      bodies, materials, slots,
+      ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
+  term.compute(ctx);
+  ContactSpringStore& store = *term.springs();
+  std::map<std::pair<std::int64_t, std::int64_t>, Vec3> before;
+  for (std::size_t m = 0; m < store.size(); ++m)
+    if (norm2(store.spring[m]) > 0.0) before[{store.gid[m], store.partner[m]}] = store.spring[m];
+  ASSERT_GT(before.size(), 100u);
+  store.drop_released();
+  ContactSpringStore reversed = store;
+  for (std::size_t m = 0; m < store.size(); ++m) {
+    const std::size_t r = store.size() - 1 - m;
+    reversed.gid[m] = store.gid[r];
+    reversed.partner[m] = store.partner[r];
+    reversed.spring[m] = store.spring[r];
+  }
+  store = reversed;
+  rebuild();
+  std::size_t carried = 0;
+  for (std::size_t m = 0; m < store.size(); ++m) {
+    const auto it = before.find({store.gid[m], store.partner[m]});
+    if (it == before.end()) {
+      EXPECT_EQ(norm2(store.spring[m]), 0.0);
+      continue;
+    }
+    ++carried;
+    EXPECT_EQ(store.spring[m].x, it->second.x);
+    EXPECT_EQ(store.spring[m].y, it->second.y);
+    EXPECT_EQ(store.spring[m].z, it->second.z);
+  }
+  EXPECT_EQ(carried, before.size());
 }
 
 }  // namespace
