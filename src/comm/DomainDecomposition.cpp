@@ -471,7 +471,9 @@ void DomainDecomposition::build_ghosts(ParticleStore& p) {
   ghost_send_.assign(n_ranks, {});
   std::vector<std::vector<char>> send(n_ranks);
   std::vector<int> targets;
-  for (std::size_t k = 0; k < p.n_local(); ++k) {
+  // With one rank every block is this rank's: nobody to send a ghost to.
+  const std::size_t n_senders = n_ranks > 1 ? p.n_local() : 0;
+  for (std::size_t k = 0; k < n_senders; ++k) {
     targets.clear();
     for_each_neighbour_block(block_of(p.position[k]), [&](std::uint64_t key) {
       const auto it = owner_.find(key);

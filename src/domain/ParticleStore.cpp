@@ -34,7 +34,7 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   group[i] = p.group;
   motion[i] = p.motion;
   position_at_rebuild[i] = p.position;
-  index_[p.gid] = static_cast<std::uint32_t>(i);
+  index_.set(static_cast<std::uint32_t>(i), gid.data(), gid.size());
   return i;
 }
 
@@ -59,10 +59,9 @@ void ParticleStore::permute_local(const std::vector<std::size_t>& order) {
 }
 
 void ParticleStore::rebuild_index() {
-  index_.clear();
-  index_.reserve(n_total());
+  index_.reset(n_total());
   for (std::size_t i = 0; i < n_total(); ++i)
-    index_[gid[i]] = static_cast<std::uint32_t>(i);
+    index_.set(static_cast<std::uint32_t>(i), gid.data(), gid.size());
 }
 
 }  // namespace ringdem

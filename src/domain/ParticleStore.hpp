@@ -2,12 +2,12 @@
 
 #include <cstdint>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include "core/Motion.hpp"
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
+#include "domain/GidIndex.hpp"
 
 namespace ringdem {
 
@@ -143,8 +143,7 @@ class ParticleStore {
   void rebuild_index();
   /// Index of gid, or -1 when this rank holds no such particle.
   std::int64_t index_of(std::int64_t gid_value) const {
-    const auto it = index_.find(gid_value);
-    return it == index_.end() ? -1 : static_cast<std::int64_t>(it->second);
+    return index_.find(gid_value, gid.data(), gid.size());
   }
 
  private:
@@ -152,7 +151,7 @@ class ParticleStore {
 
   std::size_t n_local_ = 0;
   std::size_t n_ghost_ = 0;
-  std::unordered_map<std::int64_t, std::uint32_t> index_;
+  GidIndex index_;
 };
 
 }  // namespace ringdem

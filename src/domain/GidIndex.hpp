@@ -1,0 +1,77 @@
+#pragma once
+
+#include <bit>
+#include <cstdint>
+#include <vector>
+
+namespace ringdem {
+
+/// gid -> particle index: an open-addressing hash table (linear probing, power-of-two
+/// capacity, at most half full) of particle indices only; a slot's gid is read from the
+/// store's gid column, so the table costs 8 to 16 bytes a particle (a node-based
+/// std::unordered_map took about 60 and a heap allocation per insert). It is rebuilt whole at
+/// every neighbour-list rebuild and ghost exchange, so it needs no deletion.
+class GidIndex {
+ public:
+  /// Empties the table and sizes it for `n` entries.
+  void reset(std::size_t n) {
+    resize_table(std::bit_ceil(2 * n + 16));
+    size_ = 0;
+  }
+  /// Makes `index` the entry of gids[index] (a later index of the same gid replaces an earlier
+  /// one). `gids`, `n`: the store's gid column and its length (entries at n or beyond, left by
+  /// a store that shrank since the last reset, match no gid).
+  void set(std::uint32_t index, const std::int64_t* gids, std::size_t n) {
+    if (2 * (size_ + 1) > slots_.size()) grow(gids, n);
+    const std::int64_t gid = gids[index];
+    for (std::size_t i = home(gid);; i = (i + 1) & mask_) {
+      if (slots_[i] == kEmpty) {
+        slots_[i] = index;
+        ++size_;
+        return;
+      }
+      if (slots_[i] < n && gids[slots_[i]] == gid) {
+        slots_[i] = index;
+        return;
+      }
+    }
+  }
+  /// Index of gid, or -1 when absent.
+  std::int64_t find(std::int64_t gid, const std::int64_t* gids, std::size_t n) const {
+    if (slots_.empty()) return -1;
+    for (std::size_t i = home(gid);; i = (i + 1) & mask_) {
+      if (slots_[i] == kEmpty) return -1;
+      if (slots_[i] < n && gids[slots_[i]] == gid) return slots_[i];
+    }
+  }
+  std::size_t size() const { return size_; }
+
+ private:
+  static constexpr std::uint32_t kEmpty = UINT32_MAX;
+
+  /// Fibonacci hashing: the top bits of gid * 2^64/phi, so consecutive gids spread out.
+  std::size_t home(std::int64_t gid) const {
+    return static_cast<std::size_t>((static_cast<std::uint64_t>(gid) * 0x9e3779b97f4a7c15ull) >>
+                                    shift_);
+  }
+  void resize_table(std::size_t capacity) {
+    slots_.assign(capacity, kEmpty);
+    mask_ = capacity - 1;
+    shift_ = 64 - std::countr_zero(capacity);
+  }
+  void grow(const std::int64_t* gids, std::size_t n) {
+    std::vector<std::uint32_t> old;
+    old.swap(slots_);
+    resize_table(2 * old.size() + (old.empty() ? 16 : 0));
+    size_ = 0;
+    for (const std::uint32_t index : old)
+      if (index != kEmpty && index < n) set(index, gids, n);
+  }
+
+  std::vector<std::uint32_t> slots_;
+  std::size_t mask_ = 0;
+  int shift_ = 64;
+  std::size_t size_ = 0;
+};
+
+}  // namespace ringdem

@@ -1,0 +1,42 @@
+// The flat gid -> index table against std::unordered_map as the reference: sparse and dense
+// gids, growth past the initial size, a later index of a gid replacing the earlier one, and
+// stale entries of a shrunk column matching nothing.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <unordered_map>
+#include <vector>
+
+#include "domain/GidIndex.hpp"
+
+namespace ringdem {
+namespace {
+
+TEST(GidIndex, AgreesWithUnorderedMap) {
+  std::mt19937_64 rng(5);
+  std::vector<std::int64_t> gids;
+  for (int k = 0; k < 5000; ++k)
+    gids.push_back(k % 3 == 0 ? static_cast<std::int64_t>(rng() >> 2) : 7 * k);
+  for (int k = 0; k < 300; ++k)  // repeats: the later index wins
+    gids.push_back(gids[static_cast<std::size_t>(k * 11)]);
+  GidIndex index;
+  index.reset(100);  // sized too small: must grow
+  std::unordered_map<std::int64_t, std::int64_t> reference;
+  for (std::uint32_t i = 0; i < gids.size(); ++i) {
+    index.set(i, gids.data(), gids.size());
+    reference[gids[i]] = i;
+  }
+  EXPECT_EQ(index.size(), reference.size());
+  for (const auto& [gid, i] : reference)
+    EXPECT_EQ(index.find(gid, gids.data(), gids.size()), i) << "gid " << gid;
+  for (std::int64_t absent : {std::int64_t{1}, std::int64_t{8}, std::int64_t{7 * 5001}})
+    EXPECT_EQ(index.find(absent, gids.data(), gids.size()), -1);
+  // The column shrinks without a reset: entries past its end match nothing.
+  gids.resize(1000);
+  EXPECT_EQ(index.find(7 * 2000 + 7, gids.data(), gids.size()), -1);
+  EXPECT_EQ(index.find(gids[500], gids.data(), gids.size()),
+            reference.count(gids[500]) && reference[gids[500]] < 1000 ? reference[gids[500]] : -1);
+}
+
+}  // namespace
+}  // namespace ringdem
