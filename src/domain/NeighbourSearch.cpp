@@ -1,21 +1,12 @@
 #include "domain/NeighbourSearch.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 
 namespace ringdem {
 
 namespace {
-
-constexpr std::int64_t kCellBias = 1 << 20;  // 21 bits per axis
-
-inline std::uint64_t cell_key(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
-  return (static_cast<std::uint64_t>(cx + kCellBias) << 42) |
-         (static_cast<std::uint64_t>(cy + kCellBias) << 21) |
-         static_cast<std::uint64_t>(cz + kCellBias);
-}
 
 inline bool is_candidate(const ParticleStore& p, std::size_t n_local, double skin,
                          const PairExclusions& ex, std::uint32_t a, std::uint32_t b) {
@@ -33,78 +24,32 @@ void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclu
   out.clear();
   const std::size_t n = p.n_total();
   if (n == 0) return;
-  double r_max = 0.0;
-  constexpr double kBig = std::numeric_limits<double>::max();
-  Vec3 lo{kBig, kBig, kBig}, hi{-kBig, -kBig, -kBig};
-  for (std::size_t k = 0; k < n; ++k) {
-    r_max = std::max(r_max, p.radius[k]);
-    const Vec3& x = p.position[k];
-    lo = {std::min(lo.x, x.x), std::min(lo.y, x.y), std::min(lo.z, x.z)};
-    hi = {std::max(hi.x, x.x), std::max(hi.y, x.y), std::max(hi.z, x.z)};
+  // Levels of particle size: radii in [r_min 2^l, r_min 2^(l+1)) form level l, binned by
+  // cells of 2 r_max(l) + skin. A particle looks for partners in every level within its
+  // radius + that level's largest radius + skin: a grain scans 27 cells of each level, and a
+  // boulder many small cells of the grains' level, instead of every cell being sized by the
+  // boulder (where a single-level grid puts all grains near it in one cell).
+  double r_min = std::numeric_limits<double>::max();
+  for (std::size_t k = 0; k < n; ++k)
+    r_min = std::min(r_min, p.radius[k]);
+  constexpr std::size_t kMaxLevels = 16;
+  levels_.resize(kMaxLevels);  // kept between builds, so that their buffers are reused
+  for (Level& level : levels_) {
+    level.members.clear();
+    level.r_max = 0.0;
   }
-  const double h = 2.0 * r_max + skin;
-  const double inv_h = 1.0 / h;
-  const auto cell_of = [&](std::size_t k) {
-    const Vec3 rel = (p.position[k] - lo) * inv_h;
-    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(rel.x),
-                                       static_cast<std::int64_t>(rel.y),
-                                       static_cast<std::int64_t>(rel.z)};
-  };
-
-  // A dense grid (counting sort, array lookups) when the particles fill their bounding box;
-  // hashed cells when they are sparse in it (a net far from the boulder, a few grains far apart).
-  const double extent[3] = {std::floor((hi.x - lo.x) * inv_h) + 1.0,
-                            std::floor((hi.y - lo.y) * inv_h) + 1.0,
-                            std::floor((hi.z - lo.z) * inv_h) + 1.0};
-  dense_ = extent[0] * extent[1] * extent[2] <= 2.0 * static_cast<double>(n) + 64.0;
-  if (dense_) {
-    for (int d = 0; d < 3; ++d)
-      dims_[d] = static_cast<std::int64_t>(extent[d]);
-    const auto n_cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
-    cell_start_.assign(n_cells + 1, 0);
-    cell_of_particle_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const auto c = cell_of(k);
-      cell_of_particle_[k] = static_cast<std::uint32_t>((c[0] * dims_[1] + c[1]) * dims_[2] + c[2]);
-      ++cell_start_[cell_of_particle_[k] + 1];
-    }
-    for (std::size_t c = 0; c < n_cells; ++c)
-      cell_start_[c + 1] += cell_start_[c];
-    in_cells_.resize(n);
-    fill_ = cell_start_;
-    for (std::uint32_t k = 0; k < n; ++k)
-      in_cells_[fill_[cell_of_particle_[k]]++] = k;
-  } else {
-    keyed_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      const auto c = cell_of(k);
-      keyed_[k] = {cell_key(c[0], c[1], c[2]), static_cast<std::uint32_t>(k)};
-    }
-    std::sort(keyed_.begin(), keyed_.end());
-    cells_.clear();
-    cells_.reserve(n);
-    for (std::uint32_t s = 0; s < n;) {
-      std::uint32_t e = s + 1;
-      while (e < n && keyed_[e].first == keyed_[s].first)
-        ++e;
-      cells_.emplace(keyed_[s].first, std::make_pair(s, e));
-      s = e;
-    }
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const auto l =
+        std::min(kMaxLevels - 1, static_cast<std::size_t>(std::log2(p.radius[k] / r_min)));
+    levels_[l].members.push_back(k);
+    levels_[l].r_max = std::max(levels_[l].r_max, p.radius[k]);
   }
-  // Calls f(particle index) for every particle in cell (cx, cy, cz).
-  const auto for_each_in_cell = [&](std::int64_t cx, std::int64_t cy, std::int64_t cz, auto&& f) {
-    if (dense_) {
-      if (cx < 0 || cy < 0 || cz < 0 || cx >= dims_[0] || cy >= dims_[1] || cz >= dims_[2]) return;
-      const auto c = static_cast<std::size_t>((cx * dims_[1] + cy) * dims_[2] + cz);
-      for (std::uint32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s)
-        f(in_cells_[s]);
-      return;
+  active_.clear();
+  for (std::size_t l = 0; l < kMaxLevels; ++l)
+    if (!levels_[l].members.empty()) {
+      levels_[l].grid.build(p.position, levels_[l].members, 2.0 * levels_[l].r_max + skin);
+      active_.push_back(&levels_[l]);
     }
-    const auto it = cells_.find(cell_key(cx, cy, cz));
-    if (it == cells_.end()) return;
-    for (std::uint32_t s = it->second.first; s < it->second.second; ++s)
-      f(keyed_[s].second);
-  };
 
   // The pairs in ascending (gid of a, gid of b) order: a term that adds each pair's loads to
   // both ends in list order then gives every particle its contacts in ascending partner gid,
@@ -122,14 +67,13 @@ void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclu
 
   std::vector<std::uint32_t> partners;
   for (const std::uint32_t a : by_gid_) {
-    const auto c = cell_of(a);
     partners.clear();
-    for (std::int64_t dx = -1; dx <= 1; ++dx)
-      for (std::int64_t dy = -1; dy <= 1; ++dy)
-        for (std::int64_t dz = -1; dz <= 1; ++dz)
-          for_each_in_cell(c[0] + dx, c[1] + dy, c[2] + dz, [&](std::uint32_t b) {
-            if (is_candidate(p, n_local, skin, ex, a, b)) partners.push_back(b);
-          });
+    for (const Level* level : active_)
+      level->grid.for_each_near(p.position[a], p.radius[a] + level->r_max + skin,
+                                [&](std::uint32_t b) {
+                                  if (is_candidate(p, n_local, skin, ex, a, b))
+                                    partners.push_back(b);
+                                });
     std::sort(partners.begin(), partners.end(), by_gid);
     for (const std::uint32_t b : partners) {
       out.i.push_back(a);

@@ -1,10 +1,10 @@
 #pragma once
 
 #include <cstdint>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
+#include "domain/CellGrid.hpp"
 #include "domain/ParticleStore.hpp"
 
 namespace ringdem {
@@ -32,26 +32,26 @@ struct PairExclusions {
   }
 };
 
-/// Cell-grid neighbour search with a Verlet skin. A pair is a candidate when the centre
-/// distance is below r_i + r_j + skin, at least one of the two is owned, and it is not
-/// excluded. The cells are a dense grid when the particles fill their bounding box, hashed
-/// when they are sparse in it, so a sparse or very large domain costs nothing extra.
+/// Cell-grid neighbour search with a Verlet skin, one grid per level of particle size
+/// (CellGrid: dense or hashed). A pair is a candidate when the centre distance is below
+/// r_i + r_j + skin, at least one of the two is owned, and it is not excluded.
 class NeighbourSearch {
  public:
   void build(const ParticleStore& p, double skin, const PairExclusions& exclusions,
              PairCandidates& out);
-  /// Whether the last build used the dense grid (else hashed cells).
-  bool used_dense_grid() const { return dense_; }
+  /// The size levels of the last build, and whether a level's grid was dense (else hashed).
+  std::size_t n_levels() const { return active_.size(); }
+  bool used_dense_grid(std::size_t level = 0) const { return active_.at(level)->grid.dense(); }
 
  private:
-  // Dense grid: particle indices by cell (counting sort), cell ranges, the grid's dimensions.
-  bool dense_ = false;
-  std::int64_t dims_[3] = {0, 0, 0};
-  std::vector<std::uint32_t> cell_start_, fill_, cell_of_particle_, in_cells_;
-  // Hashed cells: (cell key, particle index) sorted, and each key's range.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed_;
+  struct Level {
+    std::vector<std::uint32_t> members;
+    double r_max = 0.0;  ///< largest radius of the level
+    CellGrid grid;
+  };
+  std::vector<Level> levels_;         ///< by level number: radii in [r_min 2^l, r_min 2^(l+1))
+  std::vector<const Level*> active_;  ///< the levels with members, finest first
   std::vector<std::uint32_t> by_gid_;
-  std::unordered_map<std::uint64_t, std::pair<std::uint32_t, std::uint32_t>> cells_;
 };
 
 /// O(N^2) reference with the same criterion, for tests.

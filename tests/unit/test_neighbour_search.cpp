@@ -77,6 +77,36 @@ TEST(NeighbourSearch, DenseGridEqualsBruteForce) {
               std::make_pair(p.gid[cells.i[m]], p.gid[cells.j[m]]));
 }
 
+// Grains of 2-100 mm and two 0.3 m boulders: five size levels, each with its own cells. The
+// boulders' neighbours are found by scanning the grains' small cells; the pairs must be those
+// of the O(N^2) search, in (gid, gid) order.
+TEST(NeighbourSearch, SizeLevelsEqualBruteForce) {
+  ParticleStore p = random_cloud(3000, 0.5, 0.002, 0.1, 9);
+  for (int k = 0; k < 2; ++k) {
+    ParticleStore::NewParticle boulder;
+    boulder.gid = 5 + 100000 * k;  // one below every grain's gid, one above
+    boulder.position = {0.15 + 0.2 * k, 0.25, 0.25};
+    boulder.radius = 0.3;
+    boulder.density = 2600.0;
+    p.add(boulder);
+  }
+  p.rebuild_index();
+  NeighbourSearch search;
+  PairCandidates cells;
+  search.build(p, 0.001, PairExclusions{}, cells);
+  EXPECT_GE(search.n_levels(), 5u);
+  const PairCandidates brute = brute_force_pairs(p, 0.001, PairExclusions{});
+  std::size_t with_boulder = 0;
+  for (std::size_t m = 0; m < brute.size(); ++m)
+    with_boulder += p.radius[brute.i[m]] == 0.3 || p.radius[brute.j[m]] == 0.3;
+  ASSERT_GT(with_boulder, 50u);
+  EXPECT_EQ(cells.size(), brute.size());
+  EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
+  for (std::size_t m = 1; m < cells.size(); ++m)
+    EXPECT_LT(std::make_pair(p.gid[cells.i[m - 1]], p.gid[cells.j[m - 1]]),
+              std::make_pair(p.gid[cells.i[m]], p.gid[cells.j[m]]));
+}
+
 // Ghosts: pairs of two ghosts are never candidates; owned–ghost pairs are.
 TEST(NeighbourSearch, SkipsGhostGhostPairs) {
   ParticleStore p = random_cloud(600, 0.08, 0.003, 0.003, 7);

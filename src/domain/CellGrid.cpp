@@ -1,0 +1,63 @@
+#include "domain/CellGrid.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace ringdem {
+
+void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::uint32_t>& members,
+                     double h) {
+  inv_h_ = 1.0 / h;
+  constexpr double kBig = std::numeric_limits<double>::max();
+  Vec3 lo{kBig, kBig, kBig}, hi{-kBig, -kBig, -kBig};
+  for (const std::uint32_t k : members) {
+    const Vec3& x = position[k];
+    lo = {std::min(lo.x, x.x), std::min(lo.y, x.y), std::min(lo.z, x.z)};
+    hi = {std::max(hi.x, x.x), std::max(hi.y, x.y), std::max(hi.z, x.z)};
+  }
+  lo_ = lo;
+  const std::size_t n = members.size();
+  const double extent[3] = {std::floor((hi.x - lo.x) * inv_h_) + 1.0,
+                            std::floor((hi.y - lo.y) * inv_h_) + 1.0,
+                            std::floor((hi.z - lo.z) * inv_h_) + 1.0};
+  dense_ = n > 0 && extent[0] * extent[1] * extent[2] <= 2.0 * static_cast<double>(n) + 64.0;
+  cells_.clear();
+  keyed_.clear();
+  if (dense_) {
+    for (int d = 0; d < 3; ++d)
+      dims_[d] = static_cast<std::int64_t>(extent[d]);
+    const auto n_cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
+    cell_start_.assign(n_cells + 1, 0);
+    cell_of_member_.resize(n);
+    for (std::size_t m = 0; m < n; ++m) {
+      const Vec3& x = position[members[m]];
+      const std::int64_t c =
+          (cell(x.x, lo_.x) * dims_[1] + cell(x.y, lo_.y)) * dims_[2] + cell(x.z, lo_.z);
+      cell_of_member_[m] = static_cast<std::uint32_t>(c);
+      ++cell_start_[static_cast<std::size_t>(c) + 1];
+    }
+    for (std::size_t c = 0; c < n_cells; ++c)
+      cell_start_[c + 1] += cell_start_[c];
+    in_cells_.resize(n);
+    fill_ = cell_start_;
+    for (std::size_t m = 0; m < n; ++m)
+      in_cells_[fill_[cell_of_member_[m]]++] = members[m];
+    return;
+  }
+  keyed_.resize(n);
+  for (std::size_t m = 0; m < n; ++m) {
+    const Vec3& x = position[members[m]];
+    keyed_[m] = {key(cell(x.x, lo_.x), cell(x.y, lo_.y), cell(x.z, lo_.z)), members[m]};
+  }
+  std::sort(keyed_.begin(), keyed_.end());
+  cells_.reserve(n);
+  for (std::uint32_t s = 0; s < n;) {
+    std::uint32_t e = s + 1;
+    while (e < n && keyed_[e].first == keyed_[s].first)
+      ++e;
+    cells_.emplace(keyed_[s].first, std::make_pair(s, e));
+    s = e;
+  }
+}
+
+}  // namespace ringdem

@@ -1,0 +1,88 @@
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "core/Vec3.hpp"
+
+namespace ringdem {
+
+/// Particles binned by cubic cells of one size: a dense grid (counting sort, array lookups)
+/// when they fill their bounding box, hashed cells when they are sparse in it (a net far from
+/// its boulder, a few grains far apart), so a sparse or very large domain costs nothing extra.
+class CellGrid {
+ public:
+  /// Bins `members` (particle indices into `position`) by cells of edge `h`.
+  void build(const std::vector<Vec3>& position, const std::vector<std::uint32_t>& members,
+             double h);
+  /// Calls f(index) for every member in a cell that meets the cube [x - reach, x + reach].
+  template <class F>
+  void for_each_near(const Vec3& x, double reach, F&& f) const;
+  bool dense() const { return dense_; }
+
+ private:
+  std::int64_t cell(double coordinate, double origin) const {
+    return static_cast<std::int64_t>(std::floor((coordinate - origin) * inv_h_));
+  }
+  static std::uint64_t key(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
+    constexpr std::int64_t kBias = std::int64_t{1} << 20;  // 21 bits per axis
+    return (static_cast<std::uint64_t>(cx + kBias) << 42) |
+           (static_cast<std::uint64_t>(cy + kBias) << 21) | static_cast<std::uint64_t>(cz + kBias);
+  }
+
+  Vec3 lo_;
+  double inv_h_ = 1.0;
+  bool dense_ = false;
+  std::int64_t dims_[3] = {0, 0, 0};
+  // Dense: members by cell, and each cell's range.
+  std::vector<std::uint32_t> cell_start_, fill_, cell_of_member_, in_cells_;
+  // Hashed: (cell key, member) sorted, and each key's range.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed_;
+  std::unordered_map<std::uint64_t, std::pair<std::uint32_t, std::uint32_t>> cells_;
+};
+
+template <class F>
+void CellGrid::for_each_near(const Vec3& x, double reach, F&& f) const {
+  std::int64_t lo[3] = {cell(x.x - reach, lo_.x), cell(x.y - reach, lo_.y),
+                        cell(x.z - reach, lo_.z)};
+  std::int64_t hi[3] = {cell(x.x + reach, lo_.x), cell(x.y + reach, lo_.y),
+                        cell(x.z + reach, lo_.z)};
+  if (dense_) {
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::max<std::int64_t>(lo[d], 0);
+      hi[d] = std::min<std::int64_t>(hi[d], dims_[d] - 1);
+      if (lo[d] > hi[d]) return;
+    }
+    for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx)
+      for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy) {
+        const std::int64_t row = (cx * dims_[1] + cy) * dims_[2];
+        for (std::uint32_t s = cell_start_[static_cast<std::size_t>(row + lo[2])];
+             s < cell_start_[static_cast<std::size_t>(row + hi[2] + 1)]; ++s)
+          f(in_cells_[s]);
+      }
+    return;
+  }
+  // Hashed: a box of more cells than are occupied (a large particle searching small ones)
+  // visits the members instead.
+  const double box = static_cast<double>(hi[0] - lo[0] + 1) *
+                     static_cast<double>(hi[1] - lo[1] + 1) *
+                     static_cast<double>(hi[2] - lo[2] + 1);
+  if (box > static_cast<double>(cells_.size())) {
+    for (const auto& [k, member] : keyed_)
+      f(member);
+    return;
+  }
+  for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx)
+    for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy)
+      for (std::int64_t cz = lo[2]; cz <= hi[2]; ++cz) {
+        const auto it = cells_.find(key(cx, cy, cz));
+        if (it == cells_.end()) continue;
+        for (std::uint32_t s = it->second.first; s < it->second.second; ++s)
+          f(keyed_[s].second);
+      }
+}
+
+}  // namespace ringdem
