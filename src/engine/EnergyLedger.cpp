@@ -1,5 +1,7 @@
 #include "engine/EnergyLedger.hpp"
 
+#include <algorithm>
+
 namespace ringdem {
 
 void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
@@ -8,6 +10,7 @@ void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
   record_of_slot_.assign(n_slots, static_cast<std::uint32_t>(ledger_slots.size()));
   for (std::size_t e = 0; e < ledger_slots.size(); ++e)
     record_of_slot_[ledger_slots[e]] = static_cast<std::uint32_t>(e);
+  active_valid_ = false;  // particle indices may have changed
 }
 
 void EnergyLedger::begin_step(std::size_t n_local) {
@@ -44,17 +47,36 @@ void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bo
   };
   const std::size_t n_local = p.n_local();
   const bool have_moments = touched_.size() == n_local;  // begin_step() ran on this store
-  // Every owned particle, every step: one without contacts gets zero power, and a tangential
-  // spring energy still booked to it (its contact gone) is released as friction below.
-  for (std::size_t i = 0, d = 0, k = 0; k < n_local; ++k) {
+  // A particle with no load to book now and nothing booked last step keeps its tallies bit
+  // for bit, so only the particles with contacts or records now, the driven ones, and those
+  // that had a nonzero power or energy after the last step (the active list) are visited.
+  // After a rebuild (indices changed) and whenever that union is not small, every owned
+  // particle is, in index order; the test below then skips the idle ones.
+  const auto idle = [&p](std::size_t k) {
+    return p.power_damping[k] == 0.0 && p.power_friction[k] == 0.0 && p.power_boundary[k] == 0.0 &&
+           p.tangential_energy[k] == 0.0 && p.contact_energy[k] == 0.0;
+  };
+  visit_.clear();
+  const std::size_t listed =
+      (have_moments ? touched_list_.size() : 0) + particles.size() + driven.size() + active_.size();
+  const bool scan_all = !active_valid_ || active_n_local_ != n_local || 4 * listed > n_local;
+  if (!scan_all) {
+    if (have_moments) visit_.insert(visit_.end(), touched_list_.begin(), touched_list_.end());
+    visit_.insert(visit_.end(), particles.begin(), particles.end());
+    for (const auto& x : driven)
+      visit_.push_back(x.particle);
+    visit_.insert(visit_.end(), active_.begin(), active_.end());
+    std::sort(visit_.begin(), visit_.end());
+    visit_.erase(std::unique(visit_.begin(), visit_.end()), visit_.end());
+  }
+  active_.clear();
+  const std::size_t n_visit = scan_all ? n_local : visit_.size();
+  for (std::size_t i = 0, d = 0, v_index = 0; v_index < n_visit; ++v_index) {
+    const std::size_t k = scan_all ? v_index : visit_[v_index];
     const bool has_moments = have_moments && touched_[k] != 0;
     const bool has_records = i < particles.size() && particles[i] == k;
     const bool is_driven = d < driven.size() && driven[d].particle == k;
-    // Nothing to book and nothing booked last step: the tallies stay as they are, bit for bit.
-    if (!has_moments && !has_records && !is_driven && p.power_damping[k] == 0.0 &&
-        p.power_friction[k] == 0.0 && p.power_boundary[k] == 0.0 && p.tangential_energy[k] == 0.0 &&
-        p.contact_energy[k] == 0.0)
-      continue;
+    if (!has_moments && !has_records && !is_driven && idle(k)) continue;
     const Vec3 v = p.velocity[k];
     const Vec3 w = p.omega[k];
     double damping = 0.0, friction = 0.0, boundary = 0.0, tangential = 0.0, elastic = 0.0;
@@ -102,7 +124,10 @@ void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bo
     if (!initial) p.dissipated_friction[k] -= tangential - p.tangential_energy[k];
     p.tangential_energy[k] = tangential;
     p.contact_energy[k] = elastic;  // summed in a fixed order: the same bits on any rank count
+    if (!idle(k)) active_.push_back(static_cast<std::uint32_t>(k));
   }
+  active_valid_ = true;
+  active_n_local_ = n_local;
   // External forces: F_ext . (x^{n+1} - x^n), exact for a constant force.
   if (!initial)
     for (const auto& x : gather.external_powers())

@@ -74,6 +74,12 @@ class EnergyLedger {
   std::vector<ContactMoments> moments_;      ///< valid where touched_
   std::vector<std::uint8_t> touched_;        ///< moments_[k] written in this evaluation
   std::vector<std::uint32_t> touched_list_;  ///< the k with touched_[k], to clear them
+  /// Owned particles with a nonzero last power or contact energy after the last accumulate(),
+  /// valid until a rebuild changes the indices.
+  std::vector<std::uint32_t> active_;
+  bool active_valid_ = false;
+  std::size_t active_n_local_ = 0;
+  std::vector<std::uint32_t> visit_;  ///< scratch: the particles accumulate() visits
 };
 
 }  // namespace ringdem

@@ -158,7 +158,7 @@ struct PairCollision {
   double damping = 0.0, friction = 0.0, lost = 0.0;
 };
 
-PairCollision oblique_collision(double dt_fraction) {
+PairCollision oblique_collision(double dt_fraction, int idle_spheres = 0) {
   CaseConfig c = testing::base_case();
   c.simulation.gravity = {0, 0, 0};
   c.materials[0].restitution = 0.5;
@@ -171,6 +171,11 @@ PairCollision oblique_collision(double dt_fraction) {
   b.velocity = {-v0, 0, 0};
   b.omega = {50.0, -80.0, 0};
   c.spheres = {a, b};
+  for (int k = 0; k < idle_spheres; ++k) {  // at rest, far apart: they never touch
+    SphereConfig idle;
+    idle.position = {0.0, 0.1 + 0.02 * k, 0.0};
+    c.spheres.push_back(idle);
+  }
   const Communicator comm = self_comm();
   const double dt = Simulation(build_model(c, comm), comm, settings(c, 0.0)).dt() * dt_fraction;
   Simulation sim(build_model(c, comm), comm, settings(c, dt));
@@ -207,6 +212,20 @@ TEST(EnergyLedger, ObliqueSpinningPairCollisionCloses) {
   const double ratio = coarse.worst_balance / fine.worst_balance;  // measured 1.86
   EXPECT_GT(ratio, 1.5);
   EXPECT_LT(ratio, 2.5);
+}
+
+// With 200 idle spheres beside the colliding pair, the ledger visits only the particles with
+// contacts or a nonzero last power or contact energy (EnergyLedger's active list), not every
+// particle; the idle ones add nothing, so every tally must be the same bits as with the pair
+// alone, where every particle is visited. The pair's spring energy is released as friction
+// when it separates, which needs the visit of a particle that no longer touches.
+TEST(EnergyLedger, IdleParticlesAreSkippedWithoutChangingTheTallies) {
+  const PairCollision alone = oblique_collision(1.0);
+  const PairCollision crowd = oblique_collision(1.0, 200);
+  EXPECT_EQ(crowd.damping, alone.damping);
+  EXPECT_EQ(crowd.friction, alone.friction);
+  EXPECT_EQ(crowd.lost, alone.lost);
+  EXPECT_EQ(crowd.worst_balance, alone.worst_balance);
 }
 
 // A sphere sliding on a plane (friction 0.3, no damping: restitution 1) slows and spins up
