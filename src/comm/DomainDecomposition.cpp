@@ -109,21 +109,27 @@ int DomainDecomposition::owner_of(const Vec3& x) const {
 }
 
 std::vector<DomainDecomposition::BlockLoad> DomainDecomposition::global_blocks(
-    const ParticleStore& p, const BondStore& bonds) const {
+    const ParticleStore& p, const std::vector<PairStore>& stores) const {
   std::unordered_map<std::uint64_t, BlockLoad> local;
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     const std::uint64_t key = block_of(p.position[k]);
     auto [it, inserted] = local.try_emplace(key, BlockLoad{key, 0, 0, comm_.rank()});
     ++it->second.particles;
   }
-  // A bond counts in the block of its end a (when this rank owns that end).
-  for (std::size_t b = 0; b < bonds.size(); ++b) {
-    if (!bonds.counted_here(p, b)) continue;
-    ++local[block_of(p.position[static_cast<std::size_t>(p.index_of(bonds.gid_a[b]))])].bonds;
-  }
+  // A row of a weighing store (a bond) counts in the block of its first end, on the rank that
+  // counts it.
+  for (const PairStore& handle : stores)
+    visit_store(handle, [&](const auto& s) {
+      if (!std::remove_cvref_t<decltype(s)>::kWeighsBlocks) return;
+      for (std::size_t r = 0; r < s.size(); ++r) {
+        if (!counted_here(p, s, r)) continue;
+        const auto a = static_cast<std::size_t>(p.index_of(s.ends(r)[0]));
+        ++local[block_of(p.position[a])].rows;
+      }
+    });
   std::vector<BlockLoad> mine;
   for (const auto& [key, load] : local)
-    mine.push_back({key, load.particles, load.bonds, load.rank});
+    mine.push_back({key, load.particles, load.rows, load.rank});
   std::vector<BlockLoad> all = comm_.allgather(mine);
   std::sort(all.begin(), all.end(), [](const BlockLoad& a, const BlockLoad& b) {
     return a.key < b.key || (a.key == b.key && a.rank < b.rank);
@@ -132,7 +138,7 @@ std::vector<DomainDecomposition::BlockLoad> DomainDecomposition::global_blocks(
   for (const auto& b : all) {
     if (!merged.empty() && merged.back().key == b.key) {
       merged.back().particles += b.particles;
-      merged.back().bonds += b.bonds;
+      merged.back().rows += b.rows;
     } else {
       merged.push_back(b);
     }
@@ -152,7 +158,7 @@ void DomainDecomposition::partition(const std::vector<BlockLoad>& blocks) {
     std::vector<idx_t> xadj{0}, adjncy, adjwgt, vwgt;
     for (idx_t v = 0; v < n; ++v) {
       const BlockLoad& b = blocks[static_cast<std::size_t>(v)];
-      vwgt.push_back(static_cast<idx_t>(b.particles + b.bonds) + 1);
+      vwgt.push_back(static_cast<idx_t>(b.particles + b.rows) + 1);
       for_each_neighbour_block(b.key, [&](std::uint64_t other) {
         const auto it = index.find(other);
         if (it == index.end() || it->second == v) return;
@@ -274,44 +280,42 @@ std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
   return out;
 }
 
-void DomainDecomposition::distribute_initial(ParticleStore& p, BondStore& bonds,
-                                             const std::vector<ContactSpringStore*>& springs) {
+void DomainDecomposition::distribute_initial(ParticleStore& p,
+                                             const std::vector<PairStore>& stores) {
   p.resize_ghosts(0);
   p.rebuild_index();
-  partition(global_blocks(p, bonds));
+  partition(global_blocks(p, stores));
   std::vector<int> owner(p.n_local());
   for (std::size_t k = 0; k < p.n_local(); ++k)
     owner[k] = owner_of(p.position[k]);
-  // The owners of every particle a held bond or spring names, from wherever it is.
+  // The owners of every particle a held row names, from wherever it is (a partner that is no
+  // particle goes where the first end goes).
   std::vector<std::int64_t> named;
-  for (std::size_t b = 0; b < bonds.size(); ++b) {
-    named.push_back(bonds.gid_a[b]);
-    named.push_back(bonds.gid_b[b]);
-  }
-  for (const ContactSpringStore* s : springs)
-    for (std::size_t h = 0; h < s->size(); ++h) {
-      named.push_back(s->gid[h]);
-      named.push_back(s->partner_is_particle() ? s->partner[h] : s->gid[h]);
-    }
+  for (const PairStore& handle : stores)
+    visit_store(handle, [&](const auto& s) {
+      for (std::size_t r = 0; r < s.size(); ++r) {
+        const auto ends = s.ends(r);
+        named.push_back(ends[0]);
+        named.push_back(ends[1] >= 0 ? ends[1] : ends[0]);
+      }
+    });
   const std::vector<int> named_owner = owners_of_gids(p, owner, named);
   Destinations to;
   to.particle = std::move(owner);
-  to.bond.resize(bonds.size());
   std::size_t next = 0;
-  for (std::size_t b = 0; b < bonds.size(); ++b, next += 2)
-    to.bond[b] = {named_owner[next], named_owner[next + 1]};
-  for (const ContactSpringStore* s : springs) {
-    auto& rows = to.springs.emplace_back(s->size());
-    for (std::size_t h = 0; h < s->size(); ++h, next += 2)
-      rows[h] = {named_owner[next], named_owner[next + 1]};
+  for (const PairStore& handle : stores) {
+    auto& rows = to.rows.emplace_back(visit_store(handle, [](const auto& s) { return s.size(); }));
+    for (auto& row : rows) {
+      row = {named_owner[next], named_owner[next + 1]};
+      next += 2;
+    }
   }
-  migrate(p, bonds, springs, to);
+  migrate(p, stores, to);
 }
 
-void DomainDecomposition::redistribute(ParticleStore& p, BondStore& bonds,
-                                       const std::vector<ContactSpringStore*>& springs) {
+void DomainDecomposition::redistribute(ParticleStore& p, const std::vector<PairStore>& stores) {
   p.rebuild_index();
-  const auto blocks = global_blocks(p, bonds);
+  const auto blocks = global_blocks(p, stores);
   if (imbalance(p) > imbalance_threshold_) {
     partition(blocks);
   } else {
@@ -329,70 +333,55 @@ void DomainDecomposition::redistribute(ParticleStore& p, BondStore& bonds,
   };
   Destinations to;
   to.particle.assign(owner.begin(), owner.begin() + static_cast<std::ptrdiff_t>(p.n_local()));
-  to.bond.resize(bonds.size());
-  for (std::size_t b = 0; b < bonds.size(); ++b)
-    to.bond[b] = {owner_of_gid(bonds.gid_a[b]), owner_of_gid(bonds.gid_b[b])};
-  for (const ContactSpringStore* s : springs) {
-    auto& rows = to.springs.emplace_back(s->size());
-    for (std::size_t h = 0; h < s->size(); ++h) {
-      const int oa = owner_of_gid(s->gid[h]);
-      rows[h] = {oa, s->partner_is_particle() ? owner_of_gid(s->partner[h]) : oa};
-    }
-  }
-  migrate(p, bonds, springs, to);
+  for (const PairStore& handle : stores)
+    visit_store(handle, [&](const auto& s) {
+      auto& rows = to.rows.emplace_back(s.size());
+      for (std::size_t r = 0; r < s.size(); ++r) {
+        const auto ends = s.ends(r);
+        const int oa = owner_of_gid(ends[0]);
+        rows[r] = {oa, ends[1] >= 0 ? owner_of_gid(ends[1]) : oa};
+      }
+    });
+  migrate(p, stores, to);
 }
 
-void DomainDecomposition::migrate(ParticleStore& p, BondStore& bonds,
-                                  const std::vector<ContactSpringStore*>& springs,
+void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>& stores,
                                   const Destinations& to) {
   const int me = comm_.rank();
   const int n_ranks = comm_.size();
-  // Particles, bonds and spring rows to send, one buffer of each per rank.
   const unsigned migrate = field_flag::kMigrate;
+  // Particles: one buffer per rank.
   std::vector<std::vector<char>> send_p(static_cast<std::size_t>(n_ranks));
-  std::vector<std::vector<char>> send_b(static_cast<std::size_t>(n_ranks));
-  std::vector<std::vector<char>> send_h(static_cast<std::size_t>(n_ranks));
   std::vector<char> keep(p.n_local());
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     keep[k] = to.particle[k] == me;
     if (!keep[k]) pack_fields(p, k, migrate, send_p[static_cast<std::size_t>(to.particle[k])]);
   }
-  std::vector<char> keep_bond(bonds.size());
-  for (std::size_t b = 0; b < bonds.size(); ++b) {
-    const auto [oa, ob] = to.bond[b];
-    keep_bond[b] = oa == me || ob == me;
-    if (oa >= 0 && oa != me) pack_fields(bonds, b, migrate, send_b[static_cast<std::size_t>(oa)]);
-    if (ob >= 0 && ob != me && ob != oa)
-      pack_fields(bonds, b, migrate, send_b[static_cast<std::size_t>(ob)]);
-  }
-  // Spring rows of all stores in one exchange: per rank, each store's row count, then its rows.
-  std::vector<std::vector<char>> keep_spring(springs.size());
+  // Rows of all pair stores in one exchange: per rank, each store's row count, then its rows.
+  // A row goes to each owner of its ends (once when both are the same rank).
+  std::vector<std::vector<char>> send_rows(static_cast<std::size_t>(n_ranks));
   for (std::size_t r = 0; r < static_cast<std::size_t>(n_ranks); ++r) {
-    std::vector<std::uint64_t> counts(springs.size(), 0);
+    std::vector<std::uint64_t> counts(stores.size(), 0);
     std::vector<char> rows;
-    for (std::size_t s = 0; s < springs.size(); ++s)
-      for (std::size_t h = 0; h < springs[s]->size(); ++h) {
-        const auto [oa, ob] = to.springs[s][h];
-        if (static_cast<int>(r) == me || (oa != static_cast<int>(r) && ob != static_cast<int>(r)))
-          continue;
-        ++counts[s];
-        pack_fields(*springs[s], h, migrate, rows);
-      }
+    if (static_cast<int>(r) != me)
+      for (std::size_t s = 0; s < stores.size(); ++s)
+        visit_store(stores[s], [&](auto& store) {
+          for (std::size_t h = 0; h < store.size(); ++h) {
+            const auto [oa, ob] = to.rows[s][h];
+            if (oa != static_cast<int>(r) && ob != static_cast<int>(r)) continue;
+            ++counts[s];
+            pack_fields(store, h, migrate, rows);
+          }
+        });
     const char* c = reinterpret_cast<const char*>(counts.data());
-    send_h[r].assign(c, c + counts.size() * sizeof(std::uint64_t));
-    send_h[r].insert(send_h[r].end(), rows.begin(), rows.end());
-  }
-  for (std::size_t s = 0; s < springs.size(); ++s) {
-    keep_spring[s].resize(springs[s]->size());
-    for (std::size_t h = 0; h < springs[s]->size(); ++h)
-      keep_spring[s][h] = to.springs[s][h][0] == me || to.springs[s][h][1] == me;
+    send_rows[r].assign(c, c + counts.size() * sizeof(std::uint64_t));
+    send_rows[r].insert(send_rows[r].end(), rows.begin(), rows.end());
   }
 
   std::vector<int> counts;
   const std::vector<char> recv_p = comm_.alltoall_bytes(send_p, counts);
-  const std::vector<char> recv_b = comm_.alltoall_bytes(send_b, counts);
-  std::vector<int> spring_bytes;
-  const std::vector<char> recv_h = comm_.alltoall_bytes(send_h, spring_bytes);
+  std::vector<int> row_bytes;
+  const std::vector<char> recv_rows = comm_.alltoall_bytes(send_rows, row_bytes);
 
   // Particles: drop ghosts and emigrants, append immigrants.
   p.resize_ghosts(0);
@@ -404,55 +393,34 @@ void DomainDecomposition::migrate(ParticleStore& p, BondStore& bonds,
   for (std::size_t k = 0; k < n_in; ++k)
     data = unpack_fields(p, n_kept + k, migrate, data);
 
-  // Bonds: keep those with an end here, add arrivals not already held.
-  std::size_t n_bonds = compact(bonds, keep_bond, bonds.size());
-  std::set<std::pair<std::int64_t, std::int64_t>> held;
-  for (std::size_t b = 0; b < n_bonds; ++b)
-    held.emplace(bonds.gid_a[b], bonds.gid_b[b]);
-  const std::size_t b_size = record_size(bonds, migrate);
-  const std::size_t nb_in = recv_b.size() / b_size;
-  data = recv_b.data();
-  for (std::size_t k = 0; k < nb_in; ++k) {
-    bonds.for_each_field([&](const FieldInfo&, auto& v) { v.resize(n_bonds + 1); });
-    data = unpack_fields(bonds, n_bonds, migrate, data);
-    if (held.emplace(bonds.gid_a[n_bonds], bonds.gid_b[n_bonds]).second) ++n_bonds;
-  }
-  bonds.for_each_field([&](const FieldInfo&, auto& v) { v.resize(n_bonds); });
-  // Bonds in canonical (gid pair) order: storage then does not depend on arrival order.
-  {
-    std::vector<std::size_t> order(n_bonds);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-      return std::tie(bonds.gid_a[x], bonds.gid_b[x]) < std::tie(bonds.gid_a[y], bonds.gid_b[y]);
+  // Rows: keep those with an end here, append the arrivals, and let each store settle them
+  // (a bond store drops duplicates and restores its canonical order).
+  std::vector<std::size_t> first_arrival(stores.size());
+  for (std::size_t s = 0; s < stores.size(); ++s)
+    visit_store(stores[s], [&](auto& store) {
+      std::vector<char> keep_row(store.size());
+      for (std::size_t h = 0; h < store.size(); ++h)
+        keep_row[h] = to.rows[s][h][0] == me || to.rows[s][h][1] == me;
+      store.keep_rows(keep_row);
+      first_arrival[s] = store.size();
     });
-    bonds.for_each_field([&](const FieldInfo&, auto& v) {
-      auto old = v;
-      for (std::size_t m = 0; m < order.size(); ++m)
-        v[m] = old[order[m]];
-    });
-  }
-  bonds.index_a.assign(n_bonds, 0);
-  bonds.index_b.assign(n_bonds, 0);
-
-  // Springs: kept rows plus arrivals (duplicates from the two old owners are identical; the
-  // terms look rows up by key, so their order does not matter).
-  for (std::size_t s = 0; s < springs.size(); ++s)
-    springs[s]->keep_rows(keep_spring[s]);
-  data = recv_h.data();
-  for (int r = 0; r < n_ranks && !springs.empty(); ++r) {
-    const char* const end = data + spring_bytes[static_cast<std::size_t>(r)];
-    std::vector<std::uint64_t> n_rows(springs.size());
+  data = recv_rows.data();
+  for (int r = 0; r < n_ranks && !stores.empty(); ++r) {
+    const char* const end = data + row_bytes[static_cast<std::size_t>(r)];
+    std::vector<std::uint64_t> n_rows(stores.size());
     std::memcpy(static_cast<void*>(n_rows.data()), data, n_rows.size() * sizeof(std::uint64_t));
     data += n_rows.size() * sizeof(std::uint64_t);
-    for (std::size_t s = 0; s < springs.size(); ++s) {
-      ContactSpringStore& store = *springs[s];
-      for (std::uint64_t k = 0; k < n_rows[s]; ++k) {
-        store.resize(store.size() + 1);
-        data = unpack_fields(store, store.size() - 1, migrate, data);
-      }
-    }
-    if (data != end) throw std::logic_error("spring migration: message size mismatch");
+    for (std::size_t s = 0; s < stores.size(); ++s)
+      visit_store(stores[s], [&](auto& store) {
+        for (std::uint64_t k = 0; k < n_rows[s]; ++k) {
+          store.resize(store.size() + 1);
+          data = unpack_fields(store, store.size() - 1, migrate, data);
+        }
+      });
+    if (data != end) throw std::logic_error("row migration: message size mismatch");
   }
+  for (std::size_t s = 0; s < stores.size(); ++s)
+    visit_store(stores[s], [&](auto& store) { store.settle_arrivals(first_arrival[s]); });
 
   // Owned particles in gid order, so the local layout is the same for any history of moves.
   {

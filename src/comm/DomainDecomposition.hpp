@@ -7,7 +7,7 @@
 
 #include "comm/Communicator.hpp"
 #include "domain/BondStore.hpp"
-#include "domain/ContactSpringStore.hpp"
+#include "domain/PairStore.hpp"
 #include "domain/ParticleStore.hpp"
 
 namespace ringdem {
@@ -30,15 +30,13 @@ class DomainDecomposition {
   /// the owner of its block, every bond and spring row to the owners of its particles
   /// (found through a gid directory spread over the ranks), and builds the ghost layer.
   /// No rank ever holds more than its own items and what it receives.
-  void distribute_initial(ParticleStore& p, BondStore& bonds,
-                          const std::vector<ContactSpringStore*>& springs);
+  void distribute_initial(ParticleStore& p, const std::vector<PairStore>& stores);
 
   /// Migration at a neighbour-list rebuild: owned particles move to the owner of their
   /// block (repartitioning first when the imbalance exceeds the threshold), bonds to every
   /// rank owning an end, spring rows to the owners of their particles; then the ghost layer is
-  /// rebuilt. Each store of `springs` holds this rank's rows on entry, the new ones on exit.
-  void redistribute(ParticleStore& p, BondStore& bonds,
-                    const std::vector<ContactSpringStore*>& springs);
+  /// rebuilt. Each pair store holds this rank's rows on entry, the new ones on exit.
+  void redistribute(ParticleStore& p, const std::vector<PairStore>& stores);
 
   /// Refreshes the per-step ghost fields (field_flag::kGhostStep) from their owners.
   void update_ghosts(ParticleStore& p);
@@ -61,11 +59,12 @@ class DomainDecomposition {
   struct BlockLoad {
     std::uint64_t key;
     std::int64_t particles;
-    std::int64_t bonds;
-    int rank;  ///< a rank with particles in the block (the smallest, after merging)
+    std::int64_t rows;  ///< rows of the weighing pair stores (bonds) counted in the block
+    int rank;           ///< a rank with particles in the block (the smallest, after merging)
   };
   /// Occupied blocks of all ranks, merged and sorted by key (identical on every rank).
-  std::vector<BlockLoad> global_blocks(const ParticleStore& p, const BondStore& bonds) const;
+  std::vector<BlockLoad> global_blocks(const ParticleStore& p,
+                                       const std::vector<PairStore>& stores) const;
   void partition(const std::vector<BlockLoad>& blocks);
   void assign_new_blocks(const std::vector<BlockLoad>& blocks);
   int owner_of(const Vec3& x) const;
@@ -74,17 +73,15 @@ class DomainDecomposition {
   /// the rank that holds it. Throws if a gid exists on no rank.
   std::vector<int> owners_of_gids(const ParticleStore& p, const std::vector<int>& owner,
                                   const std::vector<std::int64_t>& gids) const;
-  /// Where each held item goes: owned particle k to rank particle[k], bond b and row h of
-  /// spring store s to the (up to two, -1 for none) ranks in bond[b] and springs[s][h].
+  /// Where each held item goes: owned particle k to rank particle[k], row h of pair store s
+  /// to the (up to two, -1 for none) ranks in rows[s][h].
   struct Destinations {
     std::vector<int> particle;
-    std::vector<std::array<int, 2>> bond;
-    std::vector<std::vector<std::array<int, 2>>> springs;
+    std::vector<std::vector<std::array<int, 2>>> rows;
   };
-  /// Moves the items to their destinations, keeps bonds in canonical order and owned particles
-  /// in gid order, and rebuilds the ghost layer.
-  void migrate(ParticleStore& p, BondStore& bonds, const std::vector<ContactSpringStore*>& springs,
-               const Destinations& to);
+  /// Moves the items to their destinations, lets each pair store settle its arrivals, keeps
+  /// owned particles in gid order, and rebuilds the ghost layer.
+  void migrate(ParticleStore& p, const std::vector<PairStore>& stores, const Destinations& to);
 
   const Communicator& comm_;
   double block_size_;

@@ -1,6 +1,10 @@
 #include "domain/BondStore.hpp"
 
+#include <algorithm>
+#include <numeric>
+#include <set>
 #include <stdexcept>
+#include <tuple>
 
 namespace ringdem {
 
@@ -36,6 +40,44 @@ void BondStore::declare_model_columns(const std::vector<ModelColumn>& columns) {
     model_columns_.push_back(c);
     model_values_.emplace_back();
   }
+}
+
+void BondStore::resize(std::size_t n) {
+  for_each_field([n](const FieldInfo&, auto& v) { v.resize(n); });
+  index_a.assign(n, 0);
+  index_b.assign(n, 0);
+}
+
+void BondStore::keep_rows(const std::vector<char>& keep) {
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < size(); ++k) {
+    if (!keep[k]) continue;
+    for_each_field([&](const FieldInfo&, auto& v) { v[kept] = v[k]; });
+    ++kept;
+  }
+  resize(kept);
+}
+
+void BondStore::settle_arrivals(std::size_t first) {
+  std::set<std::pair<std::int64_t, std::int64_t>> held;
+  std::vector<char> keep(size(), 1);
+  for (std::size_t k = 0; k < first; ++k)
+    held.emplace(gid_a[k], gid_b[k]);
+  for (std::size_t k = first; k < size(); ++k)
+    keep[k] = held.emplace(gid_a[k], gid_b[k]).second ? 1 : 0;
+  keep_rows(keep);
+  std::vector<std::size_t> order(size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return std::tie(gid_a[x], gid_b[x]) < std::tie(gid_a[y], gid_b[y]);
+  });
+  for_each_field([&](const FieldInfo&, auto& v) {
+    auto old = v;
+    for (std::size_t m = 0; m < order.size(); ++m)
+      v[m] = old[order[m]];
+  });
+  index_a.assign(size(), 0);
+  index_b.assign(size(), 0);
 }
 
 std::size_t BondStore::count_broken() const {

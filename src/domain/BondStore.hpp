@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -49,37 +50,14 @@ class BondStore {
   // --- output quantities, refreshed by the bond term's diagnostics ---
   std::vector<double> axial_force, bending_moment, utilisation, energy;
 
+  /// The field registry: calls f(FieldInfo, std::vector<T>&) for every field.
   template <class F>
   void for_each_field(F&& f) {
-    using namespace field_flag;
-    constexpr unsigned kState = kMigrate | kCheckpoint;
-    f(FieldInfo{"id", kState | kOutput}, id);
-    f(FieldInfo{"gid_a", kState | kOutput}, gid_a);
-    f(FieldInfo{"gid_b", kState | kOutput}, gid_b);
-    f(FieldInfo{"type", kState}, type);
-    f(FieldInfo{"length0", kState}, length0);
-    f(FieldInfo{"k_axial", kState}, k_axial);
-    f(FieldInfo{"k_torsion", kState}, k_torsion);
-    f(FieldInfo{"k_shear", kState}, k_shear);
-    f(FieldInfo{"k_bend_self", kState}, k_bend_self);
-    f(FieldInfo{"k_bend_cross", kState}, k_bend_cross);
-    f(FieldInfo{"inv_area", kState}, inv_area);
-    f(FieldInfo{"bend_factor", kState}, bend_factor);
-    f(FieldInfo{"frame_a", kState}, frame_a);
-    f(FieldInfo{"frame_b", kState}, frame_b);
-    f(FieldInfo{"tensile_strength", kState}, tensile_strength);
-    f(FieldInfo{"compressive_strength", kState}, compressive_strength);
-    f(FieldInfo{"shear_strength", kState}, shear_strength);
-    f(FieldInfo{"broken", kState | kOutput}, broken);
-    f(FieldInfo{"failure", kState | kOutput}, failure);
-    f(FieldInfo{"break_time", kState | kOutput}, break_time);
-    f(FieldInfo{"break_energy", kState}, break_energy);
-    f(FieldInfo{"axial_force", kOutput}, axial_force);
-    f(FieldInfo{"bending_moment", kOutput}, bending_moment);
-    f(FieldInfo{"utilisation", kOutput}, utilisation);
-    f(FieldInfo{"energy", kOutput}, energy);
-    for (std::size_t c = 0; c < model_columns_.size(); ++c)
-      f(FieldInfo{model_columns_[c].name, model_columns_[c].flags}, model_values_[c]);
+    fields(*this, f);
+  }
+  template <class F>
+  void for_each_field(F&& f) const {
+    fields(*this, f);
   }
 
   /// Declares the bond model's columns (once, while the store is empty).
@@ -99,16 +77,55 @@ class BondStore {
   std::size_t append(std::int64_t bond_id, std::int64_t gid_first, std::int64_t gid_second,
                      std::int32_t bond_type);
 
-  /// Whether this rank counts bond k: a bond whose ends live on two ranks is held by both, and
-  /// counts (in sums, frames, checkpoints) on the rank that owns end a. The one place of this rule.
-  bool counted_here(const ParticleStore& p, std::size_t k) const {
-    const std::int64_t a = p.index_of(gid_a[k]);
-    return a >= 0 && static_cast<std::size_t>(a) < p.n_local();
-  }
+  /// The particle gids bond k joins (the pair-store protocol, domain/PairStore.hpp).
+  std::array<std::int64_t, 2> ends(std::size_t k) const { return {gid_a[k], gid_b[k]}; }
+  /// Bonds weigh the decomposition's blocks (they cost as much as particles to compute).
+  static constexpr bool kWeighsBlocks = true;
+  /// n bonds; new rows are zero (the end indices too: they are resolved at the next rebuild).
+  void resize(std::size_t n);
+  /// Keeps the bonds k with keep[k] != 0, in order.
+  void keep_rows(const std::vector<char>& keep);
+  /// After migration appended bonds [first, size()): drops an arrival this rank already holds
+  /// (a bond comes from both owners of its ends) and restores the canonical (gid_a, gid_b)
+  /// order, so that storage does not depend on arrival order.
+  void settle_arrivals(std::size_t first);
 
   std::size_t count_broken() const;
 
  private:
+  template <class Self, class F>
+  static void fields(Self& s, F& f) {
+    using namespace field_flag;
+    constexpr unsigned kState = kMigrate | kCheckpoint;
+    f(FieldInfo{"id", kState | kOutput}, s.id);
+    f(FieldInfo{"gid_a", kState | kOutput}, s.gid_a);
+    f(FieldInfo{"gid_b", kState | kOutput}, s.gid_b);
+    f(FieldInfo{"type", kState}, s.type);
+    f(FieldInfo{"length0", kState}, s.length0);
+    f(FieldInfo{"k_axial", kState}, s.k_axial);
+    f(FieldInfo{"k_torsion", kState}, s.k_torsion);
+    f(FieldInfo{"k_shear", kState}, s.k_shear);
+    f(FieldInfo{"k_bend_self", kState}, s.k_bend_self);
+    f(FieldInfo{"k_bend_cross", kState}, s.k_bend_cross);
+    f(FieldInfo{"inv_area", kState}, s.inv_area);
+    f(FieldInfo{"bend_factor", kState}, s.bend_factor);
+    f(FieldInfo{"frame_a", kState}, s.frame_a);
+    f(FieldInfo{"frame_b", kState}, s.frame_b);
+    f(FieldInfo{"tensile_strength", kState}, s.tensile_strength);
+    f(FieldInfo{"compressive_strength", kState}, s.compressive_strength);
+    f(FieldInfo{"shear_strength", kState}, s.shear_strength);
+    f(FieldInfo{"broken", kState | kOutput}, s.broken);
+    f(FieldInfo{"failure", kState | kOutput}, s.failure);
+    f(FieldInfo{"break_time", kState | kOutput}, s.break_time);
+    f(FieldInfo{"break_energy", kState}, s.break_energy);
+    f(FieldInfo{"axial_force", kOutput}, s.axial_force);
+    f(FieldInfo{"bending_moment", kOutput}, s.bending_moment);
+    f(FieldInfo{"utilisation", kOutput}, s.utilisation);
+    f(FieldInfo{"energy", kOutput}, s.energy);
+    for (std::size_t c = 0; c < s.model_columns_.size(); ++c)
+      f(FieldInfo{s.model_columns_[c].name, s.model_columns_[c].flags}, s.model_values_[c]);
+  }
+
   std::vector<ModelColumn> model_columns_;
   std::vector<std::vector<double>> model_values_;
 };

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -49,6 +50,16 @@ class ContactSpringStore {
     partner.push_back(partner_value);
     spring.push_back(spring_value);
   }
+  /// The particle gids row k joins (the pair-store protocol, domain/PairStore.hpp): a rigid
+  /// body is no particle (-1).
+  std::array<std::int64_t, 2> ends(std::size_t k) const {
+    return {gid[k], partner_is_particle() ? partner[k] : std::int64_t{-1}};
+  }
+  /// Contact springs cost nothing a block weight should count.
+  static constexpr bool kWeighsBlocks = false;
+  /// After migration appended rows: a row that came from both old owners is the same spring
+  /// twice, and the terms look rows up by key, so neither duplicates nor order matter here.
+  void settle_arrivals(std::size_t /*first*/) {}
   /// Keeps the rows k with keep[k] != 0, in order.
   void keep_rows(const std::vector<char>& keep);
   /// Keeps the rows whose spring is not zero (touching contacts), in order: what a rebuild

@@ -5,6 +5,7 @@
 
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
+#include "domain/BondStore.hpp"
 #include "engine/ForceTerm.hpp"
 
 namespace ringdem {
@@ -22,6 +23,11 @@ struct BondEnd {
 /// asks of every bond model besides the force evaluation.
 class BondTerm : public ForceTerm {
  public:
+  explicit BondTerm(BondStore& bonds) : bonds_(bonds) {}
+  /// The bonds this term computes: the model's bond store (sources fill it before any term
+  /// exists), handed to migration and checkpoints as this term's pair store.
+  std::optional<PairStore> pair_store() final { return PairStore{&bonds_}; }
+
   /// Recomputes the store's output columns (axial force, largest bending moment, utilisation,
   /// energy) for the current configuration; returns the summed elastic energy.
   virtual double update_diagnostics(const ParticleStore& p) const = 0;
@@ -29,6 +35,9 @@ class BondTerm : public ForceTerm {
   /// bond, kept when it breaks): the energy ledger's plastic_work column. nullptr: the law is
   /// elastic.
   virtual const std::vector<double>* plastic_work() const { return nullptr; }
+
+ protected:
+  BondStore& bonds_;
 };
 
 }  // namespace ringdem

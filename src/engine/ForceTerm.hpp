@@ -1,10 +1,12 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string_view>
 #include <vector>
 
 #include "domain/ContactSpringStore.hpp"
+#include "domain/PairStore.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
 #include "engine/EnergyLedger.hpp"
@@ -77,6 +79,9 @@ class ForceTerm {
   /// rows survive a rebuild when the term's rebuild() reads them back by key.
   virtual ContactSpringStore* springs() { return nullptr; }
   virtual const ContactSpringStore* springs() const { return nullptr; }
+  /// The term's store of rows that join two particles (its bonds, its contact springs), or
+  /// none: the decomposition moves every term's rows through this one handle.
+  virtual std::optional<PairStore> pair_store() { return std::nullopt; }
   /// Appends this term's contact candidates (since the last rebuild) that overlap by more than
   /// `fraction` of the smaller radius (a body's radius counts as infinite).
   virtual void find_overlaps(const ParticleStore& /*p*/, const std::vector<RigidBody>& /*bodies*/,

@@ -95,7 +95,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   find_typed_terms();
   ParticleStore& p = model_.particles;
   // Each rank built a slice of every source; move the particles to the owners of their blocks.
-  decomposition_.distribute_initial(p, model_.bonds, spring_stores());
+  decomposition_.distribute_initial(p, pair_stores());
   // After the distribution: every intact bond then has both ends on the ranks that hold it.
   init_limits();
   dt_ = settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
@@ -155,7 +155,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
                                "', which is no contact term of this model");
     store->assign_rows(saved.store);
   }
-  decomposition_.distribute_initial(p, model_.bonds, spring_stores());
+  decomposition_.distribute_initial(p, pair_stores());
   build_lists();
   std::swap(p.position, p.position_at_rebuild);
   decomposition_.update_ghosts(p);
@@ -270,16 +270,20 @@ std::vector<RestartState::TermSprings> Simulation::owned_springs() const {
     const ContactSpringStore* store = t->springs();
     if (store == nullptr) continue;
     std::vector<char> keep(store->size());
-    for (std::size_t k = 0; k < store->size(); ++k) {
-      const std::int64_t i = p.index_of(store->gid[k]);
-      // A pair across ranks is evaluated on both: keep it where its first particle is owned.
-      keep[k] =
-          norm2(store->spring[k]) > 0.0 && i >= 0 && static_cast<std::size_t>(i) < p.n_local();
-    }
+    // A pair across ranks is evaluated on both: each touching one once, where it counts.
+    for (std::size_t k = 0; k < store->size(); ++k)
+      keep[k] = norm2(store->spring[k]) > 0.0 && counted_here(p, *store, k);
     out.push_back({std::string(t->name()), *store});
     out.back().store.keep_rows(keep);
   }
   return out;
+}
+
+std::vector<PairStore> Simulation::pair_stores() {
+  std::vector<PairStore> stores;
+  for (auto& t : terms_)
+    if (const auto s = t->pair_store()) stores.push_back(*s);
+  return stores;
 }
 
 std::vector<ContactSpringStore*> Simulation::spring_stores() {
@@ -318,7 +322,7 @@ void Simulation::build_lists() {
   const std::vector<ContactSpringStore*> stores = spring_stores();
   for (ContactSpringStore* s : stores)
     s->drop_released();
-  decomposition_.redistribute(p, model_.bonds, stores);
+  decomposition_.redistribute(p, pair_stores());
   // Each term takes its slots and registers them with the gather map, in term order; bonded
   // terms first, so the contact terms see their exclusions.
   allocator_.reset();
@@ -569,14 +573,14 @@ std::int64_t Simulation::global_particles() const {
 std::int64_t Simulation::global_bonds() const {
   std::int64_t n = 0;
   for (std::size_t k = 0; k < model_.bonds.size(); ++k)
-    n += model_.bonds.counted_here(model_.particles, k);
+    n += counted_here(model_.particles, model_.bonds, k);
   return comm_.sum(n);
 }
 
 std::int64_t Simulation::global_broken_bonds() const {
   std::int64_t n = 0;
   for (std::size_t k = 0; k < model_.bonds.size(); ++k)
-    n += model_.bonds.counted_here(model_.particles, k) && model_.bonds.broken[k] != 0;
+    n += counted_here(model_.particles, model_.bonds, k) && model_.bonds.broken[k] != 0;
   return comm_.sum(n);
 }
 
@@ -618,7 +622,7 @@ Energies Simulation::energies() {
   const BondStore& bonds = model_.bonds;
   const std::vector<double>* plastic_work = bond_term_->plastic_work();
   for (std::size_t k = 0; k < bonds.size(); ++k) {
-    if (!bonds.counted_here(p, k)) continue;
+    if (!counted_here(p, bonds, k)) continue;
     partial[kBond].add(bonds.energy[k]);
     partial[kBreak].add(bonds.break_energy[k]);
     if (plastic_work) partial[kPlastic].add((*plastic_work)[k]);

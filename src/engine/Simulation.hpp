@@ -177,6 +177,8 @@ class Simulation {
   void build_lists();
   /// The spring stores of the terms that have one, in term order (what migration moves).
   std::vector<ContactSpringStore*> spring_stores();
+  /// Every term's pair store (bonds, contact springs), in term order: what migration moves.
+  std::vector<PairStore> pair_stores();
   void compute_forces();
   void reduce_body_loads();
   bool needs_rebuild();

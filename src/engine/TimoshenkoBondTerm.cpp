@@ -16,7 +16,7 @@ Quat TimoshenkoBondTerm::rotated_back(const Quat& q, const Vec3& omega, double d
 }
 
 TimoshenkoBondTerm::TimoshenkoBondTerm(BondStore& bonds, std::vector<BondTimoshenko::Params> types)
-    : bonds_(bonds), types_(std::move(types)) {}
+    : BondTerm(bonds), types_(std::move(types)) {}
 
 std::size_t TimoshenkoBondTerm::create(BondStore& bonds, const BondTimoshenko::Params& params,
                                        std::int32_t type, std::int64_t id, const BondEnd& end_a,

@@ -62,7 +62,6 @@ class TimoshenkoBondTerm final : public BondTerm {
  private:
   void book_failures(const ParticleStore& p, double time, double dt);
 
-  BondStore& bonds_;
   std::vector<BondTimoshenko::Params> types_;
   SlotRange slots_a_, slots_b_;
   std::vector<std::uint8_t> failed_;  ///< scratch: bonds that failed in this step

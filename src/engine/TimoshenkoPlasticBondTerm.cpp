@@ -24,7 +24,7 @@ static_assert(Plastic::State::kNames[kWorkColumn] == "plastic_work");
 
 TimoshenkoPlasticBondTerm::TimoshenkoPlasticBondTerm(BondStore& bonds,
                                                      std::vector<Plastic::Params> plastic)
-    : bonds_(bonds), plastic_(std::move(plastic)) {
+    : BondTerm(bonds), plastic_(std::move(plastic)) {
   if (bonds_.n_model_columns() != State::kSize)
     throw std::invalid_argument(
         "timoshenko_plastic: the bond store lacks the plastic state columns (declare "

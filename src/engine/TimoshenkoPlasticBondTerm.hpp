@@ -61,7 +61,6 @@ class TimoshenkoPlasticBondTerm final : public BondTerm {
     return plastic_[static_cast<std::size_t>(bonds_.type[k])];
   }
 
-  BondStore& bonds_;
   std::vector<BondTimoshenkoPlastic::Params> plastic_;
   SlotRange slots_a_, slots_b_;
   std::vector<std::uint8_t> failed_;  ///< scratch: bonds that failed in this step

@@ -11,6 +11,7 @@
 
 #include "comm/RowBlocks.hpp"
 #include "core/Version.hpp"
+#include "domain/PairStore.hpp"
 #include "io/CaseText.hpp"
 #include "io/Hdf5File.hpp"
 #include "io/RestartChanges.hpp"
@@ -112,6 +113,40 @@ std::vector<std::string> spring_terms(const Hdf5File& f) {
 /// How the ranks read a table: each its own block of rows, or every rank all of them.
 enum class ReadBy { kBlocks, kEveryRank };
 
+/// Whether a pair store's rows carry a global id (bonds do): its rows are then written in id
+/// order, else concatenated over the ranks (contact springs, which a term looks up by key).
+template <class Store>
+constexpr bool kRowsById = requires(Store& s) {
+  s.id;
+};
+
+/// Writes the checkpoint fields of a pair store (domain/PairStore.hpp) as <prefix><field>: each
+/// row once, by the rank that counts it, through the store's registry.
+template <class Store>
+void write_pair_rows(Hdf5File& f, const Communicator& comm, const ParticleStore& p,
+                     const Store& store, const std::string& prefix) {
+  std::vector<std::size_t> local;
+  for (std::size_t k = 0; k < store.size(); ++k)
+    if (counted_here(p, store, k)) local.push_back(k);
+  std::vector<std::int64_t> ids;
+  if constexpr (kRowsById<Store>)
+    for (std::size_t k : local)
+      ids.push_back(store.id[k]);
+  const RowBlocks blocks(comm, ids);
+  store.for_each_field([&](const FieldInfo& info, const auto& v) {
+    if (!info.has(field_flag::kCheckpoint)) return;
+    std::remove_cvref_t<decltype(v)> mine;
+    mine.reserve(local.size());
+    for (std::size_t k : local)
+      mine.push_back(v[k]);
+    const std::string name = prefix + std::string(info.name);
+    if constexpr (kRowsById<Store>)
+      write_field(f, comm, blocks, name, mine);
+    else
+      write_concatenated(f, comm, name, mine);
+  });
+}
+
 /// Rows [first, end) of a dataset of `rows` rows, read collectively, checked against the
 /// dataset's checksum: the blocks' partial checksums add up to it.
 template <class T>
@@ -130,6 +165,23 @@ std::vector<T> read_verified_block(const Hdf5File& f, const Communicator& comm,
     throw Hdf5Error(f.path() + ": dataset " + name +
                     " fails its checksum: the checkpoint is corrupted");
   return block;
+}
+
+/// Reads this rank's block of the `rows` checkpoint rows of a pair store (<prefix><field>,
+/// through its registry); the first distribution then moves them to their particles' owners.
+template <class Store>
+void read_pair_rows(const Hdf5File& f, const Communicator& comm, Store& store,
+                    const std::string& prefix, std::int64_t rows) {
+  const std::int64_t first = RowBlocks::block_begin(rows, comm.rank(), comm.size());
+  const std::int64_t end = RowBlocks::block_begin(rows, comm.rank() + 1, comm.size());
+  store.resize(static_cast<std::size_t>(end - first));
+  store.for_each_field([&](const FieldInfo& field, auto& v) {
+    if (!field.has(field_flag::kCheckpoint)) return;
+    using T = typename std::remove_cvref_t<decltype(v)>::value_type;
+    const auto block =
+        read_verified_block<T>(f, comm, prefix + std::string(field.name), rows, first, end);
+    std::copy(block.begin(), block.end(), v.begin());
+  });
 }
 
 std::string join(const std::vector<std::string>& names) {
@@ -224,10 +276,10 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
   if (comm.is_root()) fs::create_directories(dir_);
   comm.barrier();
   ParticleStore& p = model.particles;
-  BondStore& bonds = model.bonds;
+  const BondStore& bonds = model.bonds;
   std::int64_t my_bonds = 0;
   for (std::size_t k = 0; k < bonds.size(); ++k)
-    my_bonds += bonds.counted_here(p, k);
+    my_bonds += counted_here(p, bonds, k);
   const std::int64_t n_particles = comm.sum(static_cast<std::int64_t>(p.n_local()));
   const std::int64_t n_bonds = comm.sum(my_bonds);
   {
@@ -261,33 +313,13 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
         write_field(f, comm, particle_rows, "/particles/" + std::string(info.name), v);
     });
 
-    // Bonds: each written once (BondStore::counted_here).
+    // Term stores (domain/PairStore.hpp), each through its registry: the bonds in bond-id
+    // order, each contact term's springs as /history/<term>.<field> with what `partner` names.
     f.create_group("/bonds");
-    std::vector<std::int64_t> bond_rows;
-    std::vector<std::size_t> bond_local;
-    for (std::size_t k = 0; k < bonds.size(); ++k) {
-      if (!bonds.counted_here(p, k)) continue;
-      bond_rows.push_back(bonds.id[k]);
-      bond_local.push_back(k);
-    }
-    const RowBlocks bond_blocks(comm, bond_rows);
-    bonds.for_each_field([&](const FieldInfo& info, const auto& v) {
-      if (!info.has(field_flag::kCheckpoint)) return;
-      std::remove_cvref_t<decltype(v)> mine;
-      mine.reserve(bond_local.size());
-      for (std::size_t k : bond_local)
-        mine.push_back(v[k]);
-      write_field(f, comm, bond_blocks, "/bonds/" + std::string(info.name), mine);
-    });
-
-    // Springs: each contact term's store, its registry's kCheckpoint fields as
-    // /history/<term>.<field>, with what `partner` names; every rank holds the same terms.
+    write_pair_rows(f, comm, p, model.bonds, "/bonds/");
     f.create_group("/history");
     for (const RestartState::TermSprings& t : state.springs) {
-      t.store.for_each_field([&](const FieldInfo& info, const auto& v) {
-        if (info.has(field_flag::kCheckpoint))
-          write_concatenated(f, comm, spring_dataset(t.term, info.name), v);
-      });
+      write_pair_rows(f, comm, p, t.store, spring_dataset(t.term, ""));
       f.set_attribute(spring_dataset(t.term, "partner"), "names",
                       std::string(t.store.partner_is_particle() ? kParticlePartner : kBodyPartner));
     }
@@ -442,18 +474,7 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
   if (comm.any(!ordered)) throw Hdf5Error(path + ": particle rows are not in gid order");
   p.rebuild_index();
 
-  const auto [b_first, b_end] = block_of(info.bonds);
-  bonds.for_each_field(
-      [&](const FieldInfo&, auto& v) { v.resize(static_cast<std::size_t>(b_end - b_first)); });
-  bonds.index_a.assign(bonds.size(), 0);
-  bonds.index_b.assign(bonds.size(), 0);
-  bonds.for_each_field([&](const FieldInfo& field, auto& v) {
-    if (!field.has(field_flag::kCheckpoint)) return;
-    using T = typename std::remove_cvref_t<decltype(v)>::value_type;
-    auto rows = read_verified_block<T>(f, comm, "/bonds/" + std::string(field.name), info.bonds,
-                                       b_first, b_end);
-    std::copy(rows.begin(), rows.end(), v.begin());
-  });
+  read_pair_rows(f, comm, bonds, "/bonds/", info.bonds);
 
   RestartState state;
   state.time = info.time;
@@ -474,16 +495,7 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
         ContactSpringStore(partner == kParticlePartner ? ContactSpringStore::Partner::kParticle
                                                        : ContactSpringStore::Partner::kRigidBody)});
     const auto d = f.dims(spring_dataset(term, "gid"));
-    const std::int64_t rows = d.empty() ? 0 : d[0];
-    const auto [h_first, h_end] = block_of(rows);
-    t.store.resize(static_cast<std::size_t>(h_end - h_first));
-    t.store.for_each_field([&](const FieldInfo& field, auto& v) {
-      if (!field.has(field_flag::kCheckpoint)) return;
-      using T = typename std::remove_cvref_t<decltype(v)>::value_type;
-      const auto block =
-          read_verified_block<T>(f, comm, spring_dataset(term, field.name), rows, h_first, h_end);
-      std::copy(block.begin(), block.end(), v.begin());
-    });
+    read_pair_rows(f, comm, t.store, spring_dataset(term, ""), d.empty() ? 0 : d[0]);
   }
 
   const auto names = split(f.attribute_string("/bodies", "names"));

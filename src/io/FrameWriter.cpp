@@ -12,6 +12,7 @@
 
 #include "comm/RowBlocks.hpp"
 #include "core/Version.hpp"
+#include "domain/PairStore.hpp"
 #include "io/BodyMesh.hpp"
 #include "io/Hdf5File.hpp"
 
@@ -371,7 +372,7 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
   std::vector<std::size_t> bond_local;
   std::vector<std::int64_t> bond_ids, ends;
   for (std::size_t k = 0; k < bonds.size(); ++k) {
-    if (!bonds.counted_here(p, k)) continue;
+    if (!counted_here(p, bonds, k)) continue;
     bond_local.push_back(k);
     bond_ids.push_back(bonds.id[k]);
     ends.push_back(bonds.gid_a[k]);

@@ -82,7 +82,7 @@ TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
   make_lattice(p, bonds, c.rank(), c.size());
   const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
   DomainDecomposition d(c, kBlock, 0.1);
-  d.distribute_initial(p, bonds, {});
+  d.distribute_initial(p, {&bonds});
   const auto owner = owners(c, p, n_total);
   // Rank-encoded refresh: owners write rank + 1, ghosts must read their owner's rank + 1.
   for (std::size_t k = 0; k < p.n_local(); ++k)
@@ -124,7 +124,7 @@ TEST_F(Decomposition, MigrationCarriesParticlesBondsAndHistory) {
   make_lattice(p, bonds, c.rank(), c.size());
   const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
   DomainDecomposition d(c, kBlock, /*imbalance_threshold=*/0.0);
-  d.distribute_initial(p, bonds, {});
+  d.distribute_initial(p, {&bonds});
   // Mark state that must travel: a broken bond with its break time, a history entry per
   // owned particle (spring = gid-encoded), and rank-encoded velocities.
   for (std::size_t b = 0; b < bonds.size(); ++b)
@@ -142,7 +142,7 @@ TEST_F(Decomposition, MigrationCarriesParticlesBondsAndHistory) {
   // blocks that other ranks own (imbalance threshold 0: the blocks are partitioned again).
   for (std::size_t k = 0; k < p.n_total(); ++k)
     p.position[k] = {p.position[k].x + 4 * kBlock, 0.066 - p.position[k].y, p.position[k].z};
-  d.redistribute(p, bonds, {&history});
+  d.redistribute(p, {&bonds, &history});
   const auto after = owners(c, p, n_total);
   int moved = 0;
   for (const auto& [gid, rank] : after)
@@ -188,7 +188,7 @@ TEST_F(Decomposition, FirstDistributionSendsBondsAndSpringsHeldAnywhereToTheirPa
     if ((5 * g + 1) % c.size() == c.rank())
       history.append(g, g + 12, Vec3{static_cast<double>(g), 0, 0});
   DomainDecomposition d(c, kBlock, 0.1);
-  d.distribute_initial(p, bonds, {&history});
+  d.distribute_initial(p, {&bonds, &history});
   const auto owner = owners(c, p, n_total);
   // Brute force: every bond of the whole lattice is held exactly by the owners of its ends.
   ParticleStore all;
@@ -232,7 +232,7 @@ TEST_F(Decomposition, FirstDistributionRefusesABondToAMissingParticle) {
   // On the last rank only: a bond to a particle nobody has. Every rank must throw.
   if (c.rank() == c.size() - 1) bonds.append(999, 0, 100000, 0);
   DomainDecomposition d(c, kBlock, 0.1);
-  EXPECT_THROW(d.distribute_initial(p, bonds, {}), std::runtime_error);
+  EXPECT_THROW(d.distribute_initial(p, {&bonds}), std::runtime_error);
 }
 
 TEST_F(Decomposition, FirstDistributionRefusesAParticleHeldTwice) {
@@ -242,7 +242,7 @@ TEST_F(Decomposition, FirstDistributionRefusesAParticleHeldTwice) {
   BondStore bonds;
   make_lattice(p, bonds);  // the whole lattice on every rank
   DomainDecomposition d(c, kBlock, 0.1);
-  EXPECT_THROW(d.distribute_initial(p, bonds, {}), std::logic_error);
+  EXPECT_THROW(d.distribute_initial(p, {&bonds}), std::logic_error);
 }
 
 }  // namespace

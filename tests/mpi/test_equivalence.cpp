@@ -15,6 +15,7 @@
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "app/TensileTest.hpp"
+#include "domain/PairStore.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
@@ -185,7 +186,7 @@ EquivalenceResult run_both(const CaseConfig& c, std::int64_t steps,
         bool state = false;
         for (std::size_t col = 0; col < bonds.n_model_columns(); ++col)
           state = state || bonds.model_column(col)[k] != 0.0;
-        mine += bonds.counted_here(p, k) && cut && state;
+        mine += counted_here(p, bonds, k) && cut && state;
       }
       r.cut_bonds_with_state = comm.sum(mine);
     }

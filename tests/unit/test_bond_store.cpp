@@ -1,8 +1,11 @@
 // Bond store: a bond model's own columns join the field registry, grow with the bonds and are
-// refused when they would shadow a column or come too late.
+// refused when they would shadow a column or come too late. The pair-store protocol
+// (domain/PairStore.hpp) that migration and checkpoints use: ends, settling of arrivals, and
+// the one counting rule.
 #include <gtest/gtest.h>
 
 #include "domain/BondStore.hpp"
+#include "domain/PairStore.hpp"
 
 namespace ringdem {
 namespace {
@@ -42,6 +45,65 @@ TEST(BondStore, ModelColumnsAreRefusedTwiceLateOrUnderACommonName) {
   BondStore d;
   d.append(0, 0, 1, 0);
   EXPECT_THROW(d.declare_model_columns({{"x", 0}}), std::logic_error);
+}
+
+// Migration appends the arrivals after the kept rows; a bond that came from both owners of its
+// ends arrives twice. Settling keeps one of each gid pair, in ascending (gid_a, gid_b) order,
+// with every column (a model column too) moved with its bond.
+TEST(BondStore, SettlingArrivalsDropsDuplicatesAndRestoresTheCanonicalOrder) {
+  BondStore b;
+  b.declare_model_columns({{"state", field_flag::kMigrate}});
+  const std::int64_t pairs[][2] = {{2, 5}, {7, 9}, {1, 3}, {7, 9}, {0, 4}, {2, 5}};
+  for (std::size_t k = 0; k < 6; ++k) {
+    const std::size_t row =
+        b.append(static_cast<std::int64_t>(100 + k), pairs[k][0], pairs[k][1], 0);
+    b.model_column(0)[row] = static_cast<double>(pairs[k][0] * 10 + pairs[k][1]);
+  }
+  b.settle_arrivals(2);  // rows 0 and 1 were kept, 2..5 arrived
+  ASSERT_EQ(b.size(), 4u);
+  const std::int64_t expected[][2] = {{0, 4}, {1, 3}, {2, 5}, {7, 9}};
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(b.gid_a[k], expected[k][0]) << k;
+    EXPECT_EQ(b.gid_b[k], expected[k][1]) << k;
+    EXPECT_EQ(b.model_column(0)[k], static_cast<double>(expected[k][0] * 10 + expected[k][1]));
+    EXPECT_EQ(b.index_a.size(), b.size());
+  }
+  // The kept rows win over their duplicate arrivals: (2, 5) keeps id 100, (7, 9) id 101.
+  EXPECT_EQ(b.id[2], 100);
+  EXPECT_EQ(b.id[3], 101);
+}
+
+// A row counts on the rank that owns its first end: not where that end is a ghost or absent,
+// whatever the second end is. A spring's rigid-body partner is no particle.
+TEST(PairStore, ARowCountsWhereItsFirstEndIsOwned) {
+  ParticleStore p;
+  for (std::int64_t g : {4, 8}) {
+    ParticleStore::NewParticle np;
+    np.gid = g;
+    np.radius = 0.01;
+    np.density = 1000.0;
+    p.add(np);
+  }
+  p.resize_ghosts(1);
+  p.gid[2] = 6;  // a ghost
+  p.rebuild_index();
+  BondStore b;
+  b.append(0, 4, 6, 0);  // first end owned, second a ghost
+  b.append(1, 6, 8, 0);  // first end a ghost
+  b.append(2, 3, 4, 0);  // first end absent
+  EXPECT_TRUE(counted_here(p, b, 0));
+  EXPECT_FALSE(counted_here(p, b, 1));
+  EXPECT_FALSE(counted_here(p, b, 2));
+
+  ContactSpringStore bodies(ContactSpringStore::Partner::kRigidBody);
+  bodies.append(8, 0, Vec3{1, 0, 0});
+  EXPECT_EQ(bodies.ends(0)[0], 8);
+  EXPECT_EQ(bodies.ends(0)[1], -1);
+  EXPECT_TRUE(counted_here(p, bodies, 0));
+  ContactSpringStore pairs;
+  pairs.append(6, 8, Vec3{1, 0, 0});
+  EXPECT_EQ(pairs.ends(0)[1], 8);
+  EXPECT_FALSE(counted_here(p, pairs, 0));
 }
 
 }  // namespace
