@@ -46,17 +46,24 @@ void GatherMap::initialise_loads(ParticleStore& p, const Vec3& gravity) {
   const Vec3* const external = p.external_force.data();
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
-  bool any_external = false;
+  // Component by component (no Vec3 copies), so that the loop vectorises.
+  double any_external = 0.0;
+#pragma omp simd reduction(max : any_external)
   for (std::size_t k = 0; k < n_local; ++k) {
-    const Vec3 f_ext = external[k];
-    any_external |= (f_ext.x != 0.0) | (f_ext.y != 0.0) | (f_ext.z != 0.0);
-    force[k] = gravity * mass[k] + f_ext;
-    torque[k] = {};
+    const double ex = external[k].x, ey = external[k].y, ez = external[k].z;
+    const double applied = (ex != 0.0) | (ey != 0.0) | (ez != 0.0) ? 1.0 : 0.0;
+    any_external = applied > any_external ? applied : any_external;
+    force[k].x = gravity.x * mass[k] + ex;
+    force[k].y = gravity.y * mass[k] + ey;
+    force[k].z = gravity.z * mass[k] + ez;
+    torque[k].x = 0.0;
+    torque[k].y = 0.0;
+    torque[k].z = 0.0;
   }
   // Energy ledger: external forces on free particles and their power at the mid-step
   // velocity (the drift x += v dt used it).
   external_.clear();
-  if (any_external)
+  if (any_external != 0.0)
     for (std::size_t k = 0; k < n_local; ++k)
       if ((external[k].x != 0.0 || external[k].y != 0.0 || external[k].z != 0.0) &&
           p.motion[k] == Motion::kFree)

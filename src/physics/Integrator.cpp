@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ringdem {
 
@@ -71,9 +72,10 @@ DriftMaxima drift_pass(ParticleStore& p, double dt, const std::vector<Vec3>& ref
   Vec3* const w = p.omega.data();
   Vec3* const x = p.position.data();
   Quat* const q = p.orientation.data();
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
   double max_move2 = 0.0;
-  double worst = 0.0;
-#pragma omp simd reduction(max : max_move2, worst)
+  double max_v2 = 0.0, max_w2 = 0.0;
+#pragma omp simd reduction(max : max_move2, max_v2, max_w2)
   for (std::size_t k = 0; k < n; ++k) {
     const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
     const double moving = motion[k] == Motion::kFixed ? 0.0 : 1.0;
@@ -83,11 +85,14 @@ DriftMaxima drift_pass(ParticleStore& p, double dt, const std::vector<Vec3>& ref
     if constexpr (kTurn) q[k] = rotated(q[k], w[k] * moving, dt);
     const double move2 = norm2(x[k] - x_ref[k]);
     max_move2 = move2 > max_move2 ? move2 : max_move2;
-    const double s = norm2(v[k]) * step_scale, t = norm2(w[k]) * turn_scale;
-    double r = s > t ? s : t;
-    r = r <= Integrator::kRunaway ? r : Integrator::kRunaway;  // NaN and inf compare false
-    worst = r > worst ? r : worst;
+    // The largest squared speeds, scaled after the loop: scaling by a positive constant keeps
+    // the order, so max(scaled) is the scaled max. NaN compares false: it counts as infinite.
+    const double v2 = norm2(v[k]), w2 = norm2(w[k]);
+    max_v2 = v2 <= max_v2 ? max_v2 : (v2 == v2 ? v2 : kInfinity);
+    max_w2 = w2 <= max_w2 ? max_w2 : (w2 == w2 ? w2 : kInfinity);
   }
+  const double s = max_v2 * step_scale, t = max_w2 * turn_scale;
+  const double worst = std::min(s > t ? s : t, Integrator::kRunaway);
   return {max_move2, worst};
 }
 
@@ -133,27 +138,64 @@ void Integrator::second_half(ParticleStore& p, double dt) {
   Vec3* const w = p.omega.data();
   double* const dissipated = p.dissipated_global.data();
   double* const power = p.power_global.data();
-  for (std::size_t k = 0; k < n; ++k) {
-    const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
-    if (alpha[k] == 0.0) {
-      // Undamped (most grains): the loads stay as they are and no power is taken out; only a
-      // coefficient that just went to 0 leaves a last power to clear.
-      v[k] += force[k] * (free * half / mass[k]);
-      w[k] += torque[k] * (free * half / inertia[k]);
-      if (power[k] != 0.0) power[k] = 0.0;
+  // Chunks of particles, each through one of two branch-free loops that vectorise: without
+  // Cundall arithmetic where no particle of the chunk is damped (most grains), with it
+  // elsewhere (the net). An undamped particle gets the same bits on either path (its loads stay
+  // as they are, its power goes to 0 only if it was not), so the result does not depend on
+  // which particles share its chunk, that is on the rank count.
+  constexpr std::size_t kChunk = 64;
+  for (std::size_t begin = 0; begin < n; begin += kChunk) {
+    const std::size_t end = std::min(n, begin + kChunk);
+    bool damped = false;
+    for (std::size_t k = begin; k < end; ++k)
+      damped = damped || alpha[k] != 0.0;
+    if (!damped) {
+#pragma omp simd
+      for (std::size_t k = begin; k < end; ++k) {
+        const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
+        v[k] += force[k] * (free * half / mass[k]);
+        w[k] += torque[k] * (free * half / inertia[k]);
+        // Only a coefficient that just went to 0 leaves a last power to clear.
+        power[k] = power[k] != 0.0 ? 0.0 : power[k];
+      }
       continue;
     }
-    const Vec3 damping_force = damping_load(force[k], v[k], alpha[k]);
-    const Vec3 damping_torque = damping_load(torque[k], w[k], alpha[k]);
-    force[k] -= damping_force;
-    torque[k] -= damping_torque;
-    v[k] += force[k] * (free * half / mass[k]);
-    w[k] += torque[k] * (free * half / inertia[k]);
-    // Energy ledger: the power the Cundall loads take out, at the synchronised velocity
-    // v^{n+1} just computed (docs/physics.md "Energy ledger").
-    const double q = free * (dot(damping_force, v[k]) + dot(damping_torque, w[k]));
-    dissipated[k] += q * dt;
-    power[k] = q;
+#pragma omp simd
+    for (std::size_t k = begin; k < end; ++k) {
+      const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
+      const double a = alpha[k];
+      const bool on = a != 0.0;
+      // Component by component, with selects, so that the compiler blends them: the Cundall
+      // load of each component (damping_component) comes off only where the particle is damped.
+      const double fx = force[k].x, fy = force[k].y, fz = force[k].z;
+      const double tx = torque[k].x, ty = torque[k].y, tz = torque[k].z;
+      const double dfx = damping_component(fx, v[k].x, a), dfy = damping_component(fy, v[k].y, a),
+                   dfz = damping_component(fz, v[k].z, a);
+      const double dtx = damping_component(tx, w[k].x, a), dty = damping_component(ty, w[k].y, a),
+                   dtz = damping_component(tz, w[k].z, a);
+      const double gx = on ? fx - dfx : fx, gy = on ? fy - dfy : fy, gz = on ? fz - dfz : fz;
+      const double hx = on ? tx - dtx : tx, hy = on ? ty - dty : ty, hz = on ? tz - dtz : tz;
+      force[k].x = gx;
+      force[k].y = gy;
+      force[k].z = gz;
+      torque[k].x = hx;
+      torque[k].y = hy;
+      torque[k].z = hz;
+      const double kick = free * half / mass[k], turn = free * half / inertia[k];
+      const double vx = v[k].x + gx * kick, vy = v[k].y + gy * kick, vz = v[k].z + gz * kick;
+      const double wx = w[k].x + hx * turn, wy = w[k].y + hy * turn, wz = w[k].z + hz * turn;
+      v[k].x = vx;
+      v[k].y = vy;
+      v[k].z = vz;
+      w[k].x = wx;
+      w[k].y = wy;
+      w[k].z = wz;
+      // Energy ledger: the power the Cundall loads take out, at the synchronised velocity
+      // v^{n+1} just computed (docs/physics.md "Energy ledger").
+      const double q = free * ((dfx * vx + dfy * vy + dfz * vz) + (dtx * wx + dty * wy + dtz * wz));
+      dissipated[k] = on ? dissipated[k] + q * dt : dissipated[k];
+      power[k] = on ? q : (power[k] != 0.0 ? 0.0 : power[k]);
+    }
   }
 }
 
