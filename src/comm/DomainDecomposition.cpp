@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
-#include <set>
 #include <stdexcept>
 #include <unordered_set>
 
@@ -67,22 +66,6 @@ std::size_t record_size(Store& s, unsigned flags) {
     if (f.flags & flags) n += sizeof(typename std::decay_t<decltype(v)>::value_type);
   });
   return n;
-}
-
-/// Keeps the elements [0, n) of every field of s for which keep[i] is true, in order.
-template <class Store>
-std::size_t compact(Store& s, const std::vector<char>& keep, std::size_t n) {
-  std::size_t kept = 0;
-  std::vector<std::size_t> order;
-  for (std::size_t i = 0; i < n; ++i)
-    if (keep[i]) order.push_back(i);
-  s.for_each_field([&](const FieldInfo&, auto& v) {
-    for (std::size_t m = 0; m < order.size(); ++m)
-      v[m] = v[order[m]];
-    v.resize(order.size());
-  });
-  kept = order.size();
-  return kept;
 }
 
 constexpr unsigned kGhostFields = field_flag::kGhostOnce | field_flag::kGhostStep;
@@ -385,7 +368,8 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
 
   // Particles: drop ghosts and emigrants, append immigrants.
   p.resize_ghosts(0);
-  const std::size_t n_kept = compact(p, keep, p.n_local());
+  const std::size_t n_kept = compact_rows(p, keep);
+  p.resize_local(n_kept);
   const std::size_t p_size = record_size(p, migrate);
   const std::size_t n_in = recv_p.size() / p_size;
   p.resize_local(n_kept + n_in);

@@ -49,13 +49,7 @@ void BondStore::resize(std::size_t n) {
 }
 
 void BondStore::keep_rows(const std::vector<char>& keep) {
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < size(); ++k) {
-    if (!keep[k]) continue;
-    for_each_field([&](const FieldInfo&, auto& v) { v[kept] = v[k]; });
-    ++kept;
-  }
-  resize(kept);
+  resize(compact_rows(*this, keep));
 }
 
 void BondStore::settle_arrivals(std::size_t first) {

@@ -27,6 +27,20 @@ struct FieldInfo {
   bool has(unsigned f) const { return (flags & f) != 0; }
 };
 
+/// Moves the rows k of a store with keep[k] != 0 to the front, in order, field by field through
+/// its registry, and returns how many there are; the caller resizes the store to that.
+template <class Store>
+std::size_t compact_rows(Store& s, const std::vector<char>& keep) {
+  std::vector<std::size_t> order;
+  for (std::size_t k = 0; k < keep.size(); ++k)
+    if (keep[k]) order.push_back(k);
+  s.for_each_field([&](const FieldInfo&, auto& v) {
+    for (std::size_t m = 0; m < order.size(); ++m)
+      v[m] = v[order[m]];
+  });
+  return order.size();
+}
+
 /// Structure-of-arrays particle store: owned particles at [0, n_local), ghosts at
 /// [n_local, n_local + n_ghost). for_each_field() is the single field registry.
 class ParticleStore {
