@@ -341,24 +341,27 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
     if (!keep[k]) pack_fields(p, k, migrate, send_p[static_cast<std::size_t>(to.particle[k])]);
   }
   // Rows of all pair stores in one exchange: per rank, each store's row count, then its rows.
-  // A row goes to each owner of its ends (once when both are the same rank).
+  // A row goes to each owner of its ends (once when both are the same rank), in one pass.
+  const auto n_stores = stores.size();
+  std::vector<std::vector<std::uint64_t>> row_counts(static_cast<std::size_t>(n_ranks),
+                                                     std::vector<std::uint64_t>(n_stores, 0));
+  std::vector<std::vector<char>> rows_to(static_cast<std::size_t>(n_ranks));
+  for (std::size_t s = 0; s < n_stores; ++s)
+    visit_store(stores[s], [&](auto& store) {
+      for (std::size_t h = 0; h < store.size(); ++h) {
+        const auto [oa, ob] = to.rows[s][h];
+        for (const int r : {oa, ob == oa ? -1 : ob}) {
+          if (r < 0 || r == me) continue;
+          ++row_counts[static_cast<std::size_t>(r)][s];
+          pack_fields(store, h, migrate, rows_to[static_cast<std::size_t>(r)]);
+        }
+      }
+    });
   std::vector<std::vector<char>> send_rows(static_cast<std::size_t>(n_ranks));
   for (std::size_t r = 0; r < static_cast<std::size_t>(n_ranks); ++r) {
-    std::vector<std::uint64_t> counts(stores.size(), 0);
-    std::vector<char> rows;
-    if (static_cast<int>(r) != me)
-      for (std::size_t s = 0; s < stores.size(); ++s)
-        visit_store(stores[s], [&](auto& store) {
-          for (std::size_t h = 0; h < store.size(); ++h) {
-            const auto [oa, ob] = to.rows[s][h];
-            if (oa != static_cast<int>(r) && ob != static_cast<int>(r)) continue;
-            ++counts[s];
-            pack_fields(store, h, migrate, rows);
-          }
-        });
-    const char* c = reinterpret_cast<const char*>(counts.data());
-    send_rows[r].assign(c, c + counts.size() * sizeof(std::uint64_t));
-    send_rows[r].insert(send_rows[r].end(), rows.begin(), rows.end());
+    const char* c = reinterpret_cast<const char*>(row_counts[r].data());
+    send_rows[r].assign(c, c + n_stores * sizeof(std::uint64_t));
+    send_rows[r].insert(send_rows[r].end(), rows_to[r].begin(), rows_to[r].end());
   }
 
   std::vector<int> counts;
