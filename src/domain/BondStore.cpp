@@ -70,8 +70,6 @@ void BondStore::settle_arrivals(std::size_t first) {
     for (std::size_t m = 0; m < order.size(); ++m)
       v[m] = old[order[m]];
   });
-  index_a.assign(size(), 0);
-  index_b.assign(size(), 0);
 }
 
 std::size_t BondStore::count_broken() const {

@@ -87,7 +87,8 @@ class BondStore {
   void keep_rows(const std::vector<char>& keep);
   /// After migration appended bonds [first, size()): drops an arrival this rank already holds
   /// (a bond comes from both owners of its ends) and restores the canonical (gid_a, gid_b)
-  /// order, so that storage does not depend on arrival order.
+  /// order, so that storage does not depend on arrival order. The end indices are left zero,
+  /// for the next rebuild to resolve.
   void settle_arrivals(std::size_t first);
 
   std::size_t count_broken() const;

@@ -19,7 +19,6 @@ class BodyContactTerm final : public ForceTerm {
   void compute(ComputeContext& ctx) override;
   ContactSpringStore* springs() override { return &springs_; }
   const ContactSpringStore* springs() const override { return &springs_; }
-  std::optional<PairStore> pair_store() override { return PairStore{&springs_}; }
   void find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies, double fraction,
                      std::vector<ContactOverlap>& out) const override;
 

@@ -80,8 +80,12 @@ class ForceTerm {
   virtual ContactSpringStore* springs() { return nullptr; }
   virtual const ContactSpringStore* springs() const { return nullptr; }
   /// The term's store of rows that join two particles (its bonds, its contact springs), or
-  /// none: the decomposition moves every term's rows through this one handle.
-  virtual std::optional<PairStore> pair_store() { return std::nullopt; }
+  /// none: the decomposition moves every term's rows through this one handle. A contact term's
+  /// is its spring store.
+  virtual std::optional<PairStore> pair_store() {
+    if (ContactSpringStore* s = springs()) return PairStore{s};
+    return std::nullopt;
+  }
   /// Appends this term's contact candidates (since the last rebuild) that overlap by more than
   /// `fraction` of the smaller radius (a body's radius counts as infinite).
   virtual void find_overlaps(const ParticleStore& /*p*/, const std::vector<RigidBody>& /*bodies*/,
