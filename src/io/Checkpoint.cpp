@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <regex>
 
 #include "comm/RowBlocks.hpp"
@@ -128,11 +129,14 @@ void write_pair_rows(Hdf5File& f, const Communicator& comm, const ParticleStore&
   std::vector<std::size_t> local;
   for (std::size_t k = 0; k < store.size(); ++k)
     if (counted_here(p, store, k)) local.push_back(k);
-  std::vector<std::int64_t> ids;
-  if constexpr (kRowsById<Store>)
+  // Rows by id are ranked over the ranks (a collective sample sort): only stores that have ids.
+  std::optional<RowBlocks> blocks;
+  if constexpr (kRowsById<Store>) {
+    std::vector<std::int64_t> ids;
     for (std::size_t k : local)
       ids.push_back(store.id[k]);
-  const RowBlocks blocks(comm, ids);
+    blocks.emplace(comm, ids);
+  }
   store.for_each_field([&](const FieldInfo& info, const auto& v) {
     if (!info.has(field_flag::kCheckpoint)) return;
     std::remove_cvref_t<decltype(v)> mine;
@@ -141,7 +145,7 @@ void write_pair_rows(Hdf5File& f, const Communicator& comm, const ParticleStore&
       mine.push_back(v[k]);
     const std::string name = prefix + std::string(info.name);
     if constexpr (kRowsById<Store>)
-      write_field(f, comm, blocks, name, mine);
+      write_field(f, comm, *blocks, name, mine);
     else
       write_concatenated(f, comm, name, mine);
   });
