@@ -7,10 +7,12 @@
 
 #include "domain/RingGenerator.hpp"
 #include "domain/RingNet.hpp"
+#include "engine/GrainSource.hpp"
 #include "engine/LatticeSource.hpp"
 #include "engine/ModelTable.hpp"
 #include "engine/RingSource.hpp"
 #include "engine/SphereListSource.hpp"
+#include "io/GrainsInput.hpp"
 
 namespace ringdem {
 
@@ -88,8 +90,8 @@ RingNetParameters net_parameters(const RingNetConfig& net) {
 }
 
 /// The model without particles and bonds, plus the sources that create them, in case order:
-/// the `rings` entries, each net, the lattices, the listed spheres. Groups are numbered in the
-/// order the sources first name them.
+/// the `rings` entries, each net, the lattices, the grains, the listed spheres. Groups are numbered
+/// in the order the sources first name them.
 struct ModelPlan {
   Model model;
   std::vector<std::unique_ptr<ParticleSource>> sources;
@@ -222,6 +224,23 @@ ModelPlan plan_model(const CaseConfig& c) {
     plan.sources.push_back(std::make_unique<LatticeSource>(s));
   }
 
+  for (std::size_t i = 0; i < c.grains.size(); ++i) {
+    const GrainsConfig& g = c.grains[i];
+    GrainSource::Spec s;
+    s.name = "particles.grains[" + std::to_string(i) + "]";
+    s.group = ensure_group(model, g.group);
+    s.material = material_index(model.materials, g.material);
+    s.box_min = g.box_min;
+    s.box_max = g.box_max;
+    s.sizes = grain_size_distribution(g.sizes);
+    s.solid_fraction = g.solid_fraction;
+    s.seed = g.seed;
+    s.velocity = g.velocity;
+    s.density = model.materials[static_cast<std::size_t>(s.material)].density;
+    s.damping = group_damping(c, g.group);
+    plan.sources.push_back(std::make_unique<GrainSource>(s));
+  }
+
   if (!c.spheres.empty()) {
     std::vector<ParticleStore::NewParticle> spheres;
     for (const auto& s : c.spheres) {
@@ -318,7 +337,7 @@ Model build_model(const CaseConfig& config, int rank, int ranks) {
   ModelPlan plan = plan_model(config);
   SourceBases bases;
   for (const auto& src : plan.sources) {
-    const std::int64_t n = src->count();
+    const std::int64_t n = src->gid_range();
     src->emit(ParticleSource::slice_begin(n, rank, ranks),
               ParticleSource::slice_begin(n, rank + 1, ranks), bases, plan.model);
     bases.gid += n;

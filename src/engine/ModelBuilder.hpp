@@ -14,7 +14,7 @@ namespace ringdem {
 /// Builds rank `rank`'s share of a case's model: materials, bond types, groups and rigid
 /// bodies in full (they are small), and an equal slice of every particle source's items
 /// (engine/ParticleSource.hpp) with the bonds that touch them. Gids run over the sources in
-/// case order (rings, nets, lattices, spheres) and do not depend on the rank count; the
+/// case order (rings, nets, lattices, grains, spheres) and do not depend on the rank count; the
 /// Simulation's first distribution moves every particle to the owner of its block.
 /// build_model(config) is the whole model, for one rank.
 Model build_model(const CaseConfig& config, int rank = 0, int ranks = 1);

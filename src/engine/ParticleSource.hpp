@@ -32,11 +32,16 @@ class ParticleSource {
   virtual std::string describe() const = 0;
   /// Particles this source creates at start-up.
   virtual std::int64_t count() const = 0;
+  /// Items (gids) it reserves: its gids are bases.gid + item for items in [0, gid_range()),
+  /// and the ranks slice this range. A source whose items are not all particles (sparse gids,
+  /// as GrainSource's packing cells) reserves more than it creates.
+  virtual std::int64_t gid_range() const { return count(); }
   /// Bonds it creates (ids bases.bond_id ...).
   virtual std::int64_t bond_count() const { return 0; }
   /// Ring (body) ids it uses (bases.body ...).
   virtual std::int32_t body_count() const { return 0; }
-  /// Appends the particles of items [first, last) to `model` and the bonds that come with them.
+  /// Appends the particles of items [first, last) of [0, gid_range()) to `model` and the bonds
+  /// that come with them.
   virtual void emit(std::int64_t first, std::int64_t last, const SourceBases& bases,
                     Model& model) const = 0;
 

@@ -133,6 +133,36 @@ struct LatticeConfig {
   std::uint64_t seed = 1;
 };
 
+/// One size class of a grain mix: a radius and its share of the solid volume.
+struct GrainFractionConfig {
+  double radius = 0.0;
+  double fraction = 0.0;
+};
+
+enum class GrainDistribution { kUniform, kLogNormal, kFractions };
+
+/// The radii of a grain mix (domain/GrainSizeDistribution.hpp).
+struct GrainSizesConfig {
+  GrainDistribution distribution = GrainDistribution::kUniform;
+  double min_radius = 0.0025;
+  double max_radius = 0.025;
+  double median_radius = 0.0;  ///< log_normal
+  double sigma = 0.0;          ///< log_normal: standard deviation of ln r
+  std::vector<GrainFractionConfig> fractions;
+};
+
+/// Polydisperse grains filling a box at a solid fraction (debris; engine/GrainSource.hpp).
+struct GrainsConfig {
+  std::string group = "grains";
+  std::string material;
+  Vec3 box_min;
+  Vec3 box_max;
+  double solid_fraction = 0.3;
+  GrainSizesConfig sizes;
+  Vec3 velocity;
+  std::uint64_t seed = 1;
+};
+
 /// One explicitly listed sphere.
 struct SphereConfig {
   std::string group = "spheres";
@@ -257,6 +287,7 @@ struct CaseConfig {
   std::vector<RingConfig> rings;
   std::vector<RingNetConfig> nets;
   std::vector<LatticeConfig> lattices;
+  std::vector<GrainsConfig> grains;
   std::vector<SphereConfig> spheres;
   std::vector<RigidBodyConfig> rigid_bodies;
   ScenarioConfig scenario;

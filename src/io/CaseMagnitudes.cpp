@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "io/GrainsInput.hpp"
 #include "physics/BondTimoshenko.hpp"
 #include "physics/TimeStep.hpp"
 
@@ -173,6 +174,19 @@ std::vector<Kind> particle_kinds(const CaseConfig& c, const Context& ctx) {
     k.reach += l.spacing + l.particle_radius;  // jitter moves a sphere by less than a gap
     k.velocity = l.velocity;
     add(k, l.material);
+  }
+  for (std::size_t i = 0; i < c.grains.size(); ++i) {
+    const GrainsConfig& g = c.grains[i];
+    Kind k;
+    k.path = schema::index_path("particles.grains", i);
+    // The smallest grain sets the contact time step (Rayleigh: proportional to the radius).
+    k.radius_key = k.path + ".sizes";
+    k.position_key = k.path + ".box_min";
+    k.radius = smallest_grain_radius(g.sizes);
+    if (!(k.radius > 0.0)) continue;  // no size class: reported by validate_grains
+    k.reach = std::max(largest_abs(g.box_min), largest_abs(g.box_max));
+    k.velocity = g.velocity;
+    add(k, g.material);
   }
   for (std::size_t i = 0; i < c.spheres.size(); ++i) {
     const SphereConfig& s = c.spheres[i];

@@ -348,6 +348,76 @@ const Table<LatticeConfig>& lattice_table() {
   return table;
 }
 
+const Table<GrainFractionConfig>& grain_fraction_table() {
+  using F = GrainFractionConfig;
+  static const Table<F> table{
+      "particles.grains[].sizes.fractions[]",
+      "One size class of a grain mix.",
+      {
+          schema::number("radius", &F::radius, above(0), "m", "Radius of the class").required(),
+          schema::number("fraction", &F::fraction, interval(0, false, 1, true), "",
+                         "Share of the solid volume (mass at one density); the shares sum to 1")
+              .required(),
+      }};
+  return table;
+}
+
+const Table<GrainSizesConfig>& grain_sizes_table() {
+  using S = GrainSizesConfig;
+  static const Table<S> table{
+      "particles.grains[].sizes",
+      "Radius distribution of the grains. Keys that do not apply to the distribution are "
+      "rejected.",
+      {
+          schema::enum_choice("distribution", &S::distribution,
+                              {{"uniform", GrainDistribution::kUniform},
+                               {"log_normal", GrainDistribution::kLogNormal},
+                               {"fractions", GrainDistribution::kFractions}},
+                              "uniform: radius uniform in [min_radius, max_radius] by number; "
+                              "log_normal: ln r normal (median_radius, sigma) by number, "
+                              "truncated to [min_radius, max_radius]; fractions: size classes "
+                              "by volume share"),
+          schema::number("min_radius", &S::min_radius, above(0), "m",
+                         "Smallest radius (uniform, log_normal)"),
+          schema::number("max_radius", &S::max_radius, above(0), "m",
+                         "Largest radius (uniform, log_normal)"),
+          schema::number("median_radius", &S::median_radius, above(0), "m",
+                         "Median radius by number (log_normal)")
+              .default_text("none (log_normal needs it)"),
+          schema::number("sigma", &S::sigma, above(0), "",
+                         "Standard deviation of ln r (log_normal)")
+              .default_text("none (log_normal needs it)"),
+          schema::list("fractions", &S::fractions, grain_fraction_table(),
+                       "Size classes (fractions)"),
+      }};
+  return table;
+}
+
+const Table<GrainsConfig>& grains_table() {
+  using G = GrainsConfig;
+  static const Table<G> table{
+      "particles.grains[]",
+      "Polydisperse free grains filling a box at a solid fraction without overlaps, built per "
+      "rank (docs/physics.md \"Debris grains\").",
+      {
+          schema::text("group", &G::group, Type::kName, "Particle group (damping, output)"),
+          schema::text("material", &G::material, Type::kName, "Material (from `materials`)")
+              .required(),
+          schema::vec3("box_min", &G::box_min, "m", "Lower corner of the box the grains fill")
+              .required(),
+          schema::vec3("box_max", &G::box_max, "m", "Upper corner of the box the grains fill")
+              .required(),
+          schema::number("solid_fraction", &G::solid_fraction, interval(0, false, 0.35, true), "",
+                         "Solid volume over box volume; random sequential addition cannot "
+                         "reach more than about 0.35 (the grains pack denser as they settle)"),
+          schema::section("sizes", &G::sizes, grain_sizes_table(), "Radius distribution")
+              .required(),
+          schema::vec3("velocity", &G::velocity, "m/s", "Initial velocity of every grain"),
+          schema::unsigned_integer("seed", &G::seed, "Random seed of radii and positions"),
+      }};
+  return table;
+}
+
 const Table<SphereConfig>& sphere_table() {
   using P = SphereConfig;
   static const Table<P> table{
@@ -376,6 +446,8 @@ const Table<CaseConfig>& particles_table() {
           schema::list("rings", &C::rings, ring_table(), "Rings of bonded spheres"),
           schema::list("nets", &C::nets, net_table(), "Chain-mail nets of rings with shackles"),
           schema::list("lattices", &C::lattices, lattice_table(), "Lattices of free spheres"),
+          schema::list("grains", &C::grains, grains_table(),
+                       "Polydisperse grains filling boxes (debris)"),
           schema::list("spheres", &C::spheres, sphere_table(), "Single spheres"),
       }};
   return table;

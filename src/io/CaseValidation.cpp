@@ -6,7 +6,8 @@
 // Gauss linking number; and a bond with `derive_from` gets its modulus from the ring reduction
 // factors (domain/RingGenerator.hpp, physics.md §2 Eq. 17), which need the particle radius of
 // the rings that use it. Doing it here makes a bad net or bond an input error with its line
-// instead of a failure after the build; no other part of the loader calls into domain/.
+// instead of a failure after the build. Besides this file, only io/GrainsInput (the grain
+// size distributions of domain/GrainSizeDistribution) calls into domain/.
 
 #include "io/CaseValidation.hpp"
 
@@ -25,6 +26,7 @@
 #include "domain/RingNet.hpp"
 #include "engine/ModelTable.hpp"
 #include "io/CaseMagnitudes.hpp"
+#include "io/GrainsInput.hpp"
 #include "io/SizeEstimate.hpp"
 
 namespace ringdem {
@@ -518,6 +520,14 @@ void cross_validate_case(CaseConfig& c, Context& ctx) {
                             schema::format_number(l.spacing)));
     }
   }
+  for (std::size_t i = 0; i < c.grains.size(); ++i) {
+    const GrainsConfig& g = c.grains[i];
+    const std::string p = schema::index_path("particles.grains", i);
+    groups.insert(g.group);
+    total_particles += std::llround(validate_grains(g, p, ctx));
+    check_reference(g.material, materials, materials_ok, p + ".material", p, "material",
+                    "materials", ctx);
+  }
   for (std::size_t i = 0; i < c.spheres.size(); ++i) {
     const SphereConfig& s = c.spheres[i];
     const std::string p = schema::index_path("particles.spheres", i);
@@ -528,7 +538,7 @@ void cross_validate_case(CaseConfig& c, Context& ctx) {
   }
   if (total_particles == 0 && ctx.given("particles") && !ctx.failed("particles")) {
     ctx.error(ctx.where("particles"), "particles",
-              "no particles: add at least one entry to rings, nets, lattices or spheres");
+              "no particles: add at least one entry to rings, nets, lattices, grains or spheres");
   }
 
   for (const DampingGroupConfig& g : c.damping.groups)

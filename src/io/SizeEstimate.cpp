@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
+
+#include "io/GrainsInput.hpp"
 
 namespace ringdem {
 
@@ -44,6 +47,8 @@ SizeEstimate estimate_size(const CaseConfig& c) {
   }
   for (const LatticeConfig& l : c.lattices)
     e.particles += std::int64_t{l.count[0]} * l.count[1] * l.count[2];
+  for (const GrainsConfig& g : c.grains)
+    e.particles += static_cast<std::int64_t>(std::llround(expected_grain_count(g)));
   e.particles += static_cast<std::int64_t>(c.spheres.size());
   return e;
 }

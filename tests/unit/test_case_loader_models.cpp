@@ -146,5 +146,77 @@ TEST(CaseLoader, PlasticLimitsAreCheckedAgainstTheBondModel) {
   EXPECT_EQ(diags[0].message, "bonds[0].derive_from gives windings: give it in one place only");
 }
 
+// Debris grains: the distribution's own keys, the size classes and the box, each error at the
+// line of its mistake; a good entry loads with its values.
+TEST(CaseLoader, GrainsEntriesAreCheckedWithTheirLines) {
+  const auto with_grains = [](const std::string& entry) {
+    return replaced(kValidCase, "  spheres:\n", "  grains:\n" + entry + "  spheres:\n");
+  };
+  std::string text = with_grains(
+      "    - material: rock\n"
+      "      box_min: [0, 0, 0]\n"
+      "      box_max: [1, 1, 0.5]\n"
+      "      sizes:\n"
+      "        distribution: fractions\n"
+      "        min_radius: 0.01\n"
+      "        fractions: [{radius: 0.01, fraction: 0.5}, {radius: 0.02, fraction: 0.4}]\n");
+  auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 2u) << all(diags);
+  const Diagnostic* d = find_path(diags, "particles.grains[0].sizes.min_radius");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "min_radius: 0.01"));
+  EXPECT_EQ(d->message, "does not apply to distribution 'fractions' (remove it)");
+  d = find_path(diags, "particles.grains[0].sizes.fractions");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "fractions: [{"));
+  EXPECT_EQ(d->message, "the fractions must sum to 1, got 0.9");
+
+  text = with_grains(
+      "    - material: rok\n"
+      "      box_min: [0, 0, 0]\n"
+      "      box_max: [1, 1, 0.5]\n"
+      "      solid_fraction: 0.5\n"
+      "      sizes: {distribution: log_normal, median_radius: 0.01, max_radius: 0.02}\n");
+  diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 3u) << all(diags);
+  d = find_path(diags, "particles.grains[0].solid_fraction");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "solid_fraction: 0.5"));
+  d = find_path(diags, "particles.grains[0].material");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->message, "material 'rok' is not defined in 'materials'; did you mean 'rock'?");
+  d = find_path(diags, "particles.grains[0].sizes.sigma");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "sizes: {"));
+  EXPECT_EQ(d->message, "missing key 'sigma' (distribution 'log_normal' needs it)");
+
+  text = with_grains(
+      "    - material: rock\n"
+      "      box_min: [0, 0, 0]\n"
+      "      box_max: [1, 0.03, 0.5]\n"
+      "      sizes: {min_radius: 0.005, max_radius: 0.02}\n");
+  diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "particles.grains[0].box_max");
+  EXPECT_EQ(diags[0].line, line_of(text, "box_max: [1, 0.03"));
+  EXPECT_EQ(diags[0].message,
+            "the box is 0.03 m wide along y, less than the largest grain's diameter 0.04 m");
+
+  text = with_grains(
+      "    - material: rock\n"
+      "      group: debris\n"
+      "      box_min: [0, 0, 3]\n"
+      "      box_max: [1, 0.5, 3.5]\n"
+      "      solid_fraction: 0.25\n"
+      "      sizes: {distribution: log_normal, median_radius: 0.01, sigma: 0.3, max_radius: 0.03}\n"
+      "      seed: 4\n");
+  const CaseConfig c = load_case_from_string(text, "case.yaml");
+  ASSERT_EQ(c.grains.size(), 1u);
+  EXPECT_EQ(c.grains[0].sizes.distribution, GrainDistribution::kLogNormal);
+  EXPECT_EQ(c.grains[0].sizes.min_radius, 0.0025);  // the default
+  EXPECT_EQ(c.grains[0].solid_fraction, 0.25);
+  EXPECT_EQ(c.grains[0].seed, 4u);
+}
+
 }  // namespace
 }  // namespace ringdem

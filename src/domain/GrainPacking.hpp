@@ -1,0 +1,40 @@
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "core/Vec3.hpp"
+#include "domain/GrainSizeDistribution.hpp"
+
+namespace ringdem {
+
+/// A grain of a packing: its centre and radius.
+struct PackedGrain {
+  Vec3 centre;
+  double radius = 0.0;
+};
+
+/// A packing that random sequential addition could not complete.
+class GrainPackingError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The radii of one packing cell (docs/physics.md "Debris grains"): drawn from `sizes` until
+/// the next draw would take the solid volume past `target_volume`, then sorted largest first.
+/// Only `rng` decides them, so the count of a cell is known without placing its grains.
+std::vector<double> draw_cell_radii(const GrainSizeDistribution& sizes, double target_volume,
+                                    std::mt19937_64& rng);
+
+/// Random sequential addition: places `radii` (largest first) one after the other at uniform
+/// random centres inside the box [lo, hi] (each sphere wholly inside), rejecting any position
+/// where it would overlap a sphere already placed, with up to `max_attempts` positions per
+/// grain; throws GrainPackingError when a grain finds no room. Grains of neighbouring boxes
+/// cannot overlap, since each stays inside its own box.
+std::vector<PackedGrain> place_grains(const std::vector<double>& radii, const Vec3& lo,
+                                      const Vec3& hi, std::mt19937_64& rng,
+                                      int max_attempts = 20000);
+
+}  // namespace ringdem
