@@ -41,7 +41,7 @@ std::int64_t Communicator::max(std::int64_t v) const {
   return r;
 }
 
-std::vector<double> Communicator::sum_exact(const std::vector<ExactSum>& partial) const {
+std::vector<ExactSum> Communicator::reduce_exact(const std::vector<ExactSum>& partial) const {
   // Integer sums of canonical words are exact and associative, so MPI's reduction order does
   // not matter.
   std::vector<std::int64_t> words(partial.size() * ExactSum::kWords);
@@ -52,9 +52,18 @@ std::vector<double> Communicator::sum_exact(const std::vector<ExactSum>& partial
   if (size_ > 1 && !words.empty())
     MPI_Allreduce(MPI_IN_PLACE, words.data(), static_cast<int>(words.size()), MPI_INT64_T, MPI_SUM,
                   comm_);
-  std::vector<double> sums(partial.size());
+  std::vector<ExactSum> totals;
+  totals.reserve(partial.size());
   for (std::size_t c = 0; c < partial.size(); ++c)
-    sums[c] = ExactSum::from_words(words.data() + c * ExactSum::kWords).value();
+    totals.push_back(ExactSum::from_words(words.data() + c * ExactSum::kWords));
+  return totals;
+}
+
+std::vector<double> Communicator::sum_exact(const std::vector<ExactSum>& partial) const {
+  const std::vector<ExactSum> totals = reduce_exact(partial);
+  std::vector<double> sums(totals.size());
+  for (std::size_t c = 0; c < totals.size(); ++c)
+    sums[c] = totals[c].value();
   return sums;
 }
 

@@ -44,6 +44,8 @@ class Communicator {
   /// (to nearest), the same bits however the terms are spread. One all-reduce of
   /// ExactSum::kWords integers per column; no rank holds more than its own terms.
   std::vector<double> sum_exact(const std::vector<ExactSum>& partial) const;
+  /// The same reduction, keeping each column's total exact (a checkpoint stores it as words).
+  std::vector<ExactSum> reduce_exact(const std::vector<ExactSum>& partial) const;
   /// The exact sums (sum_exact) over the ranks of each column's local values.
   std::vector<double> sum_columns(const std::vector<const std::vector<double>*>& columns) const;
 

@@ -44,6 +44,18 @@ void ParticleStore::resize_local(std::size_t n) {
   resize_all(n);
 }
 
+std::size_t ParticleStore::remove_owned(const std::vector<char>& keep_owned) {
+  if (keep_owned.size() != n_local_) throw std::invalid_argument("remove_owned: wrong size");
+  std::vector<char> keep(n_local_ + n_ghost_, 1);
+  std::copy(keep_owned.begin(), keep_owned.end(), keep.begin());
+  const std::size_t kept = compact_rows(*this, keep);
+  const std::size_t removed = n_local_ + n_ghost_ - kept;
+  n_local_ -= removed;
+  resize_all(kept);
+  rebuild_index();
+  return removed;
+}
+
 void ParticleStore::resize_ghosts(std::size_t n) {
   n_ghost_ = n;
   resize_all(n_local_ + n_ghost_);

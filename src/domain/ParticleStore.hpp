@@ -148,6 +148,10 @@ class ParticleStore {
 
   /// Resizes the owned range; drops all ghosts.
   void resize_local(std::size_t n);
+  /// Takes out the owned particles k with keep_owned[k] == 0 (one entry per owned particle);
+  /// the ghosts stay, after the owned ones, so a migration can still route what names them.
+  /// Returns how many were taken out.
+  std::size_t remove_owned(const std::vector<char>& keep_owned);
   /// Sets the ghost count, resizing every field to n_local + n_ghost.
   void resize_ghosts(std::size_t n);
   /// Reorders the owned particles: new index i takes old index order[i].

@@ -7,6 +7,7 @@
 #include "domain/BondStore.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
+#include "engine/OutflowSink.hpp"
 #include "physics/BondTimoshenko.hpp"
 #include "physics/BondTimoshenkoPlastic.hpp"
 #include "physics/MaterialTable.hpp"
@@ -18,6 +19,7 @@ struct Model {
   ParticleStore particles;
   BondStore bonds;
   std::vector<RigidBody> bodies;
+  std::vector<OutflowBox> outflow;  ///< boxes that grains may not leave (`outflow[]`)
   MaterialTable materials;
   std::vector<std::string> bond_type_names;
   std::vector<BondTimoshenko::Params> bond_types;

@@ -264,6 +264,13 @@ ModelPlan plan_model(const CaseConfig& c) {
     model.initial_bonds += src->bond_count();
   }
 
+  for (const OutflowConfig& o : c.outflow) {
+    OutflowBox box{o.name, o.box_min, o.box_max, {}};
+    for (const std::string& g : o.groups)
+      box.groups.push_back(model.group_id(g));
+    model.outflow.push_back(std::move(box));
+  }
+
   for (const auto& rb : c.rigid_bodies) {
     RigidBody b;
     b.name = rb.name;

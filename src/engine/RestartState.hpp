@@ -36,6 +36,11 @@ struct RestartState {
   std::vector<Quat> body_orientation_at_rebuild;
   bool rebuild_forced = false;
   bool bonds_broke = false;
+  /// Outflow (engine/OutflowSink): grains found outside their box after the last drift, to be
+  /// taken out at the next step (the same on every rank), and what went out so far, as the
+  /// exact totals' words (empty: nothing yet, or a checkpoint from before outflow existed).
+  bool outflow_pending = false;
+  std::vector<std::int64_t> outflow_totals;
 };
 
 }  // namespace ringdem

@@ -93,6 +93,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       terms_(make_terms(model_)),
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
+  outflow_ = OutflowSink(model_.outflow);
   ParticleStore& p = model_.particles;
   // Each rank built a slice of every source; move the particles to the owners of their blocks.
   decomposition_.distribute_initial(p, pair_stores());
@@ -126,6 +127,9 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   dt_origin_time_ = restart.dt_origin_time;
   force_rebuild_ = restart.rebuild_forced;
   bonds_broke_before_restart_ = restart.bonds_broke;
+  outflow_ = OutflowSink(model_.outflow);
+  outflow_.import_totals(restart.outflow_totals, comm_.is_root());
+  outflow_pending_ = restart.outflow_pending;
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("restart state has no valid time step");
   std::vector<RigidBody>& bodies = model_.bodies;
@@ -184,6 +188,8 @@ RestartState Simulation::restart_state() const {
   for (const auto& t : terms_)
     broke = broke || t->topology_changed();
   s.bonds_broke = comm_.any(broke);
+  s.outflow_pending = outflow_pending_;
+  s.outflow_totals = outflow_.export_totals(comm_);
   return s;
 }
 
@@ -361,9 +367,14 @@ bool Simulation::needs_rebuild() {
   for (const RigidBody& b : model_.bodies)
     if (!std::isfinite(norm2(b.position) + norm2(b.velocity) + norm2(b.omega)))
       runaway = Integrator::kRunaway;
-  const auto global = comm_.max(std::array<double, 4>{
-      std::sqrt(max_move2_), topology_changed ? 1.0 : 0.0, stop_local_ ? 1.0 : 0.0, runaway});
+  // Grains out of an outflow box at the positions this drift reached leave before the next
+  // step, when the state is synchronised (OutflowSink); they ride on the same reduction.
+  const bool leaving = outflow_.any_leaving(model_.particles);
+  const auto global =
+      comm_.max(std::array<double, 5>{std::sqrt(max_move2_), topology_changed ? 1.0 : 0.0,
+                                      stop_local_ ? 1.0 : 0.0, runaway, leaving ? 1.0 : 0.0});
   if (global[3] > 1.0) report_divergence();
+  outflow_pending_ = global[4] > 0.0;
   const double particle_move = global[0];
   const bool bond_broke = global[1] > 0.0;
   stop_agreed_ = global[2] > 0.0;
@@ -516,6 +527,13 @@ void Simulation::reduce_body_loads() {
 
 void Simulation::step() {
   ParticleStore& p = model_.particles;
+  if (outflow_pending_) {
+    // Every rank knows (the last step's reduction): the owned indices change, so all rebuild.
+    PhaseTimer t(phase_seconds_[kNeighbour]);
+    outflow_.remove_leaving(p, settings_.gravity, dt_);
+    outflow_pending_ = false;
+    rebuild();
+  }
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     drift_ =
@@ -566,6 +584,14 @@ void Simulation::refresh_bond_diagnostics() {
   bond_term_->update_diagnostics(model_.particles);
 }
 
+Simulation::OutflowTotals Simulation::outflow_totals() const {
+  const std::vector<ExactSum>& gone = outflow_.partial();
+  const std::vector<double> sums = comm_.sum_exact(
+      {gone[OutflowSink::kCount], gone[OutflowSink::kMass], gone[OutflowSink::kMomentumX],
+       gone[OutflowSink::kMomentumY], gone[OutflowSink::kMomentumZ]});
+  return {static_cast<std::int64_t>(sums[0]), sums[1], {sums[2], sums[3], sums[4]}};
+}
+
 std::int64_t Simulation::global_particles() const {
   return comm_.sum(static_cast<std::int64_t>(model_.particles.n_local()));
 }
@@ -600,9 +626,17 @@ Energies Simulation::energies() {
     kBond,
     kBreak,
     kPlastic,
+    kOutflow,
     kColumns
   };
   std::vector<ExactSum> partial(kColumns);
+  // What left through outflow boxes: the dissipation it had booked stays in the ledger.
+  const std::vector<ExactSum>& gone = outflow_.partial();
+  partial[kDamping] += gone[OutflowSink::kDamping];
+  partial[kFriction] += gone[OutflowSink::kFriction];
+  partial[kGlobal] += gone[OutflowSink::kGlobalDamping];
+  partial[kBoundary] += gone[OutflowSink::kBoundaryWork];
+  partial[kOutflow] += gone[OutflowSink::kEnergy];
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     partial[kDamping].add(
         ParticleStore::ledger_value(p.dissipated_damping[k], p.power_damping[k], dt_));
@@ -639,6 +673,7 @@ Energies Simulation::energies() {
   e.bond_elastic = sums[kBond];
   e.broken_bonds = sums[kBreak];
   e.plastic_work = sums[kPlastic];
+  e.outflow = sums[kOutflow];
   for (const auto& b : model_.bodies) {
     if (b.motion != Motion::kFree) continue;
     const Mat3 r = rotation_matrix(b.orientation);

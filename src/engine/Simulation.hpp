@@ -14,6 +14,7 @@
 #include "engine/ForceSlots.hpp"
 #include "engine/GatherMap.hpp"
 #include "engine/ModelBuilder.hpp"
+#include "engine/OutflowSink.hpp"
 #include "engine/RestartState.hpp"
 #include "io/CaseConfig.hpp"
 #include "physics/Integrator.hpp"
@@ -48,15 +49,18 @@ struct Energies {
   /// Work done on the particles by driven (prescribed) rigid bodies and particles and by
   /// external forces: energy put in, so it enters the balance with a minus sign.
   double boundary_work = 0.0;
+  /// Energy that grains carried out through outflow boxes (kinetic, potential, contact
+  /// elastic share at the moment they left); their dissipation stays in the columns above.
+  double outflow = 0.0;
 
   /// Mechanical energy: kinetic + potential + bond and contact elastic.
   double total() const { return kinetic + potential + bond_elastic + contact_elastic; }
   double dissipated() const {
     return contact_damping + friction + global_damping + broken_bonds + plastic_work;
   }
-  /// Mechanical + dissipated - boundary work: constant in time, up to the integrator's O(dt^2)
-  /// energy error.
-  double ledger() const { return total() + dissipated() - boundary_work; }
+  /// Mechanical + dissipated - boundary work + carried out: constant in time, up to the
+  /// integrator's O(dt^2) energy error.
+  double ledger() const { return total() + dissipated() - boundary_work + outflow; }
   /// How far the ledger moved since `initial` (energies() at the start): 0 when it closes.
   double balance_error(const Energies& initial) const { return ledger() - initial.ledger(); }
 };
@@ -150,6 +154,14 @@ class Simulation {
   static constexpr double kMaxStepFraction = 1.0;
   static constexpr double kMaxTurn = 0.5;
 
+  /// What left through the outflow boxes so far: grains, mass, momentum. Collective.
+  struct OutflowTotals {
+    std::int64_t grains = 0;
+    double mass = 0.0;
+    Vec3 momentum;
+  };
+  OutflowTotals outflow_totals() const;
+
   std::int64_t global_particles() const;
   std::int64_t global_bonds() const;
   std::int64_t global_broken_bonds() const;
@@ -224,6 +236,8 @@ class Simulation {
   bool track_orientations_ = true;  ///< some particle has a bond (Integrator::first_half)
   Integrator::Drift drift_;         ///< the last drift pass (this rank), for the divergence guard
   EnergyGuard energy_guard_;        ///< the divergence guard's energy part, at every energies()
+  OutflowSink outflow_;             ///< model_.outflow's boxes and what went out
+  bool outflow_pending_ = false;    ///< a grain left a box in the last drift (on some rank)
   std::vector<Vec3> body_position_at_rebuild_;
   std::vector<Quat> body_orientation_at_rebuild_;
   std::array<double, kPhaseCount> phase_seconds_{};

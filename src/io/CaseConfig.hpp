@@ -275,6 +275,15 @@ struct OutputConfig {
   int checkpoints_kept = 2;
 };
 
+/// A box that grains may not leave: those whose centre goes out are taken out of the model
+/// (engine/OutflowSink.hpp).
+struct OutflowConfig {
+  std::string name;
+  Vec3 box_min;
+  Vec3 box_max;
+  std::vector<std::string> groups;  ///< empty: every free grain in no ring
+};
+
 struct CaseConfig {
   int schema_version = 1;
   std::string name;
@@ -290,6 +299,7 @@ struct CaseConfig {
   std::vector<GrainsConfig> grains;
   std::vector<SphereConfig> spheres;
   std::vector<RigidBodyConfig> rigid_bodies;
+  std::vector<OutflowConfig> outflow;
   ScenarioConfig scenario;
   OutputConfig output;
   std::string source_path;  ///< the file it came from, for messages

@@ -496,6 +496,23 @@ const Table<RigidBodyConfig>& rigid_body_table() {
   return table;
 }
 
+const Table<OutflowConfig>& outflow_table() {
+  using O = OutflowConfig;
+  static const Table<O> table{
+      "outflow[]",
+      "Boxes that grains may not leave: a free grain in no ring whose centre goes out of one is "
+      "taken out of the model, and the ledger counts what it carries out (docs/physics.md "
+      "\"Outflow\"); names must be unique.",
+      {
+          schema::text("name", &O::name, Type::kName, "Name (output)").required(),
+          schema::vec3("box_min", &O::box_min, "m", "Lower corner of the box").required(),
+          schema::vec3("box_max", &O::box_max, "m", "Upper corner of the box").required(),
+          schema::name_list("groups", &O::groups,
+                            "Particle groups it takes out (empty: every free grain in no ring)"),
+      }};
+  return table;
+}
+
 const Table<TensileTestConfig>& tensile_test_table() {
   using T = TensileTestConfig;
   static const Table<T> table{
@@ -666,6 +683,8 @@ const schema::Table<CaseConfig>& case_schema() {
           schema::inline_section("particles", particles_table(), "Particle generators").required(),
           schema::list("rigid_bodies", &C::rigid_bodies, rigid_body_table(),
                        "Rigid walls, pins, boulders"),
+          schema::list("outflow", &C::outflow, outflow_table(),
+                       "Outflow boxes: grains that leave them are taken out"),
           schema::section("scenario", &C::scenario, scenario_table(),
                           "Scenario driver and its measurements"),
           schema::section("output", &C::output, output_table(),

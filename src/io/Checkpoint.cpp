@@ -29,9 +29,10 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // neighbour-list rebuild criterion reads (particles/position_at_rebuild, the bodies' position
 // and orientation at the last rebuild, rebuild_forced, bonds_broke); 5: one set of spring
 // datasets per contact term (/history/<term>.<field>, its store's registry) instead of one
-// table with a partner-kind column. Only this version is read: the spring layout of older
-// files is not, so a restart from one could not go on bit for bit.
-constexpr std::int64_t kFormatVersion = 5;
+// table with a partner-kind column; 6: outflow (outflow_pending, /outflow/totals: the exact
+// totals of what left through outflow boxes). Only this version is read: an older file lacks
+// what this one needs to go on bit for bit.
+constexpr std::int64_t kFormatVersion = 6;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
 /// global row index, so partial sums of blocks written by any number of ranks add up to the
@@ -353,6 +354,11 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
       if (!comm.is_root()) mine.clear();
       write_concatenated(f, comm, std::string("/bodies/") + name, mine);
     });
+    f.set_attribute("/", "outflow_pending", std::int64_t{state.outflow_pending});
+    f.create_group("/outflow");
+    std::vector<std::int64_t> outflow = state.outflow_totals;  // the same on every rank
+    if (!comm.is_root()) outflow.clear();
+    write_concatenated(f, comm, "/outflow/totals", outflow);
     f.create_group("/driver");
     f.set_attribute("/driver", "names", join(driver.names));
     std::vector<double> values = driver.values;
@@ -489,6 +495,13 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
   state.dt_origin_time = info.dt_origin_time;
   state.rebuild_forced = f.attribute_int("/", "rebuild_forced") != 0;
   state.bonds_broke = f.attribute_int("/", "bonds_broke") != 0;
+  state.outflow_pending = f.attribute_int("/", "outflow_pending") != 0;
+  {
+    const auto d = f.dims("/outflow/totals");
+    const std::int64_t n = d.empty() ? 0 : d[0];
+    state.outflow_totals =
+        read_verified_block<std::int64_t>(f, comm, "/outflow/totals", n, 0, n, ReadBy::kEveryRank);
+  }
   for (const std::string& term : spring_terms(f)) {
     const std::string partner = f.attribute_string(spring_dataset(term, "partner"), "names");
     if (partner != kParticlePartner && partner != kBodyPartner)
@@ -541,7 +554,8 @@ std::vector<std::string> verify_checkpoint(const std::string& path) {
   read_checkpoint_info(path);
   const Hdf5File f = Hdf5File::open_read(path);
   std::vector<std::string> checked;
-  for (const char* group : {"/particles", "/bonds", "/history", "/bodies", "/driver", "/case"}) {
+  for (const char* group :
+       {"/particles", "/bonds", "/history", "/bodies", "/outflow", "/driver", "/case"}) {
     for (const std::string& name : f.list(group)) {
       const std::string full = std::string(group) + "/" + name;
       std::size_t row_bytes = 0;

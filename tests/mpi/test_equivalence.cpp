@@ -117,6 +117,7 @@ void expect_identical_energies(const Energies& ref, const Energies& got) {
   EXPECT_EQ(ref.broken_bonds, got.broken_bonds);
   EXPECT_EQ(ref.boundary_work, got.boundary_work);
   EXPECT_EQ(ref.plastic_work, got.plastic_work);
+  EXPECT_EQ(ref.outflow, got.outflow);
 }
 
 int world_size() {
@@ -389,6 +390,17 @@ TEST(Equivalence, PolydisperseGrainsSettleOnAnyRankCount) {
   EXPECT_GT(r.reference.particles.size(), 400u);
   expect_identical(r.reference, r.parallel);
   EXPECT_GT(r.reference_energies.friction, 0.0);
+  expect_identical_energies(r.reference_energies, r.parallel_energies);
+}
+
+// Grains leaving through an outflow box while they settle: the same grains leave at the same
+// steps, and the rest ends the same bits, on any rank count; what left is counted alike.
+TEST(Equivalence, GrainsLeavingThroughAnOutflowBox) {
+  const CaseConfig c = testing::grains_leaving_through_an_outflow_box();
+  const auto r = run_both(c, 3000, /*imbalance_threshold=*/0.0);
+  EXPECT_GT(r.reference.particles.size(), 300u);
+  expect_identical(r.reference, r.parallel);
+  EXPECT_GT(r.reference_energies.outflow, 0.0);
   expect_identical_energies(r.reference_energies, r.parallel_energies);
 }
 

@@ -278,6 +278,77 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
   MPI_Comm_free(&world);
 }
 
+// Grains leaving through an outflow box: a checkpoint in the middle of the outflow restarts on
+// this run's ranks and on one rank and ends as the run never interrupted, with the same
+// totals of what left (rank 0 holds them after a restart) and the same ledger.
+TEST(Checkpoint, OutflowRestartsBitwiseOnAnyRankCount) {
+  MPI_Comm world;
+  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  {
+    const Communicator comm(world);
+    const std::string dir = shared_temp_dir(comm, "outflow");
+    const CaseConfig c = testing::grains_leaving_through_an_outflow_box();
+    const SimulationSettings s = settings_from_case(c);
+    constexpr std::int64_t kHalf = 700;
+    DriverState driver;
+    driver.set("marker", 42.0);
+    std::string straight, middle, resumed;
+    Energies straight_energies;
+    Simulation::OutflowTotals straight_out;
+    {
+      Simulation sim(build_model(c, comm), comm, s);
+      sim.run_steps(2 * kHalf);
+      straight_energies = sim.energies();
+      straight_out = sim.outflow_totals();
+      straight = CheckpointStore(dir + "/straight")
+                     .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
+    }
+    std::int64_t gone_at_middle = 0;
+    {
+      Simulation sim(build_model(c, comm), comm, s);
+      sim.run_steps(kHalf);
+      gone_at_middle = sim.outflow_totals().grains;
+      middle = CheckpointStore(dir + "/middle")
+                   .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
+    }
+    EXPECT_GT(gone_at_middle, 0);
+    EXPECT_GT(straight_out.grains, gone_at_middle) << "grains should leave after the restart too";
+    const auto check = [&](Simulation& sim) {
+      sim.run_steps(kHalf);
+      const Energies e = sim.energies();
+      EXPECT_EQ(e.outflow, straight_energies.outflow);
+      EXPECT_EQ(e.kinetic, straight_energies.kinetic);
+      EXPECT_EQ(e.friction, straight_energies.friction);
+      EXPECT_EQ(e.contact_damping, straight_energies.contact_damping);
+      const Simulation::OutflowTotals out = sim.outflow_totals();
+      EXPECT_EQ(out.grains, straight_out.grains);
+      EXPECT_EQ(out.mass, straight_out.mass);
+      EXPECT_EQ(out.momentum, straight_out.momentum);
+    };
+    {
+      auto sim = restart(c, middle, comm);
+      check(*sim);
+      resumed = CheckpointStore(dir + "/resumed")
+                    .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c);
+    }
+    std::string resumed_serial;
+    if (comm.is_root()) {
+      const Communicator self = Communicator::self();
+      auto sim = restart(c, middle, self);
+      check(*sim);
+      resumed_serial = CheckpointStore(dir + "/serial")
+                           .write(sim->comm(), sim->model(), sim->restart_state(), driver, 0, c);
+    }
+    comm.barrier();
+    if (comm.is_root()) {
+      expect_same_checkpoint_state(straight, resumed);
+      expect_same_checkpoint_state(straight, resumed_serial);
+      std::filesystem::remove_all(dir);
+    }
+  }
+  MPI_Comm_free(&world);
+}
+
 // A restart between two neighbour-list rebuilds keeps the reference positions of the last one
 // (the skin criterion measures moves from there): the next rebuild comes at the same step as
 // in the run never interrupted, and the restart itself is no rebuild of the trajectory. The

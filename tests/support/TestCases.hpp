@@ -99,4 +99,33 @@ scenario:
              sag_check_interval: 0.005, duration: 0.002, record_interval: 5.0e-4}
 )";
 
+/// Polydisperse steel grains (3 and 6 mm, 40/60 % by volume) thrown at (2, 0, -2) m/s onto a
+/// floor, next to the end of an outflow box at x = 0.19 m: grains leave from the first steps
+/// on, and contacts, friction and rebuilds go on among those that stay.
+inline CaseConfig grains_leaving_through_an_outflow_box() {
+  CaseConfig c = base_case();
+  c.simulation.gravity = {0, 0, -9.81};
+  c.simulation.dt = 1e-6;
+  c.simulation.skin = 0.0005;
+  GrainsConfig g;
+  g.material = "steel";
+  g.box_min = {0.0, 0.0, 0.0};
+  g.box_max = {0.2, 0.1, 0.05};
+  g.sizes.distribution = GrainDistribution::kFractions;
+  g.sizes.fractions = {{0.003, 0.4}, {0.006, 0.6}};
+  g.velocity = {2.0, 0.0, -2.0};
+  c.grains = {g};
+  RigidBodyConfig floor;
+  floor.name = "floor";
+  floor.shape = ShapeKind::kPlane;
+  floor.position = {0, 0, 0};
+  c.rigid_bodies = {floor};
+  OutflowConfig out;
+  out.name = "edge";
+  out.box_min = {-1, -1, -1};
+  out.box_max = {0.19, 1, 1};
+  c.outflow = {out};
+  return c;
+}
+
 }  // namespace ringdem::testing

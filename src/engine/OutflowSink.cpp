@@ -1,0 +1,86 @@
+#include "engine/OutflowSink.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace ringdem {
+
+OutflowSink::OutflowSink(std::vector<OutflowBox> boxes)
+    : boxes_(std::move(boxes)), partial_(kColumns) {}
+
+bool OutflowSink::leaving(const ParticleStore& p, std::size_t k) const {
+  if (p.motion[k] != Motion::kFree || p.body[k] >= 0) return false;
+  const Vec3& x = p.position[k];
+  for (const OutflowBox& b : boxes_) {
+    if (!b.groups.empty() &&
+        std::find(b.groups.begin(), b.groups.end(), p.group[k]) == b.groups.end())
+      continue;
+    // A position that is not a number is never outside: the divergence guard must see it.
+    const bool outside = x.x < b.lo.x || x.x > b.hi.x || x.y < b.lo.y || x.y > b.hi.y ||
+                         x.z < b.lo.z || x.z > b.hi.z;
+    if (outside) return true;
+  }
+  return false;
+}
+
+bool OutflowSink::any_leaving(const ParticleStore& p) const {
+  if (boxes_.empty()) return false;
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    if (leaving(p, k)) return true;
+  return false;
+}
+
+std::size_t OutflowSink::remove_leaving(ParticleStore& p, const Vec3& gravity, double dt) {
+  const std::size_t n = p.n_local();
+  std::vector<char> keep(n, 1);
+  std::size_t removed = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!leaving(p, k)) continue;
+    keep[k] = 0;
+    ++removed;
+    const double m = p.mass[k];
+    const Vec3 v = p.velocity[k];
+    partial_[kCount].add(1.0);
+    partial_[kMass].add(m);
+    partial_[kMomentumX].add(m * v.x);
+    partial_[kMomentumY].add(m * v.y);
+    partial_[kMomentumZ].add(m * v.z);
+    // The same terms as Simulation::energies() sums for a particle still in the model.
+    partial_[kEnergy].add(0.5 * m * norm2(v) + 0.5 * p.inertia[k] * norm2(p.omega[k]));
+    partial_[kEnergy].add(-m * dot(gravity, p.position[k]));
+    partial_[kEnergy].add(p.contact_energy[k]);
+    partial_[kDamping].add(
+        ParticleStore::ledger_value(p.dissipated_damping[k], p.power_damping[k], dt));
+    partial_[kFriction].add(
+        ParticleStore::ledger_value(p.dissipated_friction[k], p.power_friction[k], dt));
+    partial_[kGlobalDamping].add(
+        ParticleStore::ledger_value(p.dissipated_global[k], p.power_global[k], dt));
+    partial_[kBoundaryWork].add(
+        ParticleStore::ledger_value(p.boundary_work[k], p.power_boundary[k], dt));
+  }
+  if (removed == 0) return 0;
+  return p.remove_owned(keep);
+}
+
+std::vector<std::int64_t> OutflowSink::export_totals(const Communicator& comm) const {
+  const std::vector<ExactSum> totals = comm.reduce_exact(partial_);
+  std::vector<std::int64_t> words;
+  words.reserve(totals.size() * ExactSum::kWords);
+  for (const ExactSum& t : totals) {
+    const auto w = t.export_words();
+    words.insert(words.end(), w.begin(), w.end());
+  }
+  return words;
+}
+
+void OutflowSink::import_totals(const std::vector<std::int64_t>& words, bool root) {
+  partial_.assign(kColumns, ExactSum{});
+  if (words.empty() || !root) return;
+  if (words.size() != static_cast<std::size_t>(kColumns) * ExactSum::kWords)
+    throw std::runtime_error("checkpoint: outflow totals of the wrong size");
+  for (int c = 0; c < kColumns; ++c)
+    partial_[static_cast<std::size_t>(c)] =
+        ExactSum::from_words(words.data() + static_cast<std::size_t>(c) * ExactSum::kWords);
+}
+
+}  // namespace ringdem

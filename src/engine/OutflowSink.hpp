@@ -1,0 +1,69 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "comm/Communicator.hpp"
+#include "comm/ExactSum.hpp"
+#include "core/Vec3.hpp"
+#include "domain/ParticleStore.hpp"
+
+namespace ringdem {
+
+/// A box that grains may not leave (`outflow[]` in the case file): a free grain in no ring
+/// whose centre is outside it is taken out of the model.
+struct OutflowBox {
+  std::string name;
+  Vec3 lo, hi;
+  std::vector<std::int32_t> groups;  ///< particle groups it takes; empty: every grain
+};
+
+/// The outflow boundaries and what has gone out through them (docs/physics.md "Outflow").
+/// Grains are taken out between two steps, at the synchronised state (x^n, v^n, the ledger
+/// tallies at t_n), so that what they carry out closes the energy ledger: their kinetic and
+/// potential energy, their share of contact elastic energy, and the dissipation and boundary
+/// work they had booked, which stay in the ledger's totals. Mass, momentum and count are kept
+/// too (the momentum balance of a debris flow). Each rank sums exactly (comm/ExactSum) what
+/// its own grains carry, so totals are the same bits on any rank count.
+class OutflowSink {
+ public:
+  enum Column {
+    kCount,
+    kMass,
+    kMomentumX,
+    kMomentumY,
+    kMomentumZ,
+    kEnergy,  ///< kinetic + potential (-m g.x) + contact elastic share
+    kDamping,
+    kFriction,
+    kGlobalDamping,
+    kBoundaryWork,
+    kColumns
+  };
+
+  explicit OutflowSink(std::vector<OutflowBox> boxes = {});
+
+  bool empty() const { return boxes_.empty(); }
+  /// Owned particle k is a grain (free, in no ring) of a box's groups, outside that box.
+  bool leaving(const ParticleStore& p, std::size_t k) const;
+  /// Some owned particle is leaving (this rank).
+  bool any_leaving(const ParticleStore& p) const;
+  /// Takes the owned grains that are leaving out of `p`, adding what they carry to this rank's
+  /// sums. Owned indices change: a neighbour-list rebuild must follow. Returns how many left.
+  std::size_t remove_leaving(ParticleStore& p, const Vec3& gravity, double dt);
+
+  /// This rank's partial sums, by Column.
+  const std::vector<ExactSum>& partial() const { return partial_; }
+  /// The totals over the ranks as ExactSum words (kColumns x ExactSum::kWords). Collective.
+  std::vector<std::int64_t> export_totals(const Communicator& comm) const;
+  /// From a checkpoint: the root takes the totals, the other ranks start from zero (empty
+  /// `words`: nothing went out yet).
+  void import_totals(const std::vector<std::int64_t>& words, bool root);
+
+ private:
+  std::vector<OutflowBox> boxes_;
+  std::vector<ExactSum> partial_;
+};
+
+}  // namespace ringdem
