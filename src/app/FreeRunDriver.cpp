@@ -33,6 +33,9 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
     for (const char* c : {"fx_N", "fy_N", "fz_N"})
       columns.push_back(b.name + "_" + c);
   columns.push_back("plastic_work_J");  // appended: the columns before it stay where they were
+  // What left through the outflow boxes (docs/physics.md "Outflow"), cumulative.
+  for (const char* c : {"outflow_grains", "outflow_mass_kg", "outflow_energy_J"})
+    columns.push_back(c);
   if (sim.comm().is_root() && !output_dir_.empty())
     series_ = control_->restarted() ? SeriesWriter::resume(output_dir_ + "/series.csv", columns,
                                                            control_->restart_time())
@@ -52,6 +55,7 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
 void FreeRunDriver::record(Simulation& sim) {
   const Energies e = sim.energies();
   const std::int64_t broken = sim.global_broken_bonds();
+  const Simulation::OutflowTotals out = sim.outflow_totals();
   max_kinetic_ = std::max(max_kinetic_, e.kinetic);
   double util = 0.0;
   for (double u : sim.model().bonds.utilisation)
@@ -66,6 +70,9 @@ void FreeRunDriver::record(Simulation& sim) {
     row.push_back(b.force.z);
   }
   row.push_back(e.plastic_work);
+  row.push_back(static_cast<double>(out.grains));
+  row.push_back(out.mass);
+  row.push_back(e.outflow);
   series_.row(row);
 }
 
@@ -100,6 +107,7 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
   const std::int64_t n_particles = sim.global_particles();
   const std::int64_t n_bonds = sim.global_bonds();
   const std::int64_t n_broken = sim.global_broken_bonds();
+  const Simulation::OutflowTotals out = sim.outflow_totals();
   const double particle_steps_per_s =
       times.loop_seconds > 0
           ? static_cast<double>(n_particles) * static_cast<double>(sim.steps() - times.first_step) /
@@ -138,6 +146,12 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
       bodies.set(b.name, one);
     }
     summary.set("rigid_bodies", bodies);
+    JsonObject outflow;
+    outflow.set("grains", static_cast<long long>(out.grains))
+        .set("mass_kg", out.mass)
+        .set("momentum_kg_m_s", std::vector<double>{out.momentum.x, out.momentum.y, out.momentum.z})
+        .set("energy_J", e.outflow);
+    summary.set("outflow", outflow);
     summary.write(output_dir_ + "/summary.json");
   }
 
