@@ -33,8 +33,10 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
     for (const char* c : {"fx_N", "fy_N", "fz_N"})
       columns.push_back(b.name + "_" + c);
   columns.push_back("plastic_work_J");  // appended: the columns before it stay where they were
-  // What left through the outflow boxes (docs/physics.md "Outflow"), cumulative.
-  for (const char* c : {"outflow_grains", "outflow_mass_kg", "outflow_energy_J"})
+  // What left through the outflow boxes and came in through the inlets (docs/physics.md
+  // "Outflow", "Inflow"), cumulative.
+  for (const char* c : {"outflow_grains", "outflow_mass_kg", "outflow_energy_J", "inflow_grains",
+                        "inflow_mass_kg", "inflow_energy_J"})
     columns.push_back(c);
   if (sim.comm().is_root() && !output_dir_.empty())
     series_ = control_->restarted() ? SeriesWriter::resume(output_dir_ + "/series.csv", columns,
@@ -55,7 +57,8 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
 void FreeRunDriver::record(Simulation& sim) {
   const Energies e = sim.energies();
   const std::int64_t broken = sim.global_broken_bonds();
-  const Simulation::OutflowTotals out = sim.outflow_totals();
+  const Simulation::GrainFlux out = sim.outflow_totals();
+  const Simulation::GrainFlux in = sim.inflow_totals();
   max_kinetic_ = std::max(max_kinetic_, e.kinetic);
   double util = 0.0;
   for (double u : sim.model().bonds.utilisation)
@@ -73,6 +76,9 @@ void FreeRunDriver::record(Simulation& sim) {
   row.push_back(static_cast<double>(out.grains));
   row.push_back(out.mass);
   row.push_back(e.outflow);
+  row.push_back(static_cast<double>(in.grains));
+  row.push_back(in.mass);
+  row.push_back(e.inflow);
   series_.row(row);
 }
 
@@ -107,7 +113,8 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
   const std::int64_t n_particles = sim.global_particles();
   const std::int64_t n_bonds = sim.global_bonds();
   const std::int64_t n_broken = sim.global_broken_bonds();
-  const Simulation::OutflowTotals out = sim.outflow_totals();
+  const Simulation::GrainFlux out = sim.outflow_totals();
+  const Simulation::GrainFlux in = sim.inflow_totals();
   const double particle_steps_per_s =
       times.loop_seconds > 0
           ? static_cast<double>(n_particles) * static_cast<double>(sim.steps() - times.first_step) /
@@ -152,6 +159,12 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("momentum_kg_m_s", std::vector<double>{out.momentum.x, out.momentum.y, out.momentum.z})
         .set("energy_J", e.outflow);
     summary.set("outflow", outflow);
+    JsonObject inflow;
+    inflow.set("grains", static_cast<long long>(in.grains))
+        .set("mass_kg", in.mass)
+        .set("momentum_kg_m_s", std::vector<double>{in.momentum.x, in.momentum.y, in.momentum.z})
+        .set("energy_J", e.inflow);
+    summary.set("inflow", inflow);
     summary.write(output_dir_ + "/summary.json");
   }
 

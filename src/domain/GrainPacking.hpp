@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/Vec3.hpp"
@@ -14,6 +15,21 @@ namespace ringdem {
 struct PackedGrain {
   Vec3 centre;
   double radius = 0.0;
+};
+
+/// Grains filling a box at a solid fraction (engine/GrainSource builds them; an inlet of
+/// engine/InflowSource builds one such fill per batch).
+struct GrainFill {
+  std::string name = "grains";  ///< case-file path, for errors
+  Vec3 box_min, box_max;
+  GrainSizeDistribution sizes = GrainSizeDistribution::uniform(0.005, 0.005);
+  double solid_fraction = 0.3;
+  std::uint64_t seed = 1;
+  Vec3 velocity;
+  double density = 0.0;
+  double damping = 0.0;
+  std::int32_t material = 0;
+  std::int32_t group = 0;
 };
 
 /// A packing that random sequential addition could not complete.

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/Vec3.hpp"
+#include "domain/GrainPacking.hpp"
 #include "domain/GrainSizeDistribution.hpp"
 #include "engine/ParticleSource.hpp"
 
@@ -21,18 +22,7 @@ namespace ringdem {
 /// A rank builds only the cells of its slice of items: no rank ever holds every grain.
 class GrainSource final : public ParticleSource {
  public:
-  struct Spec {
-    std::string name = "grains";  ///< case-file path, for errors
-    Vec3 box_min, box_max;
-    GrainSizeDistribution sizes = GrainSizeDistribution::uniform(0.005, 0.005);
-    double solid_fraction = 0.3;
-    std::uint64_t seed = 1;
-    Vec3 velocity;
-    double density = 0.0;
-    double damping = 0.0;
-    std::int32_t material = 0;
-    std::int32_t group = 0;
-  };
+  using Spec = GrainFill;
   /// Packing cells are at least this many largest diameters wide (where the box allows).
   static constexpr double kCellDiameters = 8.0;
 

@@ -7,6 +7,7 @@
 #include "domain/BondStore.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
+#include "engine/InflowSpec.hpp"
 #include "engine/OutflowSink.hpp"
 #include "physics/BondTimoshenko.hpp"
 #include "physics/BondTimoshenkoPlastic.hpp"
@@ -20,6 +21,7 @@ struct Model {
   BondStore bonds;
   std::vector<RigidBody> bodies;
   std::vector<OutflowBox> outflow;  ///< boxes that grains may not leave (`outflow[]`)
+  std::vector<InflowSpec> inflow;   ///< inlets that add grains during the run (`inflow[]`)
   MaterialTable materials;
   std::vector<std::string> bond_type_names;
   std::vector<BondTimoshenko::Params> bond_types;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <stdexcept>
 
@@ -262,6 +263,34 @@ ModelPlan plan_model(const CaseConfig& c) {
   for (const auto& src : plan.sources) {
     model.initial_particles += src->count();
     model.initial_bonds += src->bond_count();
+  }
+
+  // Inlets: gids above every start-up source's, 2^48 apart per inlet (batches of a million
+  // items each leave room for 2.8e8 batches).
+  std::int64_t gid_top = 0;
+  for (const auto& src : plan.sources)
+    gid_top += src->gid_range();
+  for (std::size_t i = 0; i < c.inflow.size(); ++i) {
+    const InflowConfig& in = c.inflow[i];
+    InflowSpec spec;
+    spec.name = in.name;
+    GrainFill& b = spec.batch;
+    b.name = "inflow[" + std::to_string(i) + "]";
+    b.group = ensure_group(model, in.group);
+    b.material = material_index(model.materials, in.material);
+    b.box_min = in.box_min;
+    b.box_max = in.box_max;
+    b.sizes = grain_size_distribution(in.sizes);
+    b.solid_fraction = inflow_batch(in).solid_fraction;
+    b.seed = in.seed;
+    b.velocity = in.velocity;
+    b.density = model.materials[static_cast<std::size_t>(b.material)].density;
+    b.damping = group_damping(c, in.group);
+    spec.interval = inflow_batch(in).interval;
+    spec.start_time = in.start_time;
+    spec.end_time = in.end_time.value_or(std::numeric_limits<double>::infinity());
+    spec.gid_base = gid_top + static_cast<std::int64_t>(i) * (std::int64_t{1} << 48);
+    model.inflow.push_back(std::move(spec));
   }
 
   for (const OutflowConfig& o : c.outflow) {

@@ -41,6 +41,11 @@ struct RestartState {
   /// exact totals' words (empty: nothing yet, or a checkpoint from before outflow existed).
   bool outflow_pending = false;
   std::vector<std::int64_t> outflow_totals;
+  /// Inflow (engine/InflowSource): per inlet the batches put in and the time the next is due,
+  /// and the exact totals of what came in (all empty: no inlet, or none put in yet).
+  std::vector<std::int64_t> inflow_batches;
+  std::vector<double> inflow_next_due;
+  std::vector<std::int64_t> inflow_totals;
 };
 
 }  // namespace ringdem

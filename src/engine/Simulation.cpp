@@ -94,6 +94,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
   outflow_ = OutflowSink(model_.outflow);
+  inflow_ = InflowSource(model_.inflow);
   ParticleStore& p = model_.particles;
   // Each rank built a slice of every source; move the particles to the owners of their blocks.
   decomposition_.distribute_initial(p, pair_stores());
@@ -130,6 +131,9 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   outflow_ = OutflowSink(model_.outflow);
   outflow_.import_totals(restart.outflow_totals, comm_.is_root());
   outflow_pending_ = restart.outflow_pending;
+  inflow_ = InflowSource(model_.inflow);
+  inflow_.restore(restart.inflow_batches, restart.inflow_next_due, restart.inflow_totals,
+                  comm_.is_root());
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("restart state has no valid time step");
   std::vector<RigidBody>& bodies = model_.bodies;
@@ -190,6 +194,9 @@ RestartState Simulation::restart_state() const {
   s.bonds_broke = comm_.any(broke);
   s.outflow_pending = outflow_pending_;
   s.outflow_totals = outflow_.export_totals(comm_);
+  s.inflow_batches = inflow_.batches();
+  s.inflow_next_due = inflow_.next_due();
+  s.inflow_totals = inflow_.export_totals(comm_);
   return s;
 }
 
@@ -527,12 +534,9 @@ void Simulation::reduce_body_loads() {
 
 void Simulation::step() {
   ParticleStore& p = model_.particles;
-  if (outflow_pending_) {
-    // Every rank knows (the last step's reduction): the owned indices change, so all rebuild.
+  if (outflow_pending_ || !inflow_.empty()) {
     PhaseTimer t(phase_seconds_[kNeighbour]);
-    outflow_.remove_leaving(p, settings_.gravity, dt_);
-    outflow_pending_ = false;
-    rebuild();
+    exchange_grains();
   }
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
@@ -556,6 +560,23 @@ void Simulation::step() {
     ledger_.accumulate(p, model_.bodies, slots_, gather_, dt_);  // needs both at v^{n+1}
   }
   ++steps_;
+}
+
+void Simulation::exchange_grains() {
+  ParticleStore& p = model_.particles;
+  bool changed = false;
+  if (outflow_pending_) {  // every rank knows: the last step's reduction
+    outflow_.remove_leaving(p, settings_.gravity, dt_);
+    outflow_pending_ = false;
+    changed = true;
+  }
+  for (const std::size_t i : inflow_.due(time_)) {
+    // Due batches are rare (one per inlet interval), so one more reduction here is cheap.
+    if (comm_.any(inflow_.occupied(i, p))) continue;  // the flow backs up: try next step
+    inflow_.emit(i, p, time_, settings_.gravity, comm_.rank(), comm_.size());
+    changed = true;
+  }
+  if (changed) rebuild();  // owned indices changed (on some rank): every rank rebuilds
 }
 
 void Simulation::run_steps(std::int64_t n) {
@@ -584,11 +605,19 @@ void Simulation::refresh_bond_diagnostics() {
   bond_term_->update_diagnostics(model_.particles);
 }
 
-Simulation::OutflowTotals Simulation::outflow_totals() const {
+Simulation::GrainFlux Simulation::outflow_totals() const {
   const std::vector<ExactSum>& gone = outflow_.partial();
   const std::vector<double> sums = comm_.sum_exact(
       {gone[OutflowSink::kCount], gone[OutflowSink::kMass], gone[OutflowSink::kMomentumX],
        gone[OutflowSink::kMomentumY], gone[OutflowSink::kMomentumZ]});
+  return {static_cast<std::int64_t>(sums[0]), sums[1], {sums[2], sums[3], sums[4]}};
+}
+
+Simulation::GrainFlux Simulation::inflow_totals() const {
+  const std::vector<ExactSum>& in = inflow_.partial();
+  const std::vector<double> sums = comm_.sum_exact(
+      {in[InflowSource::kCount], in[InflowSource::kMass], in[InflowSource::kMomentumX],
+       in[InflowSource::kMomentumY], in[InflowSource::kMomentumZ]});
   return {static_cast<std::int64_t>(sums[0]), sums[1], {sums[2], sums[3], sums[4]}};
 }
 
@@ -627,6 +656,7 @@ Energies Simulation::energies() {
     kBreak,
     kPlastic,
     kOutflow,
+    kInflow,
     kColumns
   };
   std::vector<ExactSum> partial(kColumns);
@@ -637,6 +667,7 @@ Energies Simulation::energies() {
   partial[kGlobal] += gone[OutflowSink::kGlobalDamping];
   partial[kBoundary] += gone[OutflowSink::kBoundaryWork];
   partial[kOutflow] += gone[OutflowSink::kEnergy];
+  partial[kInflow] += inflow_.partial()[InflowSource::kEnergy];
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     partial[kDamping].add(
         ParticleStore::ledger_value(p.dissipated_damping[k], p.power_damping[k], dt_));
@@ -674,6 +705,7 @@ Energies Simulation::energies() {
   e.broken_bonds = sums[kBreak];
   e.plastic_work = sums[kPlastic];
   e.outflow = sums[kOutflow];
+  e.inflow = sums[kInflow];
   for (const auto& b : model_.bodies) {
     if (b.motion != Motion::kFree) continue;
     const Mat3 r = rotation_matrix(b.orientation);

@@ -13,6 +13,7 @@
 #include "engine/EnergyLedger.hpp"
 #include "engine/ForceSlots.hpp"
 #include "engine/GatherMap.hpp"
+#include "engine/InflowSource.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/OutflowSink.hpp"
 #include "engine/RestartState.hpp"
@@ -52,15 +53,17 @@ struct Energies {
   /// Energy that grains carried out through outflow boxes (kinetic, potential, contact
   /// elastic share at the moment they left); their dissipation stays in the columns above.
   double outflow = 0.0;
+  /// Energy that inlets brought in with their grains (kinetic and potential).
+  double inflow = 0.0;
 
   /// Mechanical energy: kinetic + potential + bond and contact elastic.
   double total() const { return kinetic + potential + bond_elastic + contact_elastic; }
   double dissipated() const {
     return contact_damping + friction + global_damping + broken_bonds + plastic_work;
   }
-  /// Mechanical + dissipated - boundary work + carried out: constant in time, up to the
-  /// integrator's O(dt^2) energy error.
-  double ledger() const { return total() + dissipated() - boundary_work + outflow; }
+  /// Mechanical + dissipated - boundary work + carried out - brought in: constant in time, up to
+  /// the integrator's O(dt^2) energy error.
+  double ledger() const { return total() + dissipated() - boundary_work + outflow - inflow; }
   /// How far the ledger moved since `initial` (energies() at the start): 0 when it closes.
   double balance_error(const Energies& initial) const { return ledger() - initial.ledger(); }
 };
@@ -154,13 +157,16 @@ class Simulation {
   static constexpr double kMaxStepFraction = 1.0;
   static constexpr double kMaxTurn = 0.5;
 
-  /// What left through the outflow boxes so far: grains, mass, momentum. Collective.
-  struct OutflowTotals {
+  /// Grains that crossed the model's boundary so far: count, mass, momentum.
+  struct GrainFlux {
     std::int64_t grains = 0;
     double mass = 0.0;
     Vec3 momentum;
   };
-  OutflowTotals outflow_totals() const;
+  /// What left through the outflow boxes. Collective.
+  GrainFlux outflow_totals() const;
+  /// What the inlets brought in. Collective.
+  GrainFlux inflow_totals() const;
 
   std::int64_t global_particles() const;
   std::int64_t global_bonds() const;
@@ -200,6 +206,9 @@ class Simulation {
   [[noreturn]] void report_divergence(const std::string& energy_excess = {}) const;
   /// The force terms of the model's bond and contact models (engine/ModelTable).
   static std::vector<std::unique_ptr<ForceTerm>> make_terms(Model& m);
+  /// Takes out the grains that left an outflow box and puts in the inlets' due batches, at
+  /// the start of a step; rebuilds the lists when either changed the particles. Collective.
+  void exchange_grains();
   /// Sets bond_term_ and body_term_, the terms the simulation asks more of than compute().
   void find_typed_terms();
   /// Block width of the decomposition: the widest term's partner distance plus the skin (the
@@ -237,6 +246,7 @@ class Simulation {
   Integrator::Drift drift_;         ///< the last drift pass (this rank), for the divergence guard
   EnergyGuard energy_guard_;        ///< the divergence guard's energy part, at every energies()
   OutflowSink outflow_;             ///< model_.outflow's boxes and what went out
+  InflowSource inflow_;             ///< model_.inflow's inlets and what came in
   bool outflow_pending_ = false;    ///< a grain left a box in the last drift (on some rank)
   std::vector<Vec3> body_position_at_rebuild_;
   std::vector<Quat> body_orientation_at_rebuild_;

@@ -284,6 +284,21 @@ struct OutflowConfig {
   std::vector<std::string> groups;  ///< empty: every free grain in no ring
 };
 
+/// An inlet that adds grains during the run at a discharge (engine/InflowSource.hpp).
+struct InflowConfig {
+  std::string name;
+  std::string group = "grains";
+  std::string material;
+  Vec3 box_min;
+  Vec3 box_max;
+  Vec3 velocity;
+  double discharge = 0.0;  ///< m^3/s of solid
+  double start_time = 0.0;
+  std::optional<double> end_time;  ///< none: as long as the run
+  GrainSizesConfig sizes;
+  std::uint64_t seed = 1;
+};
+
 struct CaseConfig {
   int schema_version = 1;
   std::string name;
@@ -300,6 +315,7 @@ struct CaseConfig {
   std::vector<SphereConfig> spheres;
   std::vector<RigidBodyConfig> rigid_bodies;
   std::vector<OutflowConfig> outflow;
+  std::vector<InflowConfig> inflow;
   ScenarioConfig scenario;
   OutputConfig output;
   std::string source_path;  ///< the file it came from, for messages

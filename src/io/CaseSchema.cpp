@@ -513,6 +513,35 @@ const Table<OutflowConfig>& outflow_table() {
   return table;
 }
 
+const Table<InflowConfig>& inflow_table() {
+  using I = InflowConfig;
+  static const Table<I> table{
+      "inflow[]",
+      "Inlets that add grains during the run: a batch fills the inlet box at the solid fraction "
+      "that gives the discharge, each time the batch before has moved one box depth on "
+      "(docs/physics.md \"Inflow\"); names must be unique.",
+      {
+          schema::text("name", &I::name, Type::kName, "Name (output)").required(),
+          schema::text("group", &I::group, Type::kName, "Particle group (damping, output)"),
+          schema::text("material", &I::material, Type::kName, "Material (from `materials`)")
+              .required(),
+          schema::vec3("box_min", &I::box_min, "m", "Lower corner of the inlet box").required(),
+          schema::vec3("box_max", &I::box_max, "m", "Upper corner of the inlet box").required(),
+          schema::vec3("velocity", &I::velocity, "m/s", "Velocity of the entering grains")
+              .required(),
+          schema::number("discharge", &I::discharge, above(0), "m^3/s", "Solid volume per second")
+              .required(),
+          schema::number("start_time", &I::start_time, at_least(0), "s", "First batch"),
+          schema::optional_number("end_time", &I::end_time, above(0), "s",
+                                  "No batch from this time on")
+              .default_text("none (the whole run)"),
+          schema::section("sizes", &I::sizes, grain_sizes_table(), "Radius distribution")
+              .required(),
+          schema::unsigned_integer("seed", &I::seed, "Random seed of radii and positions"),
+      }};
+  return table;
+}
+
 const Table<TensileTestConfig>& tensile_test_table() {
   using T = TensileTestConfig;
   static const Table<T> table{
@@ -685,6 +714,7 @@ const schema::Table<CaseConfig>& case_schema() {
                        "Rigid walls, pins, boulders"),
           schema::list("outflow", &C::outflow, outflow_table(),
                        "Outflow boxes: grains that leave them are taken out"),
+          schema::list("inflow", &C::inflow, inflow_table(), "Inlets that add grains"),
           schema::section("scenario", &C::scenario, scenario_table(),
                           "Scenario driver and its measurements"),
           schema::section("output", &C::output, output_table(),

@@ -541,9 +541,20 @@ void cross_validate_case(CaseConfig& c, Context& ctx) {
               "no particles: add at least one entry to rings, nets, lattices, grains or spheres");
   }
 
+  for (const InflowConfig& in : c.inflow)
+    groups.insert(in.group);
   for (const DampingGroupConfig& g : c.damping.groups)
     check_group(g.group, groups, "damping.groups." + g.group, "damping.groups", ctx);
 
+  bool inflow_ok = true;
+  unique_names(c.inflow, &InflowConfig::name, "inflow", "inlet", ctx, &inflow_ok);
+  for (std::size_t i = 0; i < c.inflow.size(); ++i) {
+    const InflowConfig& in = c.inflow[i];
+    const std::string p = schema::index_path("inflow", i);
+    validate_inflow(in, p, ctx);
+    check_reference(in.material, materials, materials_ok, p + ".material", p, "material",
+                    "materials", ctx);
+  }
   bool outflow_ok = true;
   unique_names(c.outflow, &OutflowConfig::name, "outflow", "outflow box", ctx, &outflow_ok);
   for (std::size_t i = 0; i < c.outflow.size(); ++i) {

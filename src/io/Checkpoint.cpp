@@ -29,9 +29,9 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // neighbour-list rebuild criterion reads (particles/position_at_rebuild, the bodies' position
 // and orientation at the last rebuild, rebuild_forced, bonds_broke); 5: one set of spring
 // datasets per contact term (/history/<term>.<field>, its store's registry) instead of one
-// table with a partner-kind column; 6: outflow (outflow_pending, /outflow/totals: the exact
-// totals of what left through outflow boxes). Only this version is read: an older file lacks
-// what this one needs to go on bit for bit.
+// table with a partner-kind column; 6: outflow and inflow (outflow_pending, /outflow/totals,
+// /inflow/batches, /inflow/next_due, /inflow/totals: the exact totals of what crossed). Only this
+// version is read: an older file lacks what this one needs to go on bit for bit.
 constexpr std::int64_t kFormatVersion = 6;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
@@ -359,6 +359,18 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     std::vector<std::int64_t> outflow = state.outflow_totals;  // the same on every rank
     if (!comm.is_root()) outflow.clear();
     write_concatenated(f, comm, "/outflow/totals", outflow);
+    f.create_group("/inflow");
+    std::vector<std::int64_t> inflow_batches = state.inflow_batches,
+                              inflow_totals = state.inflow_totals;
+    std::vector<double> inflow_next_due = state.inflow_next_due;
+    if (!comm.is_root()) {
+      inflow_batches.clear();
+      inflow_totals.clear();
+      inflow_next_due.clear();
+    }
+    write_concatenated(f, comm, "/inflow/batches", inflow_batches);
+    write_concatenated(f, comm, "/inflow/next_due", inflow_next_due);
+    write_concatenated(f, comm, "/inflow/totals", inflow_totals);
     f.create_group("/driver");
     f.set_attribute("/driver", "names", join(driver.names));
     std::vector<double> values = driver.values;
@@ -496,12 +508,17 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
   state.rebuild_forced = f.attribute_int("/", "rebuild_forced") != 0;
   state.bonds_broke = f.attribute_int("/", "bonds_broke") != 0;
   state.outflow_pending = f.attribute_int("/", "outflow_pending") != 0;
-  {
-    const auto d = f.dims("/outflow/totals");
+  // Small datasets that every rank reads whole.
+  const auto read_whole = [&](const std::string& name, auto* out) {
+    using T = typename std::remove_pointer_t<decltype(out)>::value_type;
+    const auto d = f.dims(name);
     const std::int64_t n = d.empty() ? 0 : d[0];
-    state.outflow_totals =
-        read_verified_block<std::int64_t>(f, comm, "/outflow/totals", n, 0, n, ReadBy::kEveryRank);
-  }
+    *out = read_verified_block<T>(f, comm, name, n, 0, n, ReadBy::kEveryRank);
+  };
+  read_whole("/outflow/totals", &state.outflow_totals);
+  read_whole("/inflow/batches", &state.inflow_batches);
+  read_whole("/inflow/next_due", &state.inflow_next_due);
+  read_whole("/inflow/totals", &state.inflow_totals);
   for (const std::string& term : spring_terms(f)) {
     const std::string partner = f.attribute_string(spring_dataset(term, "partner"), "names");
     if (partner != kParticlePartner && partner != kBodyPartner)
@@ -555,7 +572,7 @@ std::vector<std::string> verify_checkpoint(const std::string& path) {
   const Hdf5File f = Hdf5File::open_read(path);
   std::vector<std::string> checked;
   for (const char* group :
-       {"/particles", "/bonds", "/history", "/bodies", "/outflow", "/driver", "/case"}) {
+       {"/particles", "/bonds", "/history", "/bodies", "/outflow", "/inflow", "/driver", "/case"}) {
     for (const std::string& name : f.list(group)) {
       const std::string full = std::string(group) + "/" + name;
       std::size_t row_bytes = 0;

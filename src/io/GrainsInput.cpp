@@ -131,4 +131,50 @@ double validate_grains(const GrainsConfig& g, const std::string& p, schema::Cont
   return expected_grain_count(g);
 }
 
+InflowBatch inflow_batch(const InflowConfig& in) {
+  const Vec3 e = in.box_max - in.box_min;
+  const double extent[3] = {e.x, e.y, e.z};
+  const double v[3] = {std::abs(in.velocity.x), std::abs(in.velocity.y), std::abs(in.velocity.z)};
+  const int axis = static_cast<int>(std::max_element(v, v + 3) - v);
+  InflowBatch b;
+  if (!(v[axis] > 0.0)) return b;
+  b.interval = extent[axis] / v[axis];
+  const double volume = e.x * e.y * e.z;
+  if (volume > 0.0) b.solid_fraction = in.discharge * b.interval / volume;
+  return b;
+}
+
+GrainsConfig inflow_fill(const InflowConfig& in) {
+  GrainsConfig g;
+  g.group = in.group;
+  g.material = in.material;
+  g.box_min = in.box_min;
+  g.box_max = in.box_max;
+  g.solid_fraction = inflow_batch(in).solid_fraction;
+  g.sizes = in.sizes;
+  g.velocity = in.velocity;
+  g.seed = in.seed;
+  return g;
+}
+
+void validate_inflow(const InflowConfig& in, const std::string& p, schema::Context& ctx) {
+  if (validate_grains(inflow_fill(in), p, ctx) == 0.0) return;
+  if (ctx.failed(p + ".velocity") || ctx.failed(p + ".discharge")) return;
+  const InflowBatch b = inflow_batch(in);
+  if (!(b.interval > 0.0)) {
+    ctx.error(ctx.where(p + ".velocity", p), p + ".velocity",
+              "must not be zero: the grains enter at this velocity");
+    return;
+  }
+  if (b.solid_fraction > 0.35)
+    ctx.error(ctx.where(p + ".discharge", p), p + ".discharge",
+              fmt::format("needs a solid fraction of {:.3g} in the inlet box, above the 0.35 that "
+                          "random sequential addition reaches: raise the velocity or widen the "
+                          "box across the flow",
+                          b.solid_fraction));
+  if (in.end_time && !(*in.end_time > in.start_time))
+    ctx.error(ctx.where(p + ".end_time", p), p + ".end_time",
+              fmt::format("must be after start_time = {}", schema::format_number(in.start_time)));
+}
+
 }  // namespace ringdem

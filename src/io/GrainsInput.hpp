@@ -27,4 +27,20 @@ double largest_grain_radius(const GrainSizesConfig& sizes);
 /// the expected grain count (0 when the entry has errors).
 double validate_grains(const GrainsConfig& grains, const std::string& p, schema::Context& ctx);
 
+/// How an inlet delivers its discharge: a batch fills the inlet box every `interval` (the
+/// box's depth along the velocity's main axis over the speed along it), at the solid fraction
+/// discharge x interval / box volume.
+struct InflowBatch {
+  double interval = 0.0;
+  double solid_fraction = 0.0;
+};
+InflowBatch inflow_batch(const InflowConfig& inflow);
+
+/// The inlet's box and sizes as a grains entry (what validate_grains checks).
+GrainsConfig inflow_fill(const InflowConfig& inflow);
+
+/// Cross-key checks of the inlet at path `p`: its box and sizes as for grains, a velocity, a
+/// solid fraction that random sequential addition reaches, an end after the start.
+void validate_inflow(const InflowConfig& inflow, const std::string& p, schema::Context& ctx);
+
 }  // namespace ringdem

@@ -118,6 +118,7 @@ void expect_identical_energies(const Energies& ref, const Energies& got) {
   EXPECT_EQ(ref.boundary_work, got.boundary_work);
   EXPECT_EQ(ref.plastic_work, got.plastic_work);
   EXPECT_EQ(ref.outflow, got.outflow);
+  EXPECT_EQ(ref.inflow, got.inflow);
 }
 
 int world_size() {
@@ -393,14 +394,16 @@ TEST(Equivalence, PolydisperseGrainsSettleOnAnyRankCount) {
   expect_identical_energies(r.reference_energies, r.parallel_energies);
 }
 
-// Grains leaving through an outflow box while they settle: the same grains leave at the same
-// steps, and the rest ends the same bits, on any rank count; what left is counted alike.
-TEST(Equivalence, GrainsLeavingThroughAnOutflowBox) {
-  const CaseConfig c = testing::grains_leaving_through_an_outflow_box();
+// Grains entering through an inlet and leaving through an outflow box while they settle: the
+// same grains enter and leave at the same steps, and the rest ends the same bits, on any rank
+// count; what crossed is counted alike.
+TEST(Equivalence, GrainsEnteringAndLeaving) {
+  const CaseConfig c = testing::grains_entering_and_leaving();
   const auto r = run_both(c, 3000, /*imbalance_threshold=*/0.0);
   EXPECT_GT(r.reference.particles.size(), 300u);
   expect_identical(r.reference, r.parallel);
   EXPECT_GT(r.reference_energies.outflow, 0.0);
+  EXPECT_GT(r.reference_energies.inflow, 0.0);
   expect_identical_energies(r.reference_energies, r.parallel_energies);
 }
 

@@ -278,41 +278,44 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
   MPI_Comm_free(&world);
 }
 
-// Grains leaving through an outflow box: a checkpoint in the middle of the outflow restarts on
-// this run's ranks and on one rank and ends as the run never interrupted, with the same
-// totals of what left (rank 0 holds them after a restart) and the same ledger.
-TEST(Checkpoint, OutflowRestartsBitwiseOnAnyRankCount) {
+// Grains entering and leaving: a checkpoint in the middle of the flow restarts on this run's
+// ranks and on one rank and ends as the run never interrupted, with the same totals of what
+// crossed (rank 0 holds them after a restart), the same batches and the same ledger.
+TEST(Checkpoint, InflowAndOutflowRestartBitwiseOnAnyRankCount) {
   MPI_Comm world;
   MPI_Comm_dup(MPI_COMM_WORLD, &world);
   {
     const Communicator comm(world);
     const std::string dir = shared_temp_dir(comm, "outflow");
-    const CaseConfig c = testing::grains_leaving_through_an_outflow_box();
+    const CaseConfig c = testing::grains_entering_and_leaving();
     const SimulationSettings s = settings_from_case(c);
     constexpr std::int64_t kHalf = 700;
     DriverState driver;
     driver.set("marker", 42.0);
     std::string straight, middle, resumed;
     Energies straight_energies;
-    Simulation::OutflowTotals straight_out;
+    Simulation::GrainFlux straight_out, straight_in;
     {
       Simulation sim(build_model(c, comm), comm, s);
       sim.run_steps(2 * kHalf);
       straight_energies = sim.energies();
       straight_out = sim.outflow_totals();
+      straight_in = sim.inflow_totals();
       straight = CheckpointStore(dir + "/straight")
                      .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
     }
-    std::int64_t gone_at_middle = 0;
+    std::int64_t gone_at_middle = 0, in_at_middle = 0;
     {
       Simulation sim(build_model(c, comm), comm, s);
       sim.run_steps(kHalf);
       gone_at_middle = sim.outflow_totals().grains;
+      in_at_middle = sim.inflow_totals().grains;
       middle = CheckpointStore(dir + "/middle")
                    .write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
     }
     EXPECT_GT(gone_at_middle, 0);
     EXPECT_GT(straight_out.grains, gone_at_middle) << "grains should leave after the restart too";
+    EXPECT_GT(straight_in.grains, in_at_middle) << "a batch should enter after the restart too";
     const auto check = [&](Simulation& sim) {
       sim.run_steps(kHalf);
       const Energies e = sim.energies();
@@ -320,10 +323,14 @@ TEST(Checkpoint, OutflowRestartsBitwiseOnAnyRankCount) {
       EXPECT_EQ(e.kinetic, straight_energies.kinetic);
       EXPECT_EQ(e.friction, straight_energies.friction);
       EXPECT_EQ(e.contact_damping, straight_energies.contact_damping);
-      const Simulation::OutflowTotals out = sim.outflow_totals();
+      const Simulation::GrainFlux out = sim.outflow_totals();
       EXPECT_EQ(out.grains, straight_out.grains);
       EXPECT_EQ(out.mass, straight_out.mass);
       EXPECT_EQ(out.momentum, straight_out.momentum);
+      const Simulation::GrainFlux in = sim.inflow_totals();
+      EXPECT_EQ(in.grains, straight_in.grains);
+      EXPECT_EQ(in.mass, straight_in.mass);
+      EXPECT_EQ(e.inflow, straight_energies.inflow);
     };
     {
       auto sim = restart(c, middle, comm);

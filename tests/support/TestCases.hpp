@@ -101,8 +101,10 @@ scenario:
 
 /// Polydisperse steel grains (3 and 6 mm, 40/60 % by volume) thrown at (2, 0, -2) m/s onto a
 /// floor, next to the end of an outflow box at x = 0.19 m: grains leave from the first steps
-/// on, and contacts, friction and rebuilds go on among those that stay.
-inline CaseConfig grains_leaving_through_an_outflow_box() {
+/// on, and contacts, friction and rebuilds go on among those that stay. 15 mm behind them an
+/// inlet 12 mm deep shoots batches of the same mix at 10 m/s, one every 1.2 ms, that reach
+/// them after about 1.9 ms.
+inline CaseConfig grains_entering_and_leaving() {
   CaseConfig c = base_case();
   c.simulation.gravity = {0, 0, -9.81};
   c.simulation.dt = 1e-6;
@@ -125,6 +127,15 @@ inline CaseConfig grains_leaving_through_an_outflow_box() {
   out.box_min = {-1, -1, -1};
   out.box_max = {0.19, 1, 1};
   c.outflow = {out};
+  InflowConfig in;
+  in.name = "inlet";
+  in.material = "steel";
+  in.box_min = {-0.027, 0.0, 0.0};
+  in.box_max = {-0.015, 0.1, 0.05};
+  in.velocity = {10.0, 0.0, 0.0};
+  in.discharge = 0.25 * 0.012 * 0.1 * 0.05 / 0.0012;  // solid fraction 0.25 in the box
+  in.sizes = g.sizes;
+  c.inflow = {in};
   return c;
 }
 

@@ -68,7 +68,7 @@ TEST(Outflow, GrainsLeaveWhenTheirTrajectoryCrossesTheBoxAndCarryTheirState) {
   }
   ASSERT_GT(gone, 0);
   ASSERT_LT(gone, 40);
-  const Simulation::OutflowTotals out = sim.outflow_totals();
+  const Simulation::GrainFlux out = sim.outflow_totals();
   EXPECT_EQ(out.grains, gone);
   EXPECT_EQ(sim.global_particles(), 40 - gone);
   EXPECT_NEAR(out.mass, gone * m, 1e-15 * gone * m);
