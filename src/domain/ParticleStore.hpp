@@ -88,6 +88,23 @@ class ParticleStore {
   static double ledger_value(double accumulated, double last_power, double dt) {
     return accumulated - 0.5 * dt * last_power;
   }
+  /// A particle's ledger tallies up to the current step (ledger_value of each).
+  struct LedgerTallies {
+    double damping, friction, global_damping, boundary_work;
+  };
+  LedgerTallies ledger_tallies(std::size_t k, double dt) const {
+    return {ledger_value(dissipated_damping[k], power_damping[k], dt),
+            ledger_value(dissipated_friction[k], power_friction[k], dt),
+            ledger_value(dissipated_global[k], power_global[k], dt),
+            ledger_value(boundary_work[k], power_boundary[k], dt)};
+  }
+  /// Kinetic energy (translation and rotation) and potential energy -m g.x of particle k.
+  double kinetic_energy(std::size_t k) const {
+    return 0.5 * mass[k] * norm2(velocity[k]) + 0.5 * inertia[k] * norm2(omega[k]);
+  }
+  double potential_energy(std::size_t k, const Vec3& gravity) const {
+    return -mass[k] * dot(gravity, position[k]);
+  }
 
   /// The field registry: calls f(FieldInfo, std::vector<T>&) for every field.
   template <class F>

@@ -46,17 +46,14 @@ std::size_t OutflowSink::remove_leaving(ParticleStore& p, const Vec3& gravity, d
     partial_[kMomentumY].add(m * v.y);
     partial_[kMomentumZ].add(m * v.z);
     // The same terms as Simulation::energies() sums for a particle still in the model.
-    partial_[kEnergy].add(0.5 * m * norm2(v) + 0.5 * p.inertia[k] * norm2(p.omega[k]));
-    partial_[kEnergy].add(-m * dot(gravity, p.position[k]));
+    partial_[kEnergy].add(p.kinetic_energy(k));
+    partial_[kEnergy].add(p.potential_energy(k, gravity));
     partial_[kEnergy].add(p.contact_energy[k]);
-    partial_[kDamping].add(
-        ParticleStore::ledger_value(p.dissipated_damping[k], p.power_damping[k], dt));
-    partial_[kFriction].add(
-        ParticleStore::ledger_value(p.dissipated_friction[k], p.power_friction[k], dt));
-    partial_[kGlobalDamping].add(
-        ParticleStore::ledger_value(p.dissipated_global[k], p.power_global[k], dt));
-    partial_[kBoundaryWork].add(
-        ParticleStore::ledger_value(p.boundary_work[k], p.power_boundary[k], dt));
+    const ParticleStore::LedgerTallies t = p.ledger_tallies(k, dt);
+    partial_[kDamping].add(t.damping);
+    partial_[kFriction].add(t.friction);
+    partial_[kGlobalDamping].add(t.global_damping);
+    partial_[kBoundaryWork].add(t.boundary_work);
   }
   if (removed == 0) return 0;
   return p.remove_owned(keep);

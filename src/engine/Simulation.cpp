@@ -16,6 +16,16 @@ namespace ringdem {
 
 namespace {
 
+/// Count, mass and momentum of the grains that crossed the boundary: the first five columns
+/// of an outflow's or an inflow's sums (OutflowSink::Column, InflowSource::Column), summed
+/// exactly over the ranks.
+Simulation::GrainFlux sum_flux(const Communicator& comm, const std::vector<ExactSum>& partial) {
+  static_assert(OutflowSink::kMomentumZ == 4 && InflowSource::kMomentumZ == 4);
+  const std::vector<double> sums =
+      comm.sum_exact(std::vector<ExactSum>(partial.begin(), partial.begin() + 5));
+  return {static_cast<std::int64_t>(sums[0]), sums[1], {sums[2], sums[3], sums[4]}};
+}
+
 class PhaseTimer {
  public:
   explicit PhaseTimer(double& sink) : sink_(sink), start_(std::chrono::steady_clock::now()) {}
@@ -606,19 +616,11 @@ void Simulation::refresh_bond_diagnostics() {
 }
 
 Simulation::GrainFlux Simulation::outflow_totals() const {
-  const std::vector<ExactSum>& gone = outflow_.partial();
-  const std::vector<double> sums = comm_.sum_exact(
-      {gone[OutflowSink::kCount], gone[OutflowSink::kMass], gone[OutflowSink::kMomentumX],
-       gone[OutflowSink::kMomentumY], gone[OutflowSink::kMomentumZ]});
-  return {static_cast<std::int64_t>(sums[0]), sums[1], {sums[2], sums[3], sums[4]}};
+  return sum_flux(comm_, outflow_.partial());
 }
 
 Simulation::GrainFlux Simulation::inflow_totals() const {
-  const std::vector<ExactSum>& in = inflow_.partial();
-  const std::vector<double> sums = comm_.sum_exact(
-      {in[InflowSource::kCount], in[InflowSource::kMass], in[InflowSource::kMomentumX],
-       in[InflowSource::kMomentumY], in[InflowSource::kMomentumZ]});
-  return {static_cast<std::int64_t>(sums[0]), sums[1], {sums[2], sums[3], sums[4]}};
+  return sum_flux(comm_, inflow_.partial());
 }
 
 std::int64_t Simulation::global_particles() const {
@@ -669,19 +671,15 @@ Energies Simulation::energies() {
   partial[kOutflow] += gone[OutflowSink::kEnergy];
   partial[kInflow] += inflow_.partial()[InflowSource::kEnergy];
   for (std::size_t k = 0; k < p.n_local(); ++k) {
-    partial[kDamping].add(
-        ParticleStore::ledger_value(p.dissipated_damping[k], p.power_damping[k], dt_));
-    partial[kFriction].add(
-        ParticleStore::ledger_value(p.dissipated_friction[k], p.power_friction[k], dt_));
-    partial[kGlobal].add(
-        ParticleStore::ledger_value(p.dissipated_global[k], p.power_global[k], dt_));
-    partial[kBoundary].add(
-        ParticleStore::ledger_value(p.boundary_work[k], p.power_boundary[k], dt_));
+    const ParticleStore::LedgerTallies t = p.ledger_tallies(k, dt_);
+    partial[kDamping].add(t.damping);
+    partial[kFriction].add(t.friction);
+    partial[kGlobal].add(t.global_damping);
+    partial[kBoundary].add(t.boundary_work);
     partial[kContact].add(p.contact_energy[k]);
     if (p.motion[k] == Motion::kFree) {
-      partial[kKinetic].add(0.5 * p.mass[k] * norm2(p.velocity[k]) +
-                            0.5 * p.inertia[k] * norm2(p.omega[k]));
-      partial[kPotential].add(-p.mass[k] * dot(settings_.gravity, p.position[k]));
+      partial[kKinetic].add(p.kinetic_energy(k));
+      partial[kPotential].add(p.potential_energy(k, settings_.gravity));
     }
   }
   const BondStore& bonds = model_.bonds;

@@ -369,24 +369,10 @@ TEST(Equivalence, PouredSpheresCrossRanksManyTimes) {
 // Polydisperse grains from the per-rank source (sparse gids, cells built by the rank whose
 // slice holds them), falling onto a floor: the same bits as one rank.
 TEST(Equivalence, PolydisperseGrainsSettleOnAnyRankCount) {
-  CaseConfig c = testing::base_case();
-  c.simulation.gravity = {0, 0, -9.81};
-  c.simulation.dt = 1e-6;
-  c.simulation.skin = 0.0005;
-  GrainsConfig g;
-  g.material = "steel";
-  g.box_min = {0.0, 0.0, 0.0};
-  g.box_max = {0.2, 0.1, 0.05};
-  g.solid_fraction = 0.3;
-  g.sizes.distribution = GrainDistribution::kFractions;
-  g.sizes.fractions = {{0.003, 0.4}, {0.006, 0.6}};
-  g.velocity = {0.3, 0.0, -2.0};
-  c.grains = {g};
-  RigidBodyConfig floor;
-  floor.name = "floor";
-  floor.shape = ShapeKind::kPlane;
-  floor.position = {0, 0, 0};
-  c.rigid_bodies = {floor};
+  CaseConfig c = testing::grains_entering_and_leaving();
+  c.inflow.clear();
+  c.outflow.clear();
+  c.grains[0].velocity = {0.3, 0.0, -2.0};
   const auto r = run_both(c, 3000, /*imbalance_threshold=*/0.0);
   EXPECT_GT(r.reference.particles.size(), 400u);
   expect_identical(r.reference, r.parallel);
