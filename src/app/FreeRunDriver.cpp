@@ -153,18 +153,16 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
       bodies.set(b.name, one);
     }
     summary.set("rigid_bodies", bodies);
-    JsonObject outflow;
-    outflow.set("grains", static_cast<long long>(out.grains))
-        .set("mass_kg", out.mass)
-        .set("momentum_kg_m_s", std::vector<double>{out.momentum.x, out.momentum.y, out.momentum.z})
-        .set("energy_J", e.outflow);
-    summary.set("outflow", outflow);
-    JsonObject inflow;
-    inflow.set("grains", static_cast<long long>(in.grains))
-        .set("mass_kg", in.mass)
-        .set("momentum_kg_m_s", std::vector<double>{in.momentum.x, in.momentum.y, in.momentum.z})
-        .set("energy_J", e.inflow);
-    summary.set("inflow", inflow);
+    const auto flux = [](const Simulation::GrainFlux& f, double energy) {
+      JsonObject o;
+      o.set("grains", static_cast<long long>(f.grains))
+          .set("mass_kg", f.mass)
+          .set("momentum_kg_m_s", std::vector<double>{f.momentum.x, f.momentum.y, f.momentum.z})
+          .set("energy_J", energy);
+      return o;
+    };
+    summary.set("outflow", flux(out, e.outflow));
+    summary.set("inflow", flux(in, e.inflow));
     summary.write(output_dir_ + "/summary.json");
   }
 

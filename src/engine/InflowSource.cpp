@@ -15,14 +15,10 @@ InflowSource::InflowSource(std::vector<InflowSpec> inlets) : partial_(kColumns) 
   }
 }
 
-std::vector<std::size_t> InflowSource::due(double time) const {
-  std::vector<std::size_t> out;
-  for (std::size_t i = 0; i < inlets_.size(); ++i) {
-    const Inlet& in = inlets_[i];
-    // A tolerance of a millionth of an interval: times are sums of steps.
-    if (time + 1e-6 * in.spec.interval >= in.next_due && time < in.spec.end_time) out.push_back(i);
-  }
-  return out;
+bool InflowSource::due(std::size_t i, double time) const {
+  const Inlet& in = inlets_[i];
+  // A tolerance of a millionth of an interval: times are sums of steps.
+  return time + 1e-6 * in.spec.interval >= in.next_due && time < in.spec.end_time;
 }
 
 bool InflowSource::occupied(std::size_t i, const ParticleStore& p) const {

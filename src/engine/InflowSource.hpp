@@ -27,8 +27,9 @@ class InflowSource {
   explicit InflowSource(std::vector<InflowSpec> inlets = {});
 
   bool empty() const { return inlets_.empty(); }
-  /// Inlets whose batch is due at `time` (the same on every rank).
-  std::vector<std::size_t> due(double time) const;
+  std::size_t size() const { return inlets_.size(); }
+  /// Whether inlet i's batch is due at `time` (the same on every rank).
+  bool due(std::size_t i, double time) const;
   /// Whether an owned particle of `p` reaches into inlet i's box (this rank).
   bool occupied(std::size_t i, const ParticleStore& p) const;
   /// Puts inlet i's next batch into `p` (this rank's slice of it) at `time`, with the loads

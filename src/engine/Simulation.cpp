@@ -580,7 +580,8 @@ void Simulation::exchange_grains() {
     outflow_pending_ = false;
     changed = true;
   }
-  for (const std::size_t i : inflow_.due(time_)) {
+  for (std::size_t i = 0; i < inflow_.size(); ++i) {
+    if (!inflow_.due(i, time_)) continue;  // every step: no allocation, no communication
     // Due batches are rare (one per inlet interval), so one more reduction here is cheap.
     if (comm_.any(inflow_.occupied(i, p))) continue;  // the flow backs up: try next step
     inflow_.emit(i, p, time_, settings_.gravity, comm_.rank(), comm_.size());
