@@ -15,8 +15,8 @@ using Plastic = BondTimoshenkoPlastic;
 using Beam = TimoshenkoBondTerm;  // the beam's columns and store helpers
 
 // The State members the term reads besides the deformations: their model column numbers.
-constexpr std::size_t kStrainColumn = 5;
-constexpr std::size_t kWorkColumn = 6;
+constexpr std::size_t kStrainColumn = 1;
+constexpr std::size_t kWorkColumn = 2;
 static_assert(Plastic::State::kNames[kStrainColumn] == "plastic_strain");
 static_assert(Plastic::State::kNames[kWorkColumn] == "plastic_work");
 
@@ -89,12 +89,15 @@ void TimoshenkoPlasticBondTerm::compute(ComputeContext& ctx) {
       const auto sec = Beam::section(bonds, k);
       const Plastic::Params& pp = params(k);
       State st = state(k);
-      const auto r = Plastic::compute(sec, pp, Beam::reference(bonds, k), p.position[a],
-                                      p.orientation[a], p.position[b], p.orientation[b], st);
+      auto ref = Beam::reference(bonds, k);  // a hinge that forms re-bases its end frame
+      const auto r = Plastic::compute(sec, pp, ref, p.position[a], p.orientation[a], p.position[b],
+                                      p.orientation[b], st);
       if (Plastic::check_failure(sec, pp, Beam::strength(bonds, k), r, st).broken()) {
         failed_[k] = 1;
       } else {
         store_state(k, st);
+        bonds.frame_a[k] = ref.frame_a;
+        bonds.frame_b[k] = ref.frame_b;
         fa = r.force_a;
         ta = r.torque_a;
         fb = r.force_b;
@@ -114,11 +117,12 @@ void TimoshenkoPlasticBondTerm::book_failures(const ParticleStore& p, double tim
     if (!failed_[k]) continue;
     const std::uint32_t a = bonds.index_a[k], b = bonds.index_b[k];
     const auto sec = Beam::section(bonds, k);
-    const auto ref = Beam::reference(bonds, k);
+    const auto ref = Beam::reference(bonds, k);  // the frames of the step's start
     const Plastic::Params& pp = params(k);
     const State before = state(k);
     State st = before;
-    const auto r = Plastic::compute(sec, pp, ref, p.position[a], p.orientation[a], p.position[b],
+    auto frames = ref;  // a broken bond keeps the frames it had (no force acts on them again)
+    const auto r = Plastic::compute(sec, pp, frames, p.position[a], p.orientation[a], p.position[b],
                                     p.orientation[b], st);
     const auto fail = Plastic::check_failure(sec, pp, Beam::strength(bonds, k), r, st);
     bonds.broken[k] = 1;

@@ -14,8 +14,9 @@ namespace ringdem {
 /// "Plastic bond"): the co-rotational Timoshenko beam of TimoshenkoBondTerm with plastic
 /// elongation and end hinges, linear hardening and plastic work. The bond store holds the
 /// beam's common columns plus one model column per BondTimoshenkoPlastic::State member
-/// (state_columns()), which migrate and are checkpointed with the bond; this term keeps the
-/// bond types' parameters and its slot ranges.
+/// (state_columns()), which migrate and are checkpointed with the bond; the hinges live in the
+/// beam's reference frames (frame_a, frame_b), which this term re-bases where an end turns
+/// plastically. It keeps the bond types' parameters and its slot ranges.
 ///
 /// A bond fails by Eq. 3–5 on its returned resultants or when its plastic strain reaches the
 /// limit, whichever comes first (BondFailure::kPlasticStrain for the latter). A broken bond
@@ -29,7 +30,7 @@ class TimoshenkoPlasticBondTerm final : public BondTerm {
   /// rebuild() throws if a bond's type has no entry.
   TimoshenkoPlasticBondTerm(BondStore& bonds, std::vector<BondTimoshenkoPlastic::Params> plastic);
 
-  /// The model columns of the law, in State index order: plastic deformations and strain
+  /// The model columns of the law, in State index order: plastic elongation, strain and work
   /// migrate and are checkpointed; plastic_strain and plastic_work are also written to frames.
   static std::vector<BondStore::ModelColumn> state_columns();
 

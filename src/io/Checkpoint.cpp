@@ -32,7 +32,7 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // table with a partner-kind column; 6: outflow and inflow (outflow_pending, /outflow/totals,
 // /inflow/batches, /inflow/next_due, /inflow/totals: the exact totals of what crossed). Only this
 // version is read: an older file lacks what this one needs to go on bit for bit.
-constexpr std::int64_t kFormatVersion = 6;
+constexpr std::int64_t kFormatVersion = 7;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
 /// global row index, so partial sums of blocks written by any number of ranks add up to the

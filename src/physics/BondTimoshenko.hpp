@@ -84,10 +84,12 @@ struct BondTimoshenko {
 
   /// The same co-rotational kernel with a constitutive hook, shared with the elastoplastic bond
   /// (BondTimoshenkoPlastic): the chord frame and the local deformations q of the ends, then
-  /// `elastic_part(q)` returns the part of q that K maps to loads (compute() passes all of q;
-  /// the plastic bond, q minus its plastic deformations after the return mapping). The
-  /// energy is 1/2 q_e^T K q_e of that part.
+  /// `elastic_part(q, chord)` returns the part of q that K maps to loads (compute() passes all
+  /// of q; the plastic bond, q minus its plastic deformations after the return mapping; the
+  /// chord frame lets it move a plastic hinge into its end frames). The energy is
+  /// 1/2 q_e^T K q_e of that part.
   struct Deformation;
+  struct ChordFrame;
   template <class Rotation, class ElasticPart>
   static Result compute(const Section& s, const Reference& ref, const Vec3& x_a,
                         const Rotation& rot_a, const Vec3& x_b, const Rotation& rot_b,
@@ -99,6 +101,12 @@ struct BondTimoshenko {
   /// of any ring deformation.
   struct LocalRotation {
     double x, y, z;
+  };
+
+  /// The chord frame's axes in the world frame: x along the bond, y the bisector of the end
+  /// frames' y axes, z = x cross y.
+  struct ChordFrame {
+    Vec3 x, y, z;
   };
 
   /// Local deformations (physics.md §1 DOF order, q = [0,0,0, th_a, du,0,0, th_b]): change of
@@ -166,7 +174,7 @@ template <class Rotation>
     const Section& s, const Reference& ref, const Vec3& x_a, const Rotation& rot_a, const Vec3& x_b,
     const Rotation& rot_b) {
   return compute(s, ref, x_a, rot_a, x_b, rot_b,
-                 [](const Deformation& q) [[gnu::always_inline]] { return q; });
+                 [](const Deformation& q, const ChordFrame&) [[gnu::always_inline]] { return q; });
 }
 
 template <class Rotation, class ElasticPart>
@@ -193,7 +201,8 @@ template <class Rotation, class ElasticPart>
   // The part K acts on: all of q for the elastic bond (elastic_part is then the identity).
   const Deformation q =
       elastic_part(Deformation{length - s.length0, relative_rotation(cx, cy, cz, ax, ay, az),
-                               relative_rotation(cx, cy, cz, bx, by, bz)});
+                               relative_rotation(cx, cy, cz, bx, by, bz)},
+                   ChordFrame{cx, cy, cz});
   const double du = q.du;
   const LocalRotation& ta = q.ta;
   const LocalRotation& tb = q.tb;

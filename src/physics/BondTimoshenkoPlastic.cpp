@@ -286,6 +286,22 @@ BondTimoshenkoPlastic::Params BondTimoshenkoPlastic::Params::from_wire_bundle(
   return p;
 }
 
+double BondTimoshenkoPlastic::measure_inverse(double m) {
+  // s (1 + s^2/6 + 3 s^4/40) = m is monotone in s for s in [0, 1] (the series reaches 1.24 at
+  // s = 1); from s = m, Newton's method converges in a few steps for the elastic rotations
+  // (m < 0.2) it is used on. Past the series' range no sine exists: m is then kept.
+  double s = std::min(m, 1.0);
+  for (int it = 0; it < 8; ++it) {
+    const double s2 = s * s;
+    const double g = s * (1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0))) - m;
+    const double dg = 1.0 + s2 * (0.5 + s2 * (3.0 / 8.0));
+    const double next = std::min(1.0, s - g / dg);
+    if (next == s) break;
+    s = next;
+  }
+  return s < 1.0 ? std::asin(s) : m;
+}
+
 double BondTimoshenkoPlastic::yield_ratio(const Params& p, const State& st,
                                           const BondTimoshenko::Result& r) {
   const double n = r.axial_force / p.axial_yield;
@@ -294,10 +310,9 @@ double BondTimoshenkoPlastic::yield_ratio(const Params& p, const State& st,
          yield_factor(p, st);
 }
 
-BondTimoshenkoPlastic::Deformation BondTimoshenkoPlastic::return_map(const Section& s,
-                                                                     const Params& p,
-                                                                     const Deformation& q,
-                                                                     State& st, double& work) {
+BondTimoshenkoPlastic::Return BondTimoshenkoPlastic::return_map(const Section& s, const Params& p,
+                                                                const Deformation& q, State& st,
+                                                                double& work) {
   const double np = p.axial_yield, mp = p.plastic_moment;
   const double ks = s.k_bend_self, kc = s.k_bend_cross;
   const double det = ks * ks - kc * kc;  // > 0: (ks - kc)(ks + kc) = (2 + 2 Phi) c/L * 6 c/L
@@ -308,7 +323,8 @@ BondTimoshenkoPlastic::Deformation BondTimoshenkoPlastic::return_map(const Secti
   pb.w = p.hardening / (np * s.length0);
   pb.y0 = yield_factor(p, st);
 
-  // Trial: the elastic predictor with the plastic deformations of the last step.
+  // Trial: the elastic predictor with the plastic deformations of the last step (the
+  // rotations' in the end frames already).
   const EndLoads f = BondTimoshenko::end_loads(s, elastic_part(q, st));
   pb.n_tr = f.fx_b / np;
   pb.mu_tr[0][0] = f.my_a / mp;
@@ -362,36 +378,37 @@ BondTimoshenkoPlastic::Deformation BondTimoshenkoPlastic::return_map(const Secti
     }
   }
 
-  // New elastic deformation C s, hence the plastic one q - C s (torsion stays elastic). An
-  // end that did not flow keeps its plastic rotation to the bit (C (s_tr - s) vanishes there,
-  // up to round-off).
+  // New elastic deformation C s, hence the plastic increments: the trial minus C s (torsion
+  // stays elastic). An end that did not flow keeps its trial rotation to the bit (C (s_tr - s)
+  // vanishes there, up to round-off), and its frame is left as it is.
   const State start = st;
   State next = start;
   next.elongation = q.du - sol[0] * np / s.k_axial;
-  if (lambda[0] > 0.0) {
-    next.rotation_ay = q.ta.y - (pb.cs * sol[1] + pb.cc * sol[3]) / mp;
-    next.rotation_az = q.ta.z - (pb.cs * sol[2] + pb.cc * sol[4]) / mp;
+  Return ret;
+  ret.elastic = {q.du - next.elongation, q.ta, q.tb};
+  ret.hinge_a = lambda[0] > 0.0;
+  ret.hinge_b = lambda[1] > 0.0;
+  if (ret.hinge_a) {
+    ret.elastic.ta.y = (pb.cs * sol[1] + pb.cc * sol[3]) / mp;
+    ret.elastic.ta.z = (pb.cs * sol[2] + pb.cc * sol[4]) / mp;
   }
-  if (lambda[1] > 0.0) {
-    next.rotation_by = q.tb.y - (pb.cc * sol[1] + pb.cs * sol[3]) / mp;
-    next.rotation_bz = q.tb.z - (pb.cc * sol[2] + pb.cs * sol[4]) / mp;
+  if (ret.hinge_b) {
+    ret.elastic.tb.y = (pb.cc * sol[1] + pb.cs * sol[3]) / mp;
+    ret.elastic.tb.z = (pb.cc * sol[2] + pb.cs * sol[4]) / mp;
   }
   // dkappa = sum_i lambda_i / (N_p L0)
   next.strain = start.strain + (lambda[0] + lambda[1]) / (np * s.length0);
 
   // Plastic work of the step, s_{n+1} . (q_p,n+1 - q_p,n) (backward Euler), with the loads K
-  // acts with from now on.
-  const Deformation e = elastic_part(q, next);
+  // acts with from now on; the plastic rotation increments are the trial minus the elastic.
+  const Deformation& e = ret.elastic;
   const EndLoads g = BondTimoshenko::end_loads(s, e);
-  work = g.fx_b * (next.elongation - start.elongation) +
-         g.my_a * (next.rotation_ay - start.rotation_ay) +
-         g.mz_a * (next.rotation_az - start.rotation_az) +
-         g.my_b * (next.rotation_by - start.rotation_by) +
-         g.mz_b * (next.rotation_bz - start.rotation_bz);
+  work = g.fx_b * (next.elongation - start.elongation) + g.my_a * (q.ta.y - e.ta.y) +
+         g.mz_a * (q.ta.z - e.ta.z) + g.my_b * (q.tb.y - e.tb.y) + g.mz_b * (q.tb.z - e.tb.z);
   if (scaled) next.strain = start.strain + std::max(0.0, work) / (pb.y0 * np * s.length0);
   next.work = start.work + work;
   st = next;
-  return e;
+  return ret;
 }
 
 }  // namespace ringdem

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "core/BondFailure.hpp"
+#include "core/Quat.hpp"
 #include "core/Vec3.hpp"
 #include "physics/BondTimoshenko.hpp"
 
@@ -13,11 +14,19 @@ namespace ringdem {
 
 /// Elastoplastic wire-bundle bond (physics.md §6; docs/physics.md "Plastic bond"): the
 /// co-rotational Timoshenko beam of BondTimoshenko with a plastic elongation and plastic
-/// rotations of both ends (plastic hinges) as per-bond state.
+/// rotations of both ends (plastic hinges).
+///
+/// The plastic elongation is per-bond state. A plastic end rotation is moved into the bond's
+/// end frame (Reference) in the step it happens: the frame is re-based so that it measures the
+/// returned elastic rotation exactly. The kernel then only ever measures elastic rotations,
+/// which stay below the yield rotation M_p / k, where its small-rotation measure and its
+/// loads are those of the elastic bond. (Kept as angles beside a total rotation of tens of
+/// degrees, the plastic rotations made the loads of a bent hinge non-conservative: an undamped
+/// hinge ringing about its permanent shape gained energy.)
 ///
 /// Each call is one backward-Euler step of resultant plasticity:
-///  - elastic predictor: the end loads K (q - q_p) of the total deformation q minus the plastic
-///    one q_p (q from the shared kernel BondTimoshenko::compute);
+///  - elastic predictor: the end loads K (q - q_p) of the deformation q measured from the end
+///    frames (which hold the hinges of earlier steps) minus the plastic elongation;
 ///  - yield function at each end i = a, b, on the ring's real resultants (not on stresses in
 ///    the surrogate bond section):  F_i = t(N / N_p, |M_i| / M_p) <= Y = 1 + h kappa,
 ///    where t is the gauge of the parabolic interaction n^2 + m = 1 (EN 1993-1-1 eq. 6.32;
@@ -33,7 +42,8 @@ namespace ringdem {
 /// The result depends only on the arguments: the same bits on every rank.
 ///
 /// For a force term: Params per bond type, State per bond (State::kNames, one column each,
-/// zero at creation, migrated and checkpointed with the bond), compute() every step,
+/// zero at creation, migrated and checkpointed with the bond) and the Reference frames (which
+/// compute() updates), compute() every step,
 /// evaluate() for output columns and break energies, check_failure() for the failure rule,
 /// State::work summed for the ledger's plastic-work column. A vectorised loop can run the
 /// elastic predictor and beyond_yield() for all bonds and call compute() only where it is true.
@@ -62,30 +72,24 @@ struct BondTimoshenkoPlastic {
                                    double failure_strain = 0.0);
   };
 
-  /// Per-bond plastic state, a POD of doubles (zero at creation). The rotations are components
-  /// in the bond's chord frame, which follows the bond: rigid motion leaves them unchanged.
+  /// Per-bond plastic state besides the hinges in the end frames, a POD of doubles (zero at
+  /// creation).
   struct State {
-    double elongation = 0.0;   ///< plastic elongation delta_p [m]
-    double rotation_ay = 0.0;  ///< plastic rotation of end a about the chord y axis [rad]
-    double rotation_az = 0.0;  ///< ... of end a about the chord z axis [rad]
-    double rotation_by = 0.0;  ///< ... of end b about the chord y axis [rad]
-    double rotation_bz = 0.0;  ///< ... of end b about the chord z axis [rad]
-    double strain = 0.0;       ///< kappa, accumulated work-equivalent plastic strain [-]
-    double work = 0.0;         ///< accumulated plastic work [J] (the energy ledger's column)
+    double elongation = 0.0;  ///< plastic elongation delta_p [m]
+    double strain = 0.0;      ///< kappa, accumulated work-equivalent plastic strain [-]
+    double work = 0.0;        ///< accumulated plastic work [J] (the energy ledger's column)
 
-    static constexpr std::size_t kSize = 7;
+    static constexpr std::size_t kSize = 3;
     /// Column names, in index order (one bond-store column each).
-    static constexpr std::array<std::string_view, kSize> kNames{
-        "plastic_elongation",  "plastic_rotation_ay", "plastic_rotation_az", "plastic_rotation_by",
-        "plastic_rotation_bz", "plastic_strain",      "plastic_work"};
+    static constexpr std::array<std::string_view, kSize> kNames{"plastic_elongation",
+                                                                "plastic_strain", "plastic_work"};
     double& operator[](std::size_t i) { return this->*member(i); }
     double operator[](std::size_t i) const { return this->*member(i); }
 
    private:
     static constexpr double State::*member(std::size_t i) {
-      constexpr std::array<double State::*, kSize> members{
-          &State::elongation,  &State::rotation_ay, &State::rotation_az, &State::rotation_by,
-          &State::rotation_bz, &State::strain,      &State::work};
+      constexpr std::array<double State::*, kSize> members{&State::elongation, &State::strain,
+                                                           &State::work};
       return members[i];
     }
   };
@@ -97,30 +101,69 @@ struct BondTimoshenkoPlastic {
     double plastic_work = 0.0;
   };
 
-  /// One step: elastic predictor, return mapping, `state` updated. Rotation is a Mat3 or a unit
-  /// Quat (body to world) of each end particle. Inline: bonds that stay elastic take the
-  /// elastic kernel's path plus one yield test (with a zero state, exactly the elastic bits).
+  /// One step: elastic predictor, return mapping, `state` updated, and the end frames re-based
+  /// where an end turned plastically (rebase()). Rotation is a Mat3 or a unit Quat (body to
+  /// world) of each end particle. Inline: bonds that stay elastic take the elastic kernel's path
+  /// plus one yield test (with a zero state, exactly the elastic bits), and leave `ref` as it
+  /// is.
   template <class Rotation>
-  static Result compute(const Section& s, const Params& p, const Reference& ref, const Vec3& x_a,
+  static Result compute(const Section& s, const Params& p, Reference& ref, const Vec3& x_a,
                         const Rotation& rot_a, const Vec3& x_b, const Rotation& rot_b,
                         State& state);
 
-  /// compute() on a copy of `state`: what the bond exerts now, state unchanged (output
-  /// columns, break energies). Right after a compute() at the same positions no flow remains.
+  /// compute() on copies of `ref` and `state`: what the bond exerts now, nothing changed
+  /// (output columns, break energies). Right after a compute() at the same positions no flow
+  /// remains.
   template <class Rotation>
   static Result evaluate(const Section& s, const Params& p, const Reference& ref, const Vec3& x_a,
                          const Rotation& rot_a, const Vec3& x_b, const Rotation& rot_b,
                          const State& state) {
+    Reference frames = ref;
     State copy = state;
-    return compute(s, p, ref, x_a, rot_a, x_b, rot_b, copy);
+    return compute(s, p, frames, x_a, rot_a, x_b, rot_b, copy);
   }
 
-  /// The total deformation minus the plastic one: what K acts on.
+  /// The measured deformation minus the plastic elongation: what K acts on (the plastic
+  /// rotations are in the end frames already).
   static Deformation elastic_part(const Deformation& q, const State& st) {
-    return {q.du - st.elongation,
-            {q.ta.x, q.ta.y - st.rotation_ay, q.ta.z - st.rotation_az},
-            {q.tb.x, q.tb.y - st.rotation_by, q.tb.z - st.rotation_bz}};
+    return {q.du - st.elongation, q.ta, q.tb};
   }
+
+  /// Moves the hinges of a step into the end frames (relative to the particles' body frames,
+  /// as Reference stores them): after it, the kernel measures the returned elastic rotations
+  /// `ta`, `tb` from the same chord frame C at these positions, to round-off. Each frame
+  /// becomes conj(rot) C R(t), R(t) the turn about t / |t| whose sine the kernel's arcsine
+  /// series maps to |t| (measure_inverse()). C's y axis is the bisector of the end frames' y
+  /// axes, which the return (it changes the bending rotations) would tilt about the chord by
+  /// O(theta_e dtheta_p); a common twist delta of both ends, t.x + delta, keeps it: it changes
+  /// no load (torsion is tb.x - ta.x), and both frames are re-based with it.
+  template <class Rotation>
+  static void rebase(Reference& ref, const Rotation& rot_a, const Rotation& rot_b,
+                     const BondTimoshenko::ChordFrame& c, const BondTimoshenko::LocalRotation& ta,
+                     const BondTimoshenko::LocalRotation& tb) {
+    const Quat chord =
+        quat_from_matrix(Mat3{{c.x.x, c.y.x, c.z.x, c.x.y, c.y.y, c.z.y, c.x.z, c.y.z, c.z.z}});
+    const auto turn = [](const BondTimoshenko::LocalRotation& t, double twist) {
+      const Vec3 e{t.x + twist, t.y, t.z};
+      const double m = norm(e);
+      return m > 0.0 ? quat_from_rotation_vector(e * (measure_inverse(m) / m)) : Quat{};
+    };
+    // The bisector stays C when the turned y axes' z components cancel: z(delta) = 0, with
+    // dz/ddelta = 2 (1 - O(theta^2)), so the fixed-point step below gains ~theta^2 a step.
+    double twist = 0.0;
+    for (int it = 0; it < 8; ++it) {
+      const double z =
+          rotate(turn(ta, twist), Vec3{0, 1, 0}).z + rotate(turn(tb, twist), Vec3{0, 1, 0}).z;
+      const double next = twist - 0.5 * z;
+      if (next == twist) break;
+      twist = next;
+    }
+    ref.frame_a = normalized(conjugate(as_quat(rot_a)) * chord * turn(ta, twist));
+    ref.frame_b = normalized(conjugate(as_quat(rot_b)) * chord * turn(tb, twist));
+  }
+  /// The angle theta whose sine the kernel's series s (1 + s^2/6 + 3 s^4/40) maps to m
+  /// (BondTimoshenko::relative_rotation): Newton's method on the series, then asin.
+  static double measure_inverse(double m);
 
   /// Yield test of the elastic predictor f (end loads of elastic_part()): whether an end is
   /// beyond Y (1 + kYieldTolerance). t(n, m) <= Y is n^2 + Y m <= Y^2, no square root of t.
@@ -145,10 +188,17 @@ struct BondTimoshenkoPlastic {
   /// round-off (of a rigid motion, of a state just returned to the surface) causes no flow.
   static constexpr double kYieldTolerance = 1e-10;
 
-  /// Return mapping of a trial that yields: updates `st` (plastic deformations, kappa, work)
-  /// and returns the new elastic part of q and, in `work`, the plastic work of the step.
-  static Deformation return_map(const Section& s, const Params& p, const Deformation& q, State& st,
-                                double& work);
+  /// Return mapping of a trial that yields. q: the deformation measured from the end frames
+  /// (rotations: the trial elastic rotations; length: total). Updates `st` (plastic
+  /// elongation, kappa, work) and returns the new elastic part of q, which ends turned
+  /// plastically (their frames are to be re-based on it) and, in `work`, the plastic work of
+  /// the step.
+  struct Return {
+    Deformation elastic;
+    bool hinge_a = false, hinge_b = false;
+  };
+  static Return return_map(const Section& s, const Params& p, const Deformation& q, State& st,
+                           double& work);
 
   /// Failure (issue 14): the bond breaks by Eq. 3–5 on its (returned) resultants or when its
   /// plastic strain reaches the limit, whichever comes first.
@@ -169,16 +219,25 @@ struct BondTimoshenkoPlastic {
 
 template <class Rotation>
 [[gnu::always_inline]] inline BondTimoshenkoPlastic::Result BondTimoshenkoPlastic::compute(
-    const Section& s, const Params& p, const Reference& ref, const Vec3& x_a, const Rotation& rot_a,
+    const Section& s, const Params& p, Reference& ref, const Vec3& x_a, const Rotation& rot_a,
     const Vec3& x_b, const Rotation& rot_b, State& state) {
   double work = 0.0;
+  Reference next = ref;
   const BondTimoshenko::Result r =
-      BondTimoshenko::compute(s, ref, x_a, rot_a, x_b, rot_b, [&](const Deformation& q) {
-        // Elastic predictor and yield test at both ends.
-        const Deformation e = elastic_part(q, state);
-        if (!beyond_yield(p, BondTimoshenko::end_loads(s, e), state)) return e;
-        return return_map(s, p, q, state, work);
-      });
+      BondTimoshenko::compute(s, ref, x_a, rot_a, x_b, rot_b,
+                              [&](const Deformation& q, const BondTimoshenko::ChordFrame& chord) {
+                                // Elastic predictor and yield test at both ends.
+                                const Deformation e = elastic_part(q, state);
+                                if (!beyond_yield(p, BondTimoshenko::end_loads(s, e), state))
+                                  return e;
+                                const Return ret = return_map(s, p, q, state, work);
+                                // The hinges into the end frames: from now on they measure the
+                                // returned rotations.
+                                if (ret.hinge_a || ret.hinge_b)
+                                  rebase(next, rot_a, rot_b, chord, ret.elastic.ta, ret.elastic.tb);
+                                return ret.elastic;
+                              });
+  ref = next;
   return Result{r, work};
 }
 

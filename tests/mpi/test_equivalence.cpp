@@ -34,8 +34,10 @@ struct BondRecord {
   std::int64_t gid_a, gid_b;
   std::uint8_t broken;
   double break_time;
-  /// The bond model's state columns (plastic deformations, strain, work), zero-padded.
+  /// The bond model's state columns (plastic elongation, strain, work), zero-padded.
   std::array<double, BondTimoshenkoPlastic::State::kSize> state;
+  /// The end frames (a plastic bond's hinges are re-based into them).
+  Quat frame_a, frame_b;
 };
 
 struct State {
@@ -60,7 +62,8 @@ State gather_state(const Simulation& sim) {
     if (const std::int64_t a = p.index_of(bonds.gid_a[k]);
         a >= 0 && static_cast<std::size_t>(a) < p.n_local())  // listed once, by the owner of a
     {
-      BondRecord r{bonds.gid_a[k], bonds.gid_b[k], bonds.broken[k], bonds.break_time[k], {}};
+      BondRecord r{bonds.gid_a[k],   bonds.gid_b[k],  bonds.broken[k], bonds.break_time[k], {},
+                   bonds.frame_a[k], bonds.frame_b[k]};
       for (std::size_t c = 0; c < std::min(bonds.n_model_columns(), r.state.size()); ++c)
         r.state[c] = bonds.model_column(c)[k];
       my_bonds.push_back(r);
@@ -99,6 +102,9 @@ void expect_identical(const State& ref, const State& got) {
     EXPECT_EQ(ref.bonds[k].break_time, got.bonds[k].break_time);
     EXPECT_TRUE(ref.bonds[k].state == got.bonds[k].state)
         << "model state of bond " << ref.bonds[k].gid_a << "-" << ref.bonds[k].gid_b;
+    EXPECT_TRUE(ref.bonds[k].frame_a == got.bonds[k].frame_a &&
+                ref.bonds[k].frame_b == got.bonds[k].frame_b)
+        << "end frames of bond " << ref.bonds[k].gid_a << "-" << ref.bonds[k].gid_b;
   }
   EXPECT_EQ(ref.body_positions, got.body_positions);
   EXPECT_EQ(ref.body_forces, got.body_forces);
@@ -138,6 +144,7 @@ double compared_skin(double reference_skin) {
 
 struct EquivalenceResult {
   State reference, parallel;
+  State reference_start;  ///< the one-rank run before its first step
   Energies reference_energies, parallel_energies;
   std::int64_t cut_bonds = 0;
   /// Bonds with a non-zero model state (yielded plastic bonds) whose ends are owned by two
@@ -199,6 +206,7 @@ EquivalenceResult run_both(const CaseConfig& c, std::int64_t steps,
 
     const Communicator self = Communicator::self();
     Simulation serial(build_scenario_model(c, self), self, s);
+    r.reference_start = gather_state(serial);
     serial.run_steps(steps);
     r.reference = gather_state(serial);
     r.reference_energies = serial.energies();
@@ -239,9 +247,17 @@ TEST(Equivalence, Ring4PlasticTensileYields) {
   }
   expect_other_path(r);
   expect_identical(r.reference, r.parallel);
-  std::size_t yielded = 0;
-  for (const auto& b : r.reference.bonds)
-    yielded += b.state[6] > 0.0;  // plastic_work
+  const auto& names = BondTimoshenkoPlastic::State::kNames;
+  const std::size_t work = static_cast<std::size_t>(
+      std::find(names.begin(), names.end(), "plastic_work") - names.begin());
+  ASSERT_LT(work, names.size());
+  std::size_t yielded = 0, hinged = 0;
+  for (std::size_t k = 0; k < r.reference.bonds.size(); ++k) {
+    yielded += r.reference.bonds[k].state[work] > 0.0;
+    // Frames away from their creation values: a hinge was re-based into them.
+    hinged += r.reference.bonds[k].frame_b != r.reference_start.bonds[k].frame_b;
+  }
+  EXPECT_GT(hinged, 10u) << "hinges should have formed";
   EXPECT_GT(yielded, 40u) << "most bonds should have yielded";
   if (world_size() > 1) {
     EXPECT_GT(r.cut_bonds_with_state, 0) << "a yielded bond should cross the cut";
