@@ -107,6 +107,9 @@ RingNetLayout generate_ring_net(const RingNetParameters& p) {
   require(p.link_distance > 0.0 && p.link_distance < 2.0 * p.centreline_radius(),
           "link_distance must be in (0, 2 x centreline radius): farther rings cannot interlink");
   require(p.tilt > 0.0 && p.tilt < 0.5 * M_PI, "tilt must be in (0, pi/2)");
+  require(std::abs(norm(p.normal) - 1.0) < 1e-9 && std::abs(norm(p.x_axis) - 1.0) < 1e-9 &&
+              std::abs(dot(p.normal, p.x_axis)) < 1e-9,
+          "normal and x_axis must be unit vectors normal to each other");
   if (p.shackles)
     require(p.shackle_internal_diameter > 0.0 && p.shackle_particle_radius > 0.0 &&
                 p.shackle_n_particles >= 3,
@@ -115,7 +118,8 @@ RingNetLayout generate_ring_net(const RingNetParameters& p) {
   RingNetLayout net;
   net.parameters = p;
   const double s = p.lattice_pitch();
-  const Vec3 first_site = p.centre - Vec3{0.5 * (p.columns - 1) * s, 0.5 * (p.rows - 1) * s, 0.0};
+  // Built in the net's frame about its centre, then placed (place(), below).
+  const Vec3 first_site = Vec3{-0.5 * (p.columns - 1) * s, -0.5 * (p.rows - 1) * s, 0.0};
   std::vector<std::int64_t> ring_at(static_cast<std::size_t>(p.rows) * p.columns, -1);
   const auto site = [&](int row, int column) {
     return static_cast<std::size_t>(row) * p.columns + static_cast<std::size_t>(column);
@@ -159,6 +163,20 @@ RingNetLayout generate_ring_net(const RingNetParameters& p) {
       if (r.row == p.rows - 1)
         net.shackles.push_back(shackle_for(r, i, NetSide::kPlusY, p.centreline_radius()));
     }
+  }
+
+  // The net's frame into the world: x_axis, normal x x_axis, normal; about the centre.
+  const Vec3 ex = p.x_axis, ez = p.normal, ey = cross(ez, ex);
+  const auto turn = [&](const Vec3& v) { return ex * v.x + ey * v.y + ez * v.z; };
+  for (RingPlacement& r : net.rings) {
+    r.centre = p.centre + turn(r.centre);
+    r.normal = turn(r.normal);
+    r.reference = turn(r.reference);
+  }
+  for (ShacklePlacement& sh : net.shackles) {
+    sh.centre = p.centre + turn(sh.centre);
+    sh.normal = turn(sh.normal);
+    sh.reference = turn(sh.reference);
   }
   return net;
 }

@@ -10,9 +10,11 @@
 
 namespace ringdem {
 
-/// Chain-mail ring net, horizontal (x-y plane), as in the paper's rockfall test (180 rings of
-/// 300 mm, 3.9 m x 3.9 m, each ring linked with four others, the outer rings held by rigid
-/// shackles that let them rotate and slide).
+/// Chain-mail ring net, as in the paper's rockfall test (180 rings of 300 mm, 3.9 m x 3.9 m,
+/// each ring linked with four others, the outer rings held by rigid shackles that let them
+/// rotate and slide). Described below in the net's own frame (x, y in its plane, z its normal);
+/// `x_axis` and `normal` place that frame in the world (by default the world's: a horizontal
+/// net, as the rockfall's; a debris-flow barrier stands across its channel).
 ///
 /// Layout (our choice; the paper gives no coordinates): the rings sit on a square lattice of
 /// pitch s = link_distance / sqrt(2), at the sites (column m, row n) with m + n odd, so that
@@ -41,6 +43,8 @@ struct RingNetParameters {
   double link_distance = 0.28;  ///< centre distance of linked rings [m]
   double tilt = 0.28;           ///< tilt of the ring planes about x [rad]
   Vec3 centre;                  ///< centre of the lattice; the ring centres are at its height
+  Vec3 normal{0, 0, 1};         ///< the net's z axis in the world (unit)
+  Vec3 x_axis{1, 0, 0};         ///< the net's x axis in the world (unit, normal to `normal`)
   double internal_diameter = 0.3;
   double particle_radius = 0.0045;
   int n_particles = 100;
@@ -103,8 +107,9 @@ struct RingNetLayout {
 };
 
 /// The net of `p`. Throws std::invalid_argument for a lattice smaller than 2 x 2, a tilt
-/// outside (0, pi/2), non-positive sizes, fewer than 3 particles per ring, or a link distance
-/// of at least the centreline diameter 2 R (such rings cannot interlink).
+/// outside (0, pi/2), non-positive sizes, fewer than 3 particles per ring, a link distance
+/// of at least the centreline diameter 2 R (such rings cannot interlink), or axes that are not
+/// unit and perpendicular (to 1e-9).
 RingNetLayout generate_ring_net(const RingNetParameters& p);
 
 /// Smallest gap between particles of different rings: centre distance minus the two radii

@@ -80,6 +80,8 @@ RingNetParameters net_parameters(const RingNetConfig& net) {
   g.link_distance = net.link_distance;
   g.tilt = net.tilt;
   g.centre = net.centre;
+  g.normal = net.normal;  // unit and perpendicular after validation
+  g.x_axis = net.x_axis;
   g.internal_diameter = net.internal_diameter;
   g.particle_radius = net.particle_radius;
   g.n_particles = net.n_particles;

@@ -110,6 +110,8 @@ struct RingNetConfig {
   double link_distance = 0.28;
   double tilt = 0.28;
   Vec3 centre;
+  Vec3 normal{0, 0, 1};  ///< the net plane's normal (normalised by the loader)
+  Vec3 x_axis{1, 0, 0};  ///< direction of the columns (projected onto the plane, normalised)
   double internal_diameter = 0.3;
   int n_particles = 100;
   double particle_radius = 0.0045;

@@ -280,33 +280,49 @@ const Table<RingNetConfig>& net_table() {
   using N = RingNetConfig;
   static const Table<N> table{
       "particles.nets[]",
-      "A horizontal chain-mail net of rings like `rings` entries. The rings sit on a square "
+      "A chain-mail net of rings like `rings` entries. The rings sit on a square "
       "lattice of pitch link_distance / sqrt(2) centred on `centre`, at the sites (column m, "
       "row n) with m + n odd; each is linked with its four diagonal neighbours. Ring planes are "
-      "tilted about x by +-tilt, alternating row by row, so that linked rings start clear of "
-      "each other. Defaults: the paper's net, 180 rings, 3.88 m x 3.87 m, with shackles.",
+      "tilted about the net's x by +-tilt, alternating row by row, so that linked rings start "
+      "clear of each other. The net's x, y and normal are the world's by default (a horizontal "
+      "net); `normal` and `x_axis` turn it about `centre`, e.g. to stand across a channel. "
+      "Defaults: the paper's net, 180 rings, 3.88 m x 3.87 m, with shackles.",
       {
           schema::text("group", &N::group, Type::kName, "Particle group of the net rings"),
           schema::integer("rows", &N::rows, at_least(2),
-                          "Lattice rows (along y); not with `length`")
+                          "Lattice rows (along the net's y); not with `length`")
               .dump_if([](const N& n) { return !n.length; }),
           schema::integer("columns", &N::columns, at_least(2),
-                          "Lattice columns (along x); not with `width`")
+                          "Lattice columns (along the net's x); not with `width`")
               .dump_if([](const N& n) { return !n.width; }),
-          schema::optional_number("width", &N::width, above(0), "m",
-                                  "Target extent along x (outer ring surfaces): sets `columns` "
-                                  "to the closest fit, at least 2")
+          schema::optional_number(
+              "width", &N::width, above(0), "m",
+              "Target extent along the net's x (outer ring surfaces): sets `columns` "
+              "to the closest fit, at least 2")
               .default_text("none (columns)"),
-          schema::optional_number("length", &N::length, above(0), "m",
-                                  "Target extent along y: sets `rows` to the closest fit, at "
-                                  "least 2")
+          schema::optional_number(
+              "length", &N::length, above(0), "m",
+              "Target extent along the net's y: sets `rows` to the closest fit, at "
+              "least 2")
               .default_text("none (rows)"),
           schema::number("link_distance", &N::link_distance, above(0), "m",
                          "Centre distance of linked rings; must be < internal_diameter + 2 * "
                          "particle_radius"),
           schema::number("tilt", &N::tilt, interval(0, false, 1.5, true), "rad",
-                         "Tilt of the ring planes about x, alternating in sign row by row"),
-          schema::vec3("centre", &N::centre, "m", "Centre of the net (ring centres at its z)"),
+                         "Tilt of the ring planes about the net's x, alternating in sign row by "
+                         "row"),
+          schema::vec3("centre", &N::centre, "m",
+                       "Centre of the net (the ring centres lie in its plane)"),
+          schema::vec3("normal", &N::normal, "",
+                       "Normal of the net's plane (normalised); rows and columns and `tilt` are "
+                       "described for the default, a horizontal net")
+              .nonzero(),
+          schema::vec3("x_axis", &N::x_axis, "",
+                       "Direction of the columns' spacing, the net's x (projected onto its "
+                       "plane and normalised; must not be parallel to normal); its y is "
+                       "normal x x_axis")
+              .nonzero()
+              .default_text("[1, 0, 0], or [0, 1, 0] for a net normal to x"),
           schema::number("internal_diameter", &N::internal_diameter, above(0), "m",
                          "Clear inside diameter of a ring"),
           schema::integer("n_particles", &N::n_particles, at_least(3), "Spheres per ring"),

@@ -219,10 +219,25 @@ long long validate_net(RingNetConfig& n, const std::string& p,
           fmt::format("give either {} or {}, not both ({} sets {})", count, target, target, count));
   }
   for (const char* key :
-       {"rows", "columns", "width", "length", "link_distance", "tilt", "centre",
+       {"rows", "columns", "width", "length", "link_distance", "tilt", "centre", "normal", "x_axis",
         "internal_diameter", "n_particles", "particle_radius", "contact_radius", "shackles"}) {
     if (ctx.failed(p + "." + key)) return 0;
   }
+  // The net's frame: x_axis projected onto the plane, as a ring's reference; not given and
+  // parallel to the normal (a net normal to x), the world y instead.
+  n.normal = normalized(n.normal);
+  Vec3 in_plane = n.x_axis - dot(n.x_axis, n.normal) * n.normal;
+  if (!(norm(in_plane) > 1e-9 * norm(n.x_axis)) && !ctx.given(p + ".x_axis")) {
+    n.x_axis = {0, 1, 0};
+    in_plane = n.x_axis - dot(n.x_axis, n.normal) * n.normal;
+  }
+  if (!(norm(in_plane) > 1e-9 * norm(n.x_axis))) {
+    ctx.error(ctx.where(p + ".x_axis", p), p + ".x_axis",
+              fmt::format("must not be parallel to normal {}, got {}",
+                          schema::format_vec3(n.normal), schema::format_vec3(n.x_axis)));
+    return 0;
+  }
+  n.x_axis = normalized(in_plane);
 
   RingNetParameters g;
   g.rows = n.rows;
@@ -230,6 +245,8 @@ long long validate_net(RingNetConfig& n, const std::string& p,
   g.link_distance = n.link_distance;
   g.tilt = n.tilt;
   g.centre = n.centre;
+  g.normal = n.normal;
+  g.x_axis = n.x_axis;
   g.internal_diameter = n.internal_diameter;
   g.particle_radius = n.particle_radius;
   g.n_particles = n.n_particles;

@@ -503,6 +503,74 @@ TEST(RingNetCase, GeometryErrorsAreReported) {
   diags = errors_of(kNetCase, {"particles.nets.0.shackles.material=brass"});
   EXPECT_NE(message_at(diags, p + ".shackles.material").find("'brass' is not defined"),
             std::string::npos);
+  // The net's x along its normal.
+  diags = errors_of(kNetCase,
+                    {"particles.nets.0.normal=[0, 1, 1]", "particles.nets.0.x_axis=[0, 2, 2]"});
+  EXPECT_NE(message_at(diags, p + ".x_axis").find("must not be parallel to normal"),
+            std::string::npos);
+}
+
+// A net standing across a channel is the horizontal net turned about its centre: every ring
+// and shackle frame is R times the horizontal one, R = (x_axis, normal x x_axis, normal) as
+// columns, built here from the axes. Rotation preserves every distance, so the clearance and
+// the links are the horizontal net's (to rounding).
+TEST(RingNetLayout, AStandingNetIsTheHorizontalNetTurned) {
+  RingNetParameters flat;
+  flat.rows = 5;
+  flat.columns = 6;
+  flat.centre = {1.0, -2.0, 0.5};
+  RingNetParameters standing = flat;
+  standing.normal = normalized(Vec3{1.0, 0.3, 0.2});
+  standing.x_axis = normalized(cross(Vec3{0, 0, 1}, standing.normal));  // horizontal
+  const Vec3 ey = cross(standing.normal, standing.x_axis);
+  const auto turn = [&](const Vec3& v) {
+    return standing.x_axis * v.x + ey * v.y + standing.normal * v.z;
+  };
+  const RingNetLayout a = generate_ring_net(flat), b = generate_ring_net(standing);
+  ASSERT_EQ(a.rings.size(), b.rings.size());
+  ASSERT_EQ(a.shackles.size(), b.shackles.size());
+  EXPECT_EQ(a.links, b.links);
+  for (std::size_t k = 0; k < a.rings.size(); ++k) {
+    EXPECT_LT(norm(b.rings[k].centre - (flat.centre + turn(a.rings[k].centre - flat.centre))),
+              1e-12);
+    EXPECT_LT(norm(b.rings[k].normal - turn(a.rings[k].normal)), 1e-12);
+    EXPECT_LT(norm(b.rings[k].reference - turn(a.rings[k].reference)), 1e-12);
+  }
+  for (std::size_t k = 0; k < a.shackles.size(); ++k) {
+    EXPECT_LT(norm(b.shackles[k].centre - (flat.centre + turn(a.shackles[k].centre - flat.centre))),
+              1e-12);
+    EXPECT_LT(norm(b.shackles[k].normal - turn(a.shackles[k].normal)), 1e-12);
+  }
+  const auto ca = smallest_clearance(a, 0.008, 0.008, 0.05);
+  const auto cb = smallest_clearance(b, 0.008, 0.008, 0.05);
+  EXPECT_NEAR(ca.gap, cb.gap, 1e-12);
+  // The ring planes stand: the net's normal is nearly horizontal here, and so are the ring
+  // axes up to the tilt.
+  for (const auto& r : b.rings)
+    EXPECT_NEAR(std::abs(dot(r.normal, standing.normal)), std::cos(flat.tilt), 1e-12);
+  // Axes that are not unit and perpendicular are refused.
+  RingNetParameters skew = flat;
+  skew.x_axis = normalized(Vec3{1, 0, 1});
+  EXPECT_THROW(generate_ring_net(skew), std::invalid_argument);
+}
+
+// The case file: `normal` alone (a barrier across a channel along x) takes the world y as the
+// net's x; the built particles are the horizontal net's turned, centre kept.
+TEST(RingNetCase, NormalTurnsTheNetAboutItsCentre) {
+  const Model flat = build_model(load_case_from_string(kNetCase, "net.yaml"));
+  const CaseConfig c =
+      load_case_from_string(kNetCase, "net.yaml", {"particles.nets.0.normal=[-2, 0, 0]"});
+  EXPECT_EQ(c.nets[0].normal, (Vec3{-1, 0, 0}));
+  EXPECT_EQ(c.nets[0].x_axis, (Vec3{0, 1, 0}));
+  const Model standing = build_model(c);
+  ASSERT_EQ(flat.particles.n_local(), standing.particles.n_local());
+  // R: x -> y, z -> -x, y -> normal x x_axis = (-x) x y = -z.
+  const Vec3 centre{1, 2, 3};
+  for (std::size_t k = 0; k < flat.particles.n_local(); ++k) {
+    const Vec3 d = flat.particles.position[k] - centre;
+    const Vec3 expected = centre + Vec3{-d.z, d.x, -d.y};
+    ASSERT_LT(norm(standing.particles.position[k] - expected), 1e-12) << k;
+  }
 }
 
 }  // namespace
