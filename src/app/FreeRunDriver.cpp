@@ -38,6 +38,16 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
   for (const char* c : {"outflow_grains", "outflow_mass_kg", "outflow_energy_J", "inflow_grains",
                         "inflow_mass_kg", "inflow_energy_J"})
     columns.push_back(c);
+  // The barrier in a flow (scenario.barrier; docs/debris.md "Barrier measures").
+  if (config_.scenario.barrier) {
+    barrier_.emplace(*config_.scenario.barrier, sim);
+    for (const char* c :
+         {"barrier_net_force_N", "barrier_posts_force_N", "barrier_force_N", "flow_depth_m",
+          "flow_velocity_m_s", "bulk_density_kg_m3", "front_m", "front_velocity_m_s",
+          "retained_mass_kg", "overflow_mass_kg", "net_deflection_m", "net_max_utilisation",
+          "net_max_utilisation_x_m", "net_max_utilisation_y_m", "net_max_utilisation_z_m"})
+      columns.push_back(c);
+  }
   if (sim.comm().is_root() && !output_dir_.empty())
     series_ = control_->restarted() ? SeriesWriter::resume(output_dir_ + "/series.csv", columns,
                                                            control_->restart_time())
@@ -47,6 +57,26 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
   max_kinetic_ = restored.get("max_kinetic_energy", 0.0);
   max_utilisation_ = restored.get("max_bond_utilisation", 0.0);
   next_record_ = restored.get("next_record_time", config_.simulation.series_interval);
+  if (barrier_) {
+    initial_net_reach_ = restored.get("barrier_initial_net_reach", 0.0);
+    last_front_ = restored.get("barrier_last_front", 0.0);
+    last_front_time_ = restored.get("barrier_last_front_time", -1.0);
+    peak_barrier_force_ = restored.get("barrier_peak_force", 0.0);
+    peak_barrier_time_ = restored.get("barrier_peak_time", 0.0);
+    peak_net_force_ = restored.get("barrier_peak_net_force", 0.0);
+    peak_posts_force_ = restored.get("barrier_peak_posts_force", 0.0);
+    peak_depth_ = restored.get("barrier_peak_depth", 0.0);
+    peak_velocity_ = restored.get("barrier_peak_velocity", 0.0);
+    max_deflection_ = restored.get("barrier_max_deflection", 0.0);
+    max_net_utilisation_ = restored.get("barrier_max_utilisation", 0.0);
+    max_utilisation_at_ = {restored.get("barrier_max_utilisation_x", 0.0),
+                           restored.get("barrier_max_utilisation_y", 0.0),
+                           restored.get("barrier_max_utilisation_z", 0.0)};
+    if (!control_->restarted()) {
+      const double reach = barrier_->sample(sim).net_reach;
+      initial_net_reach_ = std::isfinite(reach) ? reach : 0.0;
+    }
+  }
   if (!control_->restarted()) {
     record(sim);
     control_->write_frame(sim);
@@ -79,7 +109,42 @@ void FreeRunDriver::record(Simulation& sim) {
   row.push_back(static_cast<double>(in.grains));
   row.push_back(in.mass);
   row.push_back(e.inflow);
+  if (barrier_) record_barrier(sim, row);
   series_.row(row);
+}
+
+void FreeRunDriver::record_barrier(const Simulation& sim, std::vector<double>& row) {
+  const BarrierSample b = barrier_->sample(sim);
+  last_barrier_ = b;
+  const double total = b.net_force + b.posts_force;
+  // The front's speed since the record before (NaN at the first record or without grains).
+  double front_velocity = std::nan("");
+  if (std::isfinite(b.front)) {
+    if (last_front_time_ >= 0.0 && sim.time() > last_front_time_)
+      front_velocity = (b.front - last_front_) / (sim.time() - last_front_time_);
+    last_front_ = b.front;
+    last_front_time_ = sim.time();
+  }
+  const double deflection = std::isfinite(b.net_reach) ? b.net_reach - initial_net_reach_ : 0.0;
+  if (total > peak_barrier_force_) {
+    peak_barrier_force_ = total;
+    peak_barrier_time_ = sim.time();
+  }
+  peak_net_force_ = std::max(peak_net_force_, b.net_force);
+  peak_posts_force_ = std::max(peak_posts_force_, b.posts_force);
+  peak_depth_ = std::max(peak_depth_, b.flow_depth);
+  peak_velocity_ = std::max(peak_velocity_, b.flow_velocity);
+  max_deflection_ = std::max(max_deflection_, deflection);
+  if (b.max_utilisation > max_net_utilisation_) {
+    max_net_utilisation_ = b.max_utilisation;
+    max_utilisation_at_ = b.utilisation_at;
+  }
+  for (const double v :
+       {b.net_force, b.posts_force, total, b.flow_depth, b.flow_velocity, b.bulk_density,
+        std::isfinite(b.front) ? b.front : std::nan(""), front_velocity, b.retained_mass,
+        b.overflow_mass, deflection, b.max_utilisation, b.utilisation_at.x, b.utilisation_at.y,
+        b.utilisation_at.z})
+    row.push_back(v);
 }
 
 bool FreeRunDriver::after_steps(Simulation& sim) {
@@ -95,6 +160,22 @@ DriverState FreeRunDriver::state() const {
   d.set("max_kinetic_energy", max_kinetic_);
   d.set("max_bond_utilisation", max_utilisation_);
   d.set("next_record_time", next_record_);
+  if (barrier_) {
+    d.set("barrier_initial_net_reach", initial_net_reach_);
+    d.set("barrier_last_front", last_front_);
+    d.set("barrier_last_front_time", last_front_time_);
+    d.set("barrier_peak_force", peak_barrier_force_);
+    d.set("barrier_peak_time", peak_barrier_time_);
+    d.set("barrier_peak_net_force", peak_net_force_);
+    d.set("barrier_peak_posts_force", peak_posts_force_);
+    d.set("barrier_peak_depth", peak_depth_);
+    d.set("barrier_peak_velocity", peak_velocity_);
+    d.set("barrier_max_deflection", max_deflection_);
+    d.set("barrier_max_utilisation", max_net_utilisation_);
+    d.set("barrier_max_utilisation_x", max_utilisation_at_.x);
+    d.set("barrier_max_utilisation_y", max_utilisation_at_.y);
+    d.set("barrier_max_utilisation_z", max_utilisation_at_.z);
+  }
   return d;
 }
 
@@ -163,6 +244,23 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
     };
     summary.set("outflow", flux(out, e.outflow));
     summary.set("inflow", flux(in, e.inflow));
+    if (barrier_) {
+      JsonObject b;
+      b.set("peak_force_N", peak_barrier_force_)
+          .set("peak_force_time_s", peak_barrier_time_)
+          .set("peak_net_force_N", peak_net_force_)
+          .set("peak_posts_force_N", peak_posts_force_)
+          .set("peak_flow_depth_m", peak_depth_)
+          .set("peak_flow_velocity_m_s", peak_velocity_)
+          .set("final_retained_mass_kg", last_barrier_.retained_mass)
+          .set("final_overflow_mass_kg", last_barrier_.overflow_mass)
+          .set("max_net_deflection_m", max_deflection_)
+          .set("max_net_utilisation", max_net_utilisation_)
+          .set("max_net_utilisation_at_m",
+               std::vector<double>{max_utilisation_at_.x, max_utilisation_at_.y,
+                                   max_utilisation_at_.z});
+      summary.set("barrier", b);
+    }
     summary.write(output_dir_ + "/summary.json");
   }
 

@@ -261,10 +261,28 @@ struct RockfallConfig {
   double resettle_max_time = 2.0;    ///< give up waiting for the net to rest after an impact
 };
 
+/// What a free run measures of a barrier in a flow (app/BarrierMonitor): the loads on the net
+/// (through the fixed frame that holds it) and on posts, the flow upstream, what is retained
+/// and what went over, and the net's deflection.
+struct BarrierConfig {
+  Vec3 direction{1, 0, 0};                ///< the flow direction the barrier holds (normalised)
+  Vec3 position;                          ///< a point of the barrier plane (normal to direction)
+  std::vector<std::string> grain_groups;  ///< empty: every free particle in no ring
+  std::string net_group;                  ///< empty: no net
+  std::string frame_group;                ///< fixed particles holding the net; empty: none
+  std::vector<std::string> posts;         ///< rigid bodies of the barrier
+  std::string bed;                        ///< plane rigid body the flow runs on
+  double gauge_distance = 1.0;            ///< upstream end of the gauge section [m]
+  double gauge_length = 0.5;              ///< its length along direction [m]
+  double retention_length = 2.0;          ///< upstream reach counted as retained [m]
+  double width = 0.0;  ///< flow width at the gauge, for the bulk density (0: not computed) [m]
+};
+
 struct ScenarioConfig {
   std::string type = "free_run";  ///< free_run | tensile_test | rockfall
   TensileTestConfig tensile_test;
   RockfallConfig rockfall;
+  std::optional<BarrierConfig> barrier;  ///< free_run only
 };
 
 /// Frame files and checkpoints (DESIGN §5).

@@ -556,6 +556,8 @@ const Table<ScenarioConfig>& scenario_table() {
           schema::section("rockfall", &S::rockfall, rockfall_table(),
                           "Settings of a rockfall impact test")
               .dump_if([](const S& sc) { return sc.type == "rockfall"; }),
+          schema::optional_section("barrier", &S::barrier, barrier_table(),
+                                   "free_run only: measures of a barrier in a debris flow"),
       }};
   return table;
 }

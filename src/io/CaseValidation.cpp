@@ -430,6 +430,36 @@ void validate_rockfall(const CaseConfig& c, Context& ctx, const std::set<std::st
   }
 }
 
+/// scenario.barrier: a free run's, its groups and bodies defined, the bed a plane.
+void validate_barrier(CaseConfig& c, Context& ctx, const std::set<std::string>& groups,
+                      bool bodies_ok) {
+  if (!c.scenario.barrier) return;
+  const std::string p = "scenario.barrier";
+  BarrierConfig& b = *c.scenario.barrier;
+  if (c.scenario.type != "free_run" && !ctx.failed("scenario.type"))
+    ctx.error(ctx.where(p), p,
+              fmt::format("applies to scenario type free_run only, not {}", c.scenario.type));
+  if (!ctx.failed(p + ".direction")) b.direction = normalized(b.direction);
+  for (std::size_t k = 0; k < b.grain_groups.size(); ++k)
+    check_group(b.grain_groups[k], groups, fmt::format("{}.grain_groups[{}]", p, k),
+                p + ".grain_groups", ctx);
+  for (const auto& [key, group] :
+       {std::pair{".net_group", &b.net_group}, std::pair{".frame_group", &b.frame_group}})
+    if (!group->empty()) check_group(*group, groups, p + key, p, ctx);
+  std::vector<std::string> names;
+  for (const auto& body : c.rigid_bodies)
+    names.push_back(body.name);
+  for (std::size_t k = 0; k < b.posts.size(); ++k)
+    check_reference(b.posts[k], names, bodies_ok, fmt::format("{}.posts[{}]", p, k), p + ".posts",
+                    "rigid body", "rigid_bodies", ctx);
+  check_reference(b.bed, names, bodies_ok, p + ".bed", p, "rigid body", "rigid_bodies", ctx);
+  const auto bed = std::find(names.begin(), names.end(), b.bed);
+  if (bed != names.end() &&
+      c.rigid_bodies[static_cast<std::size_t>(bed - names.begin())].shape != ShapeKind::kPlane)
+    ctx.error(ctx.where(p + ".bed", p), p + ".bed",
+              fmt::format("rigid body '{}' must be a plane (the bed the flow runs on)", b.bed));
+}
+
 }  // namespace
 
 void cross_validate_case(CaseConfig& c, Context& ctx) {
@@ -630,6 +660,7 @@ void cross_validate_case(CaseConfig& c, Context& ctx) {
   }
   validate_scenario(c, ctx, bodies_ok);
   validate_rockfall(c, ctx, groups, materials, materials_ok);
+  validate_barrier(c, ctx, groups, bodies_ok);
   // Last: it computes from the values the checks above resolved (bond moduli, net sizes).
   check_case_magnitudes(c, ctx);
 }

@@ -130,4 +130,42 @@ const schema::Table<InflowConfig>& inflow_table() {
   return table;
 }
 
+const schema::Table<BarrierConfig>& barrier_table() {
+  using B = BarrierConfig;
+  static const Table<B> table{
+      "scenario.barrier",
+      "What a free run measures of a barrier in a debris flow, every series_interval, into "
+      "series.csv and summary.json (docs/debris.md \"Barrier measures\"). Distances are along "
+      "`direction` from the barrier plane through `position`: upstream is negative.",
+      {
+          schema::vec3("direction", &B::direction, "",
+                       "Flow direction the barrier holds (normalised); forces are reported "
+                       "along it")
+              .nonzero()
+              .required(),
+          schema::vec3("position", &B::position, "m", "A point of the barrier plane").required(),
+          schema::name_list("grain_groups", &B::grain_groups,
+                            "Particle groups of the flow (empty: every free particle in no ring)"),
+          schema::text("net_group", &B::net_group, Type::kName,
+                       "Group of the net rings (deflection, bond utilisation); empty: none"),
+          schema::text("frame_group", &B::frame_group, Type::kName,
+                       "Group of the fixed particles that hold the net (the net's load is their "
+                       "contact load); empty: none"),
+          schema::name_list("posts", &B::posts, "Rigid bodies of the barrier (posts, frame)"),
+          schema::text("bed", &B::bed, Type::kName,
+                       "Plane rigid body the flow runs on (flow depth is measured normal to it)")
+              .required(),
+          schema::number("gauge_distance", &B::gauge_distance, above(0), "m",
+                         "Distance of the gauge section's downstream end from the barrier"),
+          schema::number("gauge_length", &B::gauge_length, above(0), "m",
+                         "Length of the gauge section (flow depth, velocity, bulk density)"),
+          schema::number("retention_length", &B::retention_length, above(0), "m",
+                         "Grains this far upstream of the barrier or nearer count as retained"),
+          schema::number("width", &B::width, at_least(0), "m",
+                         "Width of the flow at the gauge section, for its bulk density (0: not "
+                         "computed)"),
+      }};
+  return table;
+}
+
 }  // namespace ringdem
