@@ -109,7 +109,7 @@ TEST(BarrierMonitor, LargestUtilisationIsLocated) {
   Simulation sim(build_model(c), comm, st);
   ParticleStore& p = sim.model().particles;
   p.position[p.index_of(37)] += Vec3{0.002, 0.0, 0.0};  // out of the ring's plane
-  sim.energies();  // refreshes the bonds' utilisation
+  sim.energies();                                       // refreshes the bonds' utilisation
   const BondStore& bonds = sim.model().bonds;
   std::size_t best = 0;
   for (std::size_t k = 1; k < bonds.size(); ++k)
