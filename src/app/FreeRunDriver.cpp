@@ -58,23 +58,10 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
   max_utilisation_ = restored.get("max_bond_utilisation", 0.0);
   next_record_ = restored.get("next_record_time", config_.simulation.series_interval);
   if (barrier_) {
-    initial_net_reach_ = restored.get("barrier_initial_net_reach", 0.0);
-    last_front_ = restored.get("barrier_last_front", 0.0);
-    last_front_time_ = restored.get("barrier_last_front_time", -1.0);
-    peak_barrier_force_ = restored.get("barrier_peak_force", 0.0);
-    peak_barrier_time_ = restored.get("barrier_peak_time", 0.0);
-    peak_net_force_ = restored.get("barrier_peak_net_force", 0.0);
-    peak_posts_force_ = restored.get("barrier_peak_posts_force", 0.0);
-    peak_depth_ = restored.get("barrier_peak_depth", 0.0);
-    peak_velocity_ = restored.get("barrier_peak_velocity", 0.0);
-    max_deflection_ = restored.get("barrier_max_deflection", 0.0);
-    max_net_utilisation_ = restored.get("barrier_max_utilisation", 0.0);
-    max_utilisation_at_ = {restored.get("barrier_max_utilisation_x", 0.0),
-                           restored.get("barrier_max_utilisation_y", 0.0),
-                           restored.get("barrier_max_utilisation_z", 0.0)};
+    barrier_record_.for_each([&](const char* name, double& v) { v = restored.get(name, v); });
     if (!control_->restarted()) {
       const double reach = barrier_->sample(sim).net_reach;
-      initial_net_reach_ = std::isfinite(reach) ? reach : 0.0;
+      barrier_record_.initial_net_reach = std::isfinite(reach) ? reach : 0.0;
     }
   }
   if (!control_->restarted()) {
@@ -116,28 +103,31 @@ void FreeRunDriver::record(Simulation& sim) {
 void FreeRunDriver::record_barrier(const Simulation& sim, std::vector<double>& row) {
   const BarrierSample b = barrier_->sample(sim);
   last_barrier_ = b;
+  BarrierRecord& r = barrier_record_;
   const double total = b.net_force + b.posts_force;
   // The front's speed since the record before (NaN at the first record or without grains).
   double front_velocity = std::nan("");
   if (std::isfinite(b.front)) {
-    if (last_front_time_ >= 0.0 && sim.time() > last_front_time_)
-      front_velocity = (b.front - last_front_) / (sim.time() - last_front_time_);
-    last_front_ = b.front;
-    last_front_time_ = sim.time();
+    if (r.last_front_time >= 0.0 && sim.time() > r.last_front_time)
+      front_velocity = (b.front - r.last_front) / (sim.time() - r.last_front_time);
+    r.last_front = b.front;
+    r.last_front_time = sim.time();
   }
-  const double deflection = std::isfinite(b.net_reach) ? b.net_reach - initial_net_reach_ : 0.0;
-  if (total > peak_barrier_force_) {
-    peak_barrier_force_ = total;
-    peak_barrier_time_ = sim.time();
+  const double deflection = std::isfinite(b.net_reach) ? b.net_reach - r.initial_net_reach : 0.0;
+  if (total > r.peak_force) {
+    r.peak_force = total;
+    r.peak_time = sim.time();
   }
-  peak_net_force_ = std::max(peak_net_force_, b.net_force);
-  peak_posts_force_ = std::max(peak_posts_force_, b.posts_force);
-  peak_depth_ = std::max(peak_depth_, b.flow_depth);
-  peak_velocity_ = std::max(peak_velocity_, b.flow_velocity);
-  max_deflection_ = std::max(max_deflection_, deflection);
-  if (b.max_utilisation > max_net_utilisation_) {
-    max_net_utilisation_ = b.max_utilisation;
-    max_utilisation_at_ = b.utilisation_at;
+  r.peak_net_force = std::max(r.peak_net_force, b.net_force);
+  r.peak_posts_force = std::max(r.peak_posts_force, b.posts_force);
+  r.peak_depth = std::max(r.peak_depth, b.flow_depth);
+  r.peak_velocity = std::max(r.peak_velocity, b.flow_velocity);
+  r.max_deflection = std::max(r.max_deflection, deflection);
+  if (b.max_utilisation > r.max_utilisation) {
+    r.max_utilisation = b.max_utilisation;
+    r.max_utilisation_x = b.utilisation_at.x;
+    r.max_utilisation_y = b.utilisation_at.y;
+    r.max_utilisation_z = b.utilisation_at.z;
   }
   for (const double v :
        {b.net_force, b.posts_force, total, b.flow_depth, b.flow_velocity, b.bulk_density,
@@ -161,20 +151,8 @@ DriverState FreeRunDriver::state() const {
   d.set("max_bond_utilisation", max_utilisation_);
   d.set("next_record_time", next_record_);
   if (barrier_) {
-    d.set("barrier_initial_net_reach", initial_net_reach_);
-    d.set("barrier_last_front", last_front_);
-    d.set("barrier_last_front_time", last_front_time_);
-    d.set("barrier_peak_force", peak_barrier_force_);
-    d.set("barrier_peak_time", peak_barrier_time_);
-    d.set("barrier_peak_net_force", peak_net_force_);
-    d.set("barrier_peak_posts_force", peak_posts_force_);
-    d.set("barrier_peak_depth", peak_depth_);
-    d.set("barrier_peak_velocity", peak_velocity_);
-    d.set("barrier_max_deflection", max_deflection_);
-    d.set("barrier_max_utilisation", max_net_utilisation_);
-    d.set("barrier_max_utilisation_x", max_utilisation_at_.x);
-    d.set("barrier_max_utilisation_y", max_utilisation_at_.y);
-    d.set("barrier_max_utilisation_z", max_utilisation_at_.z);
+    BarrierRecord record = barrier_record_;
+    record.for_each([&](const char* name, double& v) { d.set(name, v); });
   }
   return d;
 }
@@ -245,20 +223,20 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
     summary.set("outflow", flux(out, e.outflow));
     summary.set("inflow", flux(in, e.inflow));
     if (barrier_) {
+      const BarrierRecord& r = barrier_record_;
       JsonObject b;
-      b.set("peak_force_N", peak_barrier_force_)
-          .set("peak_force_time_s", peak_barrier_time_)
-          .set("peak_net_force_N", peak_net_force_)
-          .set("peak_posts_force_N", peak_posts_force_)
-          .set("peak_flow_depth_m", peak_depth_)
-          .set("peak_flow_velocity_m_s", peak_velocity_)
+      b.set("peak_force_N", r.peak_force)
+          .set("peak_force_time_s", r.peak_time)
+          .set("peak_net_force_N", r.peak_net_force)
+          .set("peak_posts_force_N", r.peak_posts_force)
+          .set("peak_flow_depth_m", r.peak_depth)
+          .set("peak_flow_velocity_m_s", r.peak_velocity)
           .set("final_retained_mass_kg", last_barrier_.retained_mass)
           .set("final_overflow_mass_kg", last_barrier_.overflow_mass)
-          .set("max_net_deflection_m", max_deflection_)
-          .set("max_net_utilisation", max_net_utilisation_)
+          .set("max_net_deflection_m", r.max_deflection)
+          .set("max_net_utilisation", r.max_utilisation)
           .set("max_net_utilisation_at_m",
-               std::vector<double>{max_utilisation_at_.x, max_utilisation_at_.y,
-                                   max_utilisation_at_.z});
+               std::vector<double>{r.max_utilisation_x, r.max_utilisation_y, r.max_utilisation_z});
       summary.set("barrier", b);
     }
     summary.write(output_dir_ + "/summary.json");

@@ -44,13 +44,34 @@ class FreeRunDriver : public ScenarioDriver {
   double max_utilisation_ = 0.0;
   double next_record_ = 0.0;
 
+  /// The barrier's running values, kept in the driver state across restarts.
+  struct BarrierRecord {
+    double initial_net_reach = 0.0;  ///< the net's reach at the start: deflection is from it
+    double last_front = 0.0, last_front_time = -1.0;  ///< the front at the record before
+    double peak_force = 0.0, peak_time = 0.0, peak_net_force = 0.0, peak_posts_force = 0.0;
+    double peak_depth = 0.0, peak_velocity = 0.0, max_deflection = 0.0, max_utilisation = 0.0;
+    double max_utilisation_x = 0.0, max_utilisation_y = 0.0, max_utilisation_z = 0.0;
+    /// Each value with its driver-state name (the one list that state() and start() read).
+    template <class F>
+    void for_each(F&& f) {
+      f("barrier_initial_net_reach", initial_net_reach);
+      f("barrier_last_front", last_front);
+      f("barrier_last_front_time", last_front_time);
+      f("barrier_peak_force", peak_force);
+      f("barrier_peak_time", peak_time);
+      f("barrier_peak_net_force", peak_net_force);
+      f("barrier_peak_posts_force", peak_posts_force);
+      f("barrier_peak_depth", peak_depth);
+      f("barrier_peak_velocity", peak_velocity);
+      f("barrier_max_deflection", max_deflection);
+      f("barrier_max_utilisation", max_utilisation);
+      f("barrier_max_utilisation_x", max_utilisation_x);
+      f("barrier_max_utilisation_y", max_utilisation_y);
+      f("barrier_max_utilisation_z", max_utilisation_z);
+    }
+  };
   std::optional<BarrierMonitor> barrier_;
-  double initial_net_reach_ = 0.0;  ///< the net's reach at the start: deflection is from it
-  double last_front_ = 0.0, last_front_time_ = -1.0;  ///< the front at the record before
-  double peak_barrier_force_ = 0.0, peak_barrier_time_ = 0.0, peak_net_force_ = 0.0;
-  double peak_posts_force_ = 0.0, peak_depth_ = 0.0, peak_velocity_ = 0.0;
-  double max_deflection_ = 0.0, max_net_utilisation_ = 0.0;
-  Vec3 max_utilisation_at_;
+  BarrierRecord barrier_record_;
   BarrierSample last_barrier_;
 };
 
