@@ -81,6 +81,9 @@ void FreeRunDriver::record(Simulation& sim) {
   for (double u : sim.model().bonds.utilisation)
     util = std::max(util, u);
   max_utilisation_ = std::max(max_utilisation_, sim.comm().max(util));
+  // Collective: every rank samples the barrier and keeps the same peaks.
+  std::vector<double> barrier_row;
+  if (barrier_) record_barrier(sim, barrier_row);
   if (!sim.comm().is_root() || output_dir_.empty()) return;
   std::vector<double> row{sim.time(),     e.kinetic,         e.potential,
                           e.bond_elastic, e.contact_elastic, static_cast<double>(broken)};
@@ -96,7 +99,7 @@ void FreeRunDriver::record(Simulation& sim) {
   row.push_back(static_cast<double>(in.grains));
   row.push_back(in.mass);
   row.push_back(e.inflow);
-  if (barrier_) record_barrier(sim, row);
+  row.insert(row.end(), barrier_row.begin(), barrier_row.end());
   series_.row(row);
 }
 

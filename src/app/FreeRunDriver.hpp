@@ -31,7 +31,7 @@ class FreeRunDriver : public ScenarioDriver {
   std::int64_t total_steps(const Simulation& sim) const;
   /// One row of series.csv and the running peaks. Collective.
   void record(Simulation& sim);
-  /// The barrier's columns of one row, and its peaks. Collective.
+  /// The barrier's columns of one row, and its peaks. Collective: call it on every rank.
   void record_barrier(const Simulation& sim, std::vector<double>& row);
 
   CaseConfig config_;
