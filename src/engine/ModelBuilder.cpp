@@ -73,25 +73,6 @@ RingSpec ring_spec(Model& model, const CaseConfig& c, const RingConfig& ring, in
   return s;
 }
 
-RingNetParameters net_parameters(const RingNetConfig& net) {
-  RingNetParameters g;
-  g.rows = net.rows;
-  g.columns = net.columns;
-  g.link_distance = net.link_distance;
-  g.tilt = net.tilt;
-  g.centre = net.centre;
-  g.normal = net.normal;  // unit and perpendicular after validation
-  g.x_axis = net.x_axis;
-  g.internal_diameter = net.internal_diameter;
-  g.particle_radius = net.particle_radius;
-  g.n_particles = net.n_particles;
-  g.shackles = net.shackles.enabled;
-  g.shackle_internal_diameter = net.shackles.internal_diameter;
-  g.shackle_particle_radius = net.shackles.particle_radius;
-  g.shackle_n_particles = net.shackles.n_particles;
-  return g;
-}
-
 /// The model without particles and bonds, plus the sources that create them, in case order:
 /// the `rings` entries, each net, the lattices, the grains, the listed spheres. Groups are numbered
 /// in the order the sources first name them.
@@ -348,6 +329,25 @@ ModelPlan plan_model(const CaseConfig& c) {
 }
 
 }  // namespace
+
+RingNetParameters net_parameters(const RingNetConfig& net) {
+  RingNetParameters g;
+  g.rows = net.rows;
+  g.columns = net.columns;
+  g.link_distance = net.link_distance;
+  g.tilt = net.tilt;
+  g.centre = net.centre;
+  g.normal = net.normal;  // unit and perpendicular after validation
+  g.x_axis = net.x_axis;
+  g.internal_diameter = net.internal_diameter;
+  g.particle_radius = net.particle_radius;
+  g.n_particles = net.n_particles;
+  g.shackles = net.shackles.enabled;
+  g.shackle_internal_diameter = net.shackles.internal_diameter;
+  g.shackle_particle_radius = net.shackles.particle_radius;
+  g.shackle_n_particles = net.shackles.n_particles;
+  return g;
+}
 
 void add_bond(Model& model, std::int64_t id, const BondEnd& a, const BondEnd& b, int bond_type,
               std::uint64_t seed) {

@@ -5,11 +5,16 @@
 #include <vector>
 
 #include "comm/Communicator.hpp"
+#include "domain/RingNet.hpp"
 #include "engine/BondTerm.hpp"
 #include "engine/Model.hpp"
 #include "io/CaseConfig.hpp"
 
 namespace ringdem {
+
+/// The generator's parameters of a validated `particles.nets` entry (the loader checks a net
+/// with the same ones).
+RingNetParameters net_parameters(const RingNetConfig& net);
 
 /// Builds rank `rank`'s share of a case's model: materials, bond types, groups and rigid
 /// bodies in full (they are small), and an equal slice of every particle source's items

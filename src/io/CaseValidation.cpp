@@ -24,6 +24,7 @@
 #include "domain/LinkingNumber.hpp"
 #include "domain/RingGenerator.hpp"
 #include "domain/RingNet.hpp"
+#include "engine/ModelBuilder.hpp"
 #include "engine/ModelTable.hpp"
 #include "io/CaseMagnitudes.hpp"
 #include "io/GrainsInput.hpp"
@@ -239,21 +240,7 @@ long long validate_net(RingNetConfig& n, const std::string& p,
   }
   n.x_axis = normalized(in_plane);
 
-  RingNetParameters g;
-  g.rows = n.rows;
-  g.columns = n.columns;
-  g.link_distance = n.link_distance;
-  g.tilt = n.tilt;
-  g.centre = n.centre;
-  g.normal = n.normal;
-  g.x_axis = n.x_axis;
-  g.internal_diameter = n.internal_diameter;
-  g.particle_radius = n.particle_radius;
-  g.n_particles = n.n_particles;
-  g.shackles = n.shackles.enabled;
-  g.shackle_internal_diameter = n.shackles.internal_diameter;
-  g.shackle_particle_radius = n.shackles.particle_radius;
-  g.shackle_n_particles = n.shackles.n_particles;
+  RingNetParameters g = net_parameters(n);
   if (n.width || n.length) {
     const LatticeSize size = lattice_size_for(n.width.value_or(0.0), n.length.value_or(0.0), g);
     if (n.width) n.columns = g.columns = size.columns;
