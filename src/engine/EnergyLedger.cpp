@@ -15,10 +15,10 @@ void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
 
 void EnergyLedger::begin_step(std::size_t n_local) {
   for (const std::uint32_t k : touched_list_)
-    if (k < touched_.size()) touched_[k] = 0;
+    if (k < entry_of_.size()) entry_of_[k] = kNoEntry;
   touched_list_.clear();
-  touched_.resize(n_local, 0);
-  moments_.resize(n_local);
+  moments_.clear();
+  entry_of_.resize(n_local, kNoEntry);
 }
 
 void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bodies,
@@ -46,7 +46,7 @@ void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bo
     last_power = power;
   };
   const std::size_t n_local = p.n_local();
-  const bool have_moments = touched_.size() == n_local;  // begin_step() ran on this store
+  const bool have_moments = entry_of_.size() == n_local;  // begin_step() ran on this store
   // A particle with no load to book now and nothing booked last step keeps its tallies bit
   // for bit, so only the particles with contacts or records now, the driven ones, and those
   // that had a nonzero power or energy after the last step (the active list) are visited.
@@ -73,7 +73,7 @@ void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bo
   const std::size_t n_visit = scan_all ? n_local : visit_.size();
   for (std::size_t i = 0, d = 0, v_index = 0; v_index < n_visit; ++v_index) {
     const std::size_t k = scan_all ? v_index : visit_[v_index];
-    const bool has_moments = have_moments && touched_[k] != 0;
+    const bool has_moments = have_moments && entry_of_[k] != kNoEntry;
     const bool has_records = i < particles.size() && particles[i] == k;
     const bool is_driven = d < driven.size() && driven[d].particle == k;
     if (!has_moments && !has_records && !is_driven && idle(k)) continue;
@@ -83,7 +83,7 @@ void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bo
     // Contacts summed per particle by their term, in partner order (ContactMoments): the power
     // of the loads at the end-of-step velocities.
     if (has_moments) {
-      const ContactMoments& m = moments_[k];
+      const ContactMoments& m = moments_[entry_of_[k]];
       damping -= dot(m.damping, v) + dot(m.damping_moment, w);
       friction -= dot(m.friction, v) + dot(m.friction_moment, w);
       tangential = m.tangential_energy;

@@ -49,15 +49,17 @@ class EnergyLedger {
   /// books it, e.g. the ghost end of a pair).
   DissipationRecord& record(std::uint32_t slot) { return records_[record_of_slot_[slot]]; }
 
-  /// The moments of owned particle k for a per-particle term to add to: zeroed at the first
-  /// call of a force evaluation, so that particles without contacts cost nothing here.
+  /// The moments of owned particle k for a per-particle term to add to: a zeroed entry taken
+  /// at the first call of a force evaluation, so that particles without contacts cost nothing
+  /// here, neither time nor memory. The reference holds until the next call.
   ContactMoments& moments(std::uint32_t k) {
-    if (!touched_[k]) {
-      touched_[k] = 1;
+    std::uint32_t& entry = entry_of_[k];
+    if (entry == kNoEntry) {
+      entry = static_cast<std::uint32_t>(moments_.size());
       touched_list_.push_back(k);
-      moments_[k] = ContactMoments{};
+      moments_.emplace_back();
     }
-    return moments_[k];
+    return moments_[entry];
   }
   /// Before a force evaluation over `n_local` owned particles: no particle has moments yet.
   void begin_step(std::size_t n_local);
@@ -71,9 +73,10 @@ class EnergyLedger {
  private:
   std::vector<DissipationRecord> records_;
   std::vector<std::uint32_t> record_of_slot_;
-  std::vector<ContactMoments> moments_;      ///< valid where touched_
-  std::vector<std::uint8_t> touched_;        ///< moments_[k] written in this evaluation
-  std::vector<std::uint32_t> touched_list_;  ///< the k with touched_[k], to clear them
+  static constexpr std::uint32_t kNoEntry = 0xffffffffu;
+  std::vector<ContactMoments> moments_;      ///< one per particle touched in this evaluation
+  std::vector<std::uint32_t> entry_of_;      ///< owned particle -> its moments_, or kNoEntry
+  std::vector<std::uint32_t> touched_list_;  ///< the k with an entry, to clear them
   /// Owned particles with a nonzero last power or contact energy after the last accumulate(),
   /// valid until a rebuild changes the indices.
   std::vector<std::uint32_t> active_;
