@@ -24,7 +24,6 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   orientation[i] = p.orientation;
   force[i] = {};
   torque[i] = {};
-  external_force[i] = {};
   radius[i] = p.radius;
   mass[i] = p.density * 4.0 / 3.0 * M_PI * p.radius * p.radius * p.radius;
   inertia[i] = 0.4 * mass[i] * p.radius * p.radius;
@@ -33,7 +32,6 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   body[i] = p.body;
   group[i] = p.group;
   motion[i] = p.motion;
-  position_at_rebuild[i] = p.position;
   index_.set(static_cast<std::uint32_t>(i), gid.data(), gid.size());
   return i;
 }

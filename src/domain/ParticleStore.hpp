@@ -53,7 +53,6 @@ class ParticleStore {
   std::vector<Quat> orientation;
   std::vector<Vec3> force;
   std::vector<Vec3> torque;
-  std::vector<Vec3> external_force;  ///< applied load (point loads, tests), constant in time
   std::vector<double> radius;
   std::vector<double> mass;
   std::vector<double> inertia;  ///< isotropic moment of inertia (2/5 m r^2 for a sphere)
@@ -62,10 +61,6 @@ class ParticleStore {
   std::vector<std::int32_t> body;   ///< ring / clump id, -1 for none
   std::vector<std::int32_t> group;  ///< particle group (case-file name table)
   std::vector<Motion> motion;
-  /// Position at the last neighbour-list rebuild: the Verlet skin criterion measures moves
-  /// from here (Simulation::needs_rebuild). Owned state, checkpointed so that a restart
-  /// rebuilds at the same steps as the run never interrupted.
-  std::vector<Vec3> position_at_rebuild;
   // --- energy ledger (docs/physics.md "Energy ledger"): this particle's share of the energy
   // dissipated or put in since the start, accumulated every step. Owned state (migrated and
   // checkpointed, never sent to ghosts), summed exactly over the ranks (comm/ExactSum) so the
@@ -118,7 +113,6 @@ class ParticleStore {
     f(FieldInfo{"orientation", kState | kGhostStep}, orientation);
     f(FieldInfo{"force", kState}, force);
     f(FieldInfo{"torque", kState}, torque);
-    f(FieldInfo{"external_force", kState}, external_force);
     f(FieldInfo{"radius", kState | kGhostOnce | kOutput}, radius);
     f(FieldInfo{"mass", kState | kGhostOnce}, mass);
     f(FieldInfo{"inertia", kState | kGhostOnce}, inertia);
@@ -127,7 +121,6 @@ class ParticleStore {
     f(FieldInfo{"body", kState | kGhostOnce | kOutput}, body);
     f(FieldInfo{"group", kState | kGhostOnce | kOutput}, group);
     f(FieldInfo{"motion", kState | kGhostOnce}, motion);
-    f(FieldInfo{"position_at_rebuild", kState}, position_at_rebuild);
     f(FieldInfo{"dissipated_damping", kState}, dissipated_damping);
     f(FieldInfo{"dissipated_friction", kState}, dissipated_friction);
     f(FieldInfo{"dissipated_global", kState}, dissipated_global);

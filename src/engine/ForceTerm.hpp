@@ -79,6 +79,19 @@ class ForceTerm {
   /// rows survive a rebuild when the term's rebuild() reads them back by key.
   virtual ContactSpringStore* springs() { return nullptr; }
   virtual const ContactSpringStore* springs() const { return nullptr; }
+  /// Before a migration: the spring store keeps only its touching contacts, keyed by gid,
+  /// which the term's rebuild() then reads back. A term that keeps its springs elsewhere
+  /// between rebuilds (per candidate, without keys) adds its touching ones to the store here.
+  virtual void pack_springs(const ParticleStore& /*p*/) {
+    if (ContactSpringStore* s = springs()) s->drop_released();
+  }
+  /// The touching contacts' springs, keyed by gid, at any time (checkpoints).
+  virtual ContactSpringStore touching_springs(const ParticleStore& /*p*/) const {
+    const ContactSpringStore* s = springs();
+    ContactSpringStore out = s ? *s : ContactSpringStore{};
+    out.drop_released();
+    return out;
+  }
   /// The term's store of rows that join two particles (its bonds, its contact springs), or
   /// none: the decomposition moves every term's rows through this one handle. A contact term's
   /// is its spring store.

@@ -43,31 +43,32 @@ void GatherMap::finish(const ParticleStore& p) {
 void GatherMap::initialise_loads(ParticleStore& p, const Vec3& gravity) {
   const std::size_t n_local = p.n_local();
   const double* const mass = p.mass.data();
-  const Vec3* const external = p.external_force.data();
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
   // Component by component (no Vec3 copies), so that the loop vectorises.
-  double any_external = 0.0;
-#pragma omp simd reduction(max : any_external)
+#pragma omp simd
   for (std::size_t k = 0; k < n_local; ++k) {
-    const double ex = external[k].x, ey = external[k].y, ez = external[k].z;
-    const double applied = (ex != 0.0) | (ey != 0.0) | (ez != 0.0) ? 1.0 : 0.0;
-    any_external = applied > any_external ? applied : any_external;
-    force[k].x = gravity.x * mass[k] + ex;
-    force[k].y = gravity.y * mass[k] + ey;
-    force[k].z = gravity.z * mass[k] + ez;
+    force[k].x = gravity.x * mass[k];
+    force[k].y = gravity.y * mass[k];
+    force[k].z = gravity.z * mass[k];
     torque[k].x = 0.0;
     torque[k].y = 0.0;
     torque[k].z = 0.0;
   }
-  // Energy ledger: external forces on free particles and their power at the mid-step
-  // velocity (the drift x += v dt used it).
+}
+
+void GatherMap::apply_point_loads(ParticleStore& p, const std::vector<PointLoad>& loads) {
   external_.clear();
-  if (any_external != 0.0)
-    for (std::size_t k = 0; k < n_local; ++k)
-      if ((external[k].x != 0.0 || external[k].y != 0.0 || external[k].z != 0.0) &&
-          p.motion[k] == Motion::kFree)
-        external_.push_back({static_cast<std::uint32_t>(k), dot(external[k], p.velocity[k])});
+  applied_.clear();
+  for (const PointLoad& load : loads) {
+    const std::int64_t k = p.index_of(load.gid);
+    if (k < 0 || static_cast<std::size_t>(k) >= p.n_local()) continue;
+    const auto i = static_cast<std::uint32_t>(k);
+    p.force[i] += load.force;
+    applied_.emplace_back(i, load.force);
+    // Energy ledger: the power at the mid-step velocity (the drift x += v dt used it).
+    if (p.motion[i] == Motion::kFree) external_.push_back({i, dot(load.force, p.velocity[i])});
+  }
 }
 
 void GatherMap::gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity) {
@@ -96,7 +97,10 @@ void GatherMap::gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gr
   // Energy ledger: whatever a driven particle's interactions push against, the driver supplies.
   driven_.clear();
   for (const std::uint32_t k : driven_particle_) {
-    const Vec3 interaction = force[k] - gravity * p.mass[k] - p.external_force[k];
+    Vec3 applied;
+    for (const auto& [particle, load] : applied_)
+      if (particle == k) applied += load;
+    const Vec3 interaction = force[k] - gravity * p.mass[k] - applied;
     driven_.push_back({k, dot(interaction, p.velocity[k]) + dot(torque[k], p.omega[k])});
   }
 }

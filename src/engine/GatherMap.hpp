@@ -1,11 +1,13 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/Vec3.hpp"
 #include "domain/ParticleStore.hpp"
 #include "engine/ForceSlots.hpp"
+#include "engine/Model.hpp"
 
 namespace ringdem {
 
@@ -29,10 +31,13 @@ class GatherMap {
   /// particles with ledger slots, and driven ones (`p.motion`).
   void finish(const ParticleStore& p);
 
-  /// Starts a force evaluation: force = gravity * mass + external force, torque = 0 (owned
-  /// particles). Notes the power F_ext . v of external forces on free particles at the mid-step
-  /// velocity, for the ledger. Terms that sum per particle (ParticleLoads) add to these next.
-  void initialise_loads(ParticleStore& p, const Vec3& gravity);
+  /// Starts a force evaluation: force = gravity * mass, torque = 0 (owned particles). The step
+  /// does this in its drift pass instead (Integrator::first_half).
+  static void initialise_loads(ParticleStore& p, const Vec3& gravity);
+  /// Adds the point loads on owned particles to the initial loads, and notes the power
+  /// F_ext . v of those on free particles at the mid-step velocity, for the ledger. Terms that
+  /// sum per particle (ParticleLoads) add to these next.
+  void apply_point_loads(ParticleStore& p, const std::vector<PointLoad>& loads);
   /// Adds each owned particle's slots in gather order. Notes the power of the interaction loads
   /// on driven particles (their velocity is not changed by the kicks), for the ledger.
   void gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity);
@@ -70,6 +75,9 @@ class GatherMap {
   std::vector<std::uint32_t> ledger_particle_, ledger_offset_, ledger_slot_;
   std::vector<std::uint32_t> driven_particle_;
   std::vector<ParticlePower> external_, driven_;
+  /// The point loads applied in this evaluation, by particle (the gather takes them out of a
+  /// driven particle's interaction load).
+  std::vector<std::pair<std::uint32_t, Vec3>> applied_;
 };
 
 }  // namespace ringdem

@@ -15,6 +15,14 @@
 
 namespace ringdem {
 
+/// A constant force on one particle, by gid (applied loads of tests and drivers). Loads are
+/// few, so every rank holds the list and applies those on particles it owns: no per-particle
+/// column that every grain would carry and every step would read.
+struct PointLoad {
+  std::int64_t gid = -1;
+  Vec3 force;
+};
+
 /// Everything a simulation holds, built from a validated case.
 struct Model {
   ParticleStore particles;
@@ -22,6 +30,7 @@ struct Model {
   std::vector<RigidBody> bodies;
   std::vector<OutflowBox> outflow;  ///< boxes that grains may not leave (`outflow[]`)
   std::vector<InflowSpec> inflow;   ///< inlets that add grains during the run (`inflow[]`)
+  std::vector<PointLoad> point_loads;
   MaterialTable materials;
   std::vector<std::string> bond_type_names;
   std::vector<BondTimoshenko::Params> bond_types;

@@ -43,12 +43,12 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
   }
 
   search_.build(p, ctx.skin, exclusions_, pairs_);
-  // The store's rows (the springs carried across the migration) become the new candidates'.
-  // The candidates are in ascending (gid, partner) order, and so are the carried rows once
-  // sorted (they are, unless migration appended arrivals): one merge pass pairs them. Of two
-  // rows with one key (both ends' ranks held the pair) the first in storage order is taken.
-  ContactSpringStore carried{ContactSpringStore::Partner::kParticle};
-  std::swap(carried, springs_);
+  // The keyed rows (the touching springs packed before the migration, or a checkpoint's)
+  // become the new candidates' springs. The candidates are in ascending (gid, partner) order,
+  // and so are the rows once sorted (they are, unless migration appended arrivals): one merge
+  // pass pairs them. Of two rows with one key (both ends' ranks held the pair) the first in
+  // storage order is taken.
+  const ContactSpringStore& carried = springs_;
   const std::size_t n_carried = carried.size();
   carried_order_.resize(n_carried);
   for (std::uint32_t r = 0; r < n_carried; ++r)
@@ -59,19 +59,38 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
   if (!std::is_sorted(carried_order_.begin(), carried_order_.end(), row_before))
     std::stable_sort(carried_order_.begin(), carried_order_.end(), row_before);
   const std::size_t np = pairs_.size();
-  springs_.resize(np);
+  spring_.assign(np, Vec3{});
   std::size_t c = 0;
-  for (std::size_t m = 0; m < np; ++m) {
+  for (std::size_t m = 0; m < np && c < n_carried; ++m) {
     const std::int64_t key_a = p.gid[pairs_.i[m]], key_b = p.gid[pairs_.j[m]];
-    springs_.gid[m] = key_a;
-    springs_.partner[m] = key_b;
     while (c < n_carried && PairKey::less(carried.gid[carried_order_[c]],
                                           carried.partner[carried_order_[c]], key_a, key_b))
       ++c;
-    const bool found = c < n_carried && carried.gid[carried_order_[c]] == key_a &&
-                       carried.partner[carried_order_[c]] == key_b;
-    springs_.spring[m] = found ? carried.spring[carried_order_[c]] : Vec3{};
+    if (c < n_carried && carried.gid[carried_order_[c]] == key_a &&
+        carried.partner[carried_order_[c]] == key_b)
+      spring_[m] = carried.spring[carried_order_[c]];
   }
+  // Read back: the keyed rows' memory goes until the next pack.
+  springs_ = ContactSpringStore{ContactSpringStore::Partner::kParticle};
+  std::vector<std::uint32_t>().swap(carried_order_);
+}
+
+void PairContactTerm::pack_springs(const ParticleStore& p) {
+  // Rows already in the store (a checkpoint's, before the first rebuild) stay.
+  springs_.drop_released();
+  for (std::size_t m = 0; m < spring_.size(); ++m)
+    if (norm2(spring_[m]) > 0.0)
+      springs_.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_[m]);
+  // The candidates are rebuilt next: their springs' memory goes before the search's comes.
+  std::vector<Vec3>().swap(spring_);
+}
+
+ContactSpringStore PairContactTerm::touching_springs(const ParticleStore& p) const {
+  ContactSpringStore out = springs_;
+  out.drop_released();
+  for (std::size_t m = 0; m < spring_.size(); ++m)
+    if (norm2(spring_[m]) > 0.0) out.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_[m]);
+  return out;
 }
 
 void PairContactTerm::compute(ComputeContext& ctx) {
@@ -83,7 +102,7 @@ void PairContactTerm::compute(ComputeContext& ctx) {
   const std::uint32_t* const pair_b = pairs_.j.data();
   const Vec3* const position = p.position.data();
   const double* const radius = p.radius.data();
-  Vec3* const spring = springs_.spring.data();
+  Vec3* const spring = spring_.data();
   // Particle contacts (physics.md §3). The pairs come in ascending (gid of a, gid of b) order
   // (NeighbourSearch), and each adds its loads to both ends at once: every particle then gets
   // its contacts in ascending partner gid, the gather order (DESIGN §4), without a slot per

@@ -9,9 +9,12 @@
 namespace ringdem {
 
 /// Contacts between particles (Hertz–Mindlin, physics.md §3): cell-grid candidate pairs with
-/// a Verlet skin in ascending gid order, each pair's tangential spring (its ContactSpringStore,
-/// one row per candidate, keyed by the gid pair). It takes no slots: each pair adds its loads
-/// to both ends' ParticleLoads and ContactMoments, in the gather order (ForceSlots.hpp).
+/// a Verlet skin in ascending gid order, each with its tangential spring. Between rebuilds the
+/// springs are a plain column beside the candidates (their keys are the candidates' gids, so
+/// no key columns: 16 bytes a candidate less); at a rebuild the touching ones go into the
+/// ContactSpringStore keyed by the gid pair, for migration, and come back by key. It takes no
+/// slots: each pair adds its loads to both ends' ParticleLoads and ContactMoments, in the
+/// gather order (ForceSlots.hpp).
 class PairContactTerm final : public ForceTerm {
  public:
   std::string_view name() const override { return "particle_contacts"; }
@@ -20,6 +23,8 @@ class PairContactTerm final : public ForceTerm {
   void compute(ComputeContext& ctx) override;
   ContactSpringStore* springs() override { return &springs_; }
   const ContactSpringStore* springs() const override { return &springs_; }
+  void pack_springs(const ParticleStore& p) override;
+  ContactSpringStore touching_springs(const ParticleStore& p) const override;
   void find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies, double fraction,
                      std::vector<ContactOverlap>& out) const override;
 
@@ -29,7 +34,10 @@ class PairContactTerm final : public ForceTerm {
   NeighbourSearch search_;
   PairExclusions exclusions_;
   PairCandidates pairs_;
-  /// Row m: pair m of pairs_ (gid of its end a, partner the gid of its end b).
+  /// Spring m: pair m of pairs_ (physics.md §3), zero when not touching.
+  std::vector<Vec3> spring_;
+  /// Keyed rows (gid of end a, partner the gid of end b), only from pack_springs() (or a
+  /// restart) to the next rebuild(): empty between rebuilds.
   ContactSpringStore springs_{ContactSpringStore::Partner::kParticle};
   std::vector<std::uint32_t> carried_order_;  ///< rebuild scratch: the carried rows' key order
 };

@@ -150,12 +150,12 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   if (restart.body_position_at_rebuild.size() != bodies.size() ||
       restart.body_orientation_at_rebuild.size() != bodies.size())
     throw std::runtime_error("restart state has no rebuild reference for every rigid body");
-  // The lists are those of the last rebuild of the trajectory, built from the positions of
-  // then: the skin criterion measures the moves from there, so lists from the current
-  // positions could miss a contact before the next rebuild, and rebuilding now would move
-  // every later rebuild. Built with the reference positions in place, then the current ones
-  // back (the ghosts' from their owners).
-  std::swap(p.position, p.position_at_rebuild);
+  // The rebuild criterion goes on from the checkpoint's move bound and body references, so
+  // the next rebuild comes at the same step as in the run never interrupted. The lists are
+  // built now, from the particles' current positions and the bodies' reference ones: every
+  // pair that can touch before that rebuild is in them (a particle moves at most the rest of
+  // the bound from here). The forces do not depend on which further candidates a list holds.
+  move_bound_ = restart.move_bound;
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     body_position_at_rebuild_.push_back(bodies[b].position);
     body_orientation_at_rebuild_.push_back(bodies[b].orientation);
@@ -175,8 +175,6 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   }
   decomposition_.distribute_initial(p, pair_stores());
   build_lists();
-  std::swap(p.position, p.position_at_rebuild);
-  decomposition_.update_ghosts(p);
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     std::swap(bodies[b].position, body_position_at_rebuild_[b]);
     std::swap(bodies[b].orientation, body_orientation_at_rebuild_[b]);
@@ -195,6 +193,7 @@ RestartState Simulation::restart_state() const {
   s.springs = owned_springs();
   s.dt_origin_step = dt_origin_step_;
   s.dt_origin_time = dt_origin_time_;
+  s.move_bound = move_bound_;
   s.body_position_at_rebuild = body_position_at_rebuild_;
   s.body_orientation_at_rebuild = body_orientation_at_rebuild_;
   s.rebuild_forced = force_rebuild_;
@@ -290,14 +289,14 @@ std::vector<RestartState::TermSprings> Simulation::owned_springs() const {
   const ParticleStore& p = model_.particles;
   std::vector<RestartState::TermSprings> out;
   for (const auto& t : terms_) {
-    const ContactSpringStore* store = t->springs();
-    if (store == nullptr) continue;
-    std::vector<char> keep(store->size());
+    if (t->springs() == nullptr) continue;
+    out.push_back({std::string(t->name()), t->touching_springs(p)});
+    ContactSpringStore& store = out.back().store;
     // A pair across ranks is evaluated on both: each touching one once, where it counts.
-    for (std::size_t k = 0; k < store->size(); ++k)
-      keep[k] = norm2(store->spring[k]) > 0.0 && counted_here(p, *store, k);
-    out.push_back({std::string(t->name()), *store});
-    out.back().store.keep_rows(keep);
+    std::vector<char> keep(store.size());
+    for (std::size_t k = 0; k < store.size(); ++k)
+      keep[k] = counted_here(p, store, k);
+    store.keep_rows(keep);
   }
   return out;
 }
@@ -309,18 +308,9 @@ std::vector<PairStore> Simulation::pair_stores() {
   return stores;
 }
 
-std::vector<ContactSpringStore*> Simulation::spring_stores() {
-  std::vector<ContactSpringStore*> stores;
-  for (auto& t : terms_)
-    if (ContactSpringStore* s = t->springs()) stores.push_back(s);
-  return stores;
-}
-
 void Simulation::rebuild() {
   build_lists();
-  ParticleStore& p = model_.particles;
-  std::copy(p.position.begin(), p.position.begin() + static_cast<std::ptrdiff_t>(p.n_local()),
-            p.position_at_rebuild.begin());
+  move_bound_ = 0.0;
   body_position_at_rebuild_.clear();
   body_orientation_at_rebuild_.clear();
   for (const auto& b : model_.bodies) {
@@ -342,9 +332,8 @@ void Simulation::build_lists() {
   ParticleStore& p = model_.particles;
   // Only touching contacts carry a spring across the rebuild; migration moves those rows with
   // their particles, and each term's rebuild() reads its own store back by key.
-  const std::vector<ContactSpringStore*> stores = spring_stores();
-  for (ContactSpringStore* s : stores)
-    s->drop_released();
+  for (auto& t : terms_)
+    t->pack_springs(p);
   decomposition_.redistribute(p, pair_stores());
   // Each term takes its slots and registers them with the gather map, in term order; bonded
   // terms first, so the contact terms see their exclusions.
@@ -388,11 +377,16 @@ bool Simulation::needs_rebuild() {
   // step, when the state is synchronised (OutflowSink); they ride on the same reduction.
   const bool leaving = outflow_.any_leaving(model_.particles);
   const auto global =
-      comm_.max(std::array<double, 5>{std::sqrt(max_move2_), topology_changed ? 1.0 : 0.0,
+      comm_.max(std::array<double, 5>{drift_.max_speed, topology_changed ? 1.0 : 0.0,
                                       stop_local_ ? 1.0 : 0.0, runaway, leaving ? 1.0 : 0.0});
   if (global[3] > 1.0) report_divergence();
   outflow_pending_ = global[4] > 0.0;
-  const double particle_move = global[0];
+  // No particle moved farther since the last rebuild than the sum of the largest speed of
+  // each drift times dt: a bound that needs no column of reference positions, read every
+  // step, and is the same on any rank count. It rebuilds somewhat earlier than the largest
+  // actual move would; the forces do not depend on when lists are rebuilt.
+  move_bound_ += global[0] * dt_;
+  const double particle_move = move_bound_;
   const bool bond_broke = global[1] > 0.0;
   stop_agreed_ = global[2] > 0.0;
   bonds_broke_anywhere_ = bond_broke;
@@ -493,11 +487,12 @@ void Simulation::report_divergence(const std::string& energy_excess) const {
                         steps_ + 1, time_);
 }
 
-void Simulation::compute_forces() {
+void Simulation::compute_forces(bool loads_started) {
   ParticleStore& p = model_.particles;
   {
     PhaseTimer t(phase_seconds_[kGather]);
-    gather_.initialise_loads(p, settings_.gravity);
+    if (!loads_started) GatherMap::initialise_loads(p, settings_.gravity);
+    gather_.apply_point_loads(p, model_.point_loads);
     ledger_.begin_step(p.n_local());
   }
   ComputeContext ctx{p,
@@ -550,10 +545,9 @@ void Simulation::step() {
   }
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
-    drift_ =
-        Integrator::first_half(p, dt_, p.position_at_rebuild, kMaxStepFraction * settings_.skin,
-                               kMaxTurn, track_orientations_);
-    max_move2_ = drift_.max_move2;
+    // The drift also starts the next loads (F = m g, T = 0): compute_forces() goes on from them.
+    drift_ = Integrator::first_half(p, dt_, settings_.gravity, kMaxStepFraction * settings_.skin,
+                                    kMaxTurn, track_orientations_);
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);
   }
   time_ += dt_;
@@ -562,7 +556,7 @@ void Simulation::step() {
     decomposition_.update_ghosts(p);
     if (needs_rebuild()) rebuild();
   }
-  compute_forces();
+  compute_forces(/*loads_started=*/true);
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     Integrator::second_half(p, dt_);
@@ -574,18 +568,26 @@ void Simulation::step() {
 
 void Simulation::exchange_grains() {
   ParticleStore& p = model_.particles;
+  // Taking grains out or putting them in moves particle indices: the contact terms key their
+  // springs by gid first, once, and the rebuild below reads them back.
   bool changed = false;
+  const auto before_change = [&] {
+    if (!changed)
+      for (auto& t : terms_)
+        t->pack_springs(p);
+    changed = true;
+  };
   if (outflow_pending_) {  // every rank knows: the last step's reduction
+    before_change();
     outflow_.remove_leaving(p, settings_.gravity, dt_);
     outflow_pending_ = false;
-    changed = true;
   }
   for (std::size_t i = 0; i < inflow_.size(); ++i) {
     if (!inflow_.due(i, time_)) continue;  // every step: no allocation, no communication
     // Due batches are rare (one per inlet interval), so one more reduction here is cheap.
     if (comm_.any(inflow_.occupied(i, p))) continue;  // the flow backs up: try next step
+    before_change();
     inflow_.emit(i, p, time_, settings_.gravity, comm_.rank(), comm_.size());
-    changed = true;
   }
   if (changed) rebuild();  // owned indices changed (on some rank): every rank rebuilds
 }

@@ -193,11 +193,11 @@ class Simulation {
   /// Migration, lists, slots and gather map from the current positions and the terms'
   /// spring stores.
   void build_lists();
-  /// The spring stores of the terms that have one, in term order (what migration moves).
-  std::vector<ContactSpringStore*> spring_stores();
   /// Every term's pair store (bonds, contact springs), in term order: what migration moves.
   std::vector<PairStore> pair_stores();
-  void compute_forces();
+  /// One force evaluation. `loads_started`: the drift pass already set F = m g, T = 0
+  /// (Integrator::first_half); otherwise this does.
+  void compute_forces(bool loads_started = false);
   void reduce_body_loads();
   bool needs_rebuild();
   /// Names the particle (or body) that ran away and the likely cause; throws
@@ -241,7 +241,7 @@ class Simulation {
   bool bonds_broke_anywhere_ = false;
   bool stop_local_ = false;
   bool stop_agreed_ = false;
-  double max_move2_ = 0.0;          ///< largest squared particle move since the rebuild (this rank)
+  double move_bound_ = 0.0;  ///< no particle moved farther since the last rebuild (all ranks)
   bool track_orientations_ = true;  ///< some particle has a bond (Integrator::first_half)
   Integrator::Drift drift_;         ///< the last drift pass (this rank), for the divergence guard
   EnergyGuard energy_guard_;        ///< the divergence guard's energy part, at every energies()

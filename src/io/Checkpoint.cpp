@@ -30,9 +30,11 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // and orientation at the last rebuild, rebuild_forced, bonds_broke); 5: one set of spring
 // datasets per contact term (/history/<term>.<field>, its store's registry) instead of one
 // table with a partner-kind column; 6: outflow and inflow (outflow_pending, /outflow/totals,
-// /inflow/batches, /inflow/next_due, /inflow/totals: the exact totals of what crossed). Only this
-// version is read: an older file lacks what this one needs to go on bit for bit.
-constexpr std::int64_t kFormatVersion = 7;
+// /inflow/batches, /inflow/next_due, /inflow/totals: the exact totals of what crossed); 7: plastic
+// bond hinges in the end frames; 8: the particles' move bound since the last rebuild
+// (move_bound) instead of a column of their positions then. Only this version is read: an
+// older file lacks what this one needs to go on bit for bit.
+constexpr std::int64_t kFormatVersion = 8;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
 /// global row index, so partial sums of blocks written by any number of ranks add up to the
@@ -303,6 +305,7 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     f.set_attribute("/", "dt_origin_time", state.dt_origin_time);
     f.set_attribute("/", "rebuild_forced", std::int64_t{state.rebuild_forced});
     f.set_attribute("/", "bonds_broke", std::int64_t{state.bonds_broke});
+    f.set_attribute("/", "move_bound", state.move_bound);
     f.set_attribute("/", "segment", segment);
     f.set_attribute("/", "ranks", static_cast<std::int64_t>(comm.size()));
     f.set_attribute("/", "particles", n_particles);
@@ -507,6 +510,7 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
   state.dt_origin_time = info.dt_origin_time;
   state.rebuild_forced = f.attribute_int("/", "rebuild_forced") != 0;
   state.bonds_broke = f.attribute_int("/", "bonds_broke") != 0;
+  state.move_bound = f.attribute_double("/", "move_bound");
   state.outflow_pending = f.attribute_int("/", "outflow_pending") != 0;
   // Small datasets that every rank reads whole.
   const auto read_whole = [&](const std::string& name, auto* out) {

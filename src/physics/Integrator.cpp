@@ -52,30 +52,28 @@ inline void kick_rotation(RigidBody& b, double half_dt) {
 namespace {
 
 struct DriftMaxima {
-  double max_move2 = 0.0;
+  double max_v2 = 0.0;  ///< infinite for a non-finite velocity
   double worst = 0.0;
 };
 
 /// The drift loop, with the orientation update compiled in or out.
 template <bool kTurn>
-DriftMaxima drift_pass(ParticleStore& p, double dt, const std::vector<Vec3>& reference,
-                       double step_scale, double turn_scale) {
+DriftMaxima drift_pass(ParticleStore& p, double dt, const Vec3& gravity, double step_scale,
+                       double turn_scale) {
   const double half = 0.5 * dt;
   const std::size_t n = p.n_local();
   const Motion* const motion = p.motion.data();
   const double* const mass = p.mass.data();
   const double* const inertia = p.inertia.data();
-  const Vec3* const force = p.force.data();
-  const Vec3* const torque = p.torque.data();
-  const Vec3* const x_ref = reference.data();
+  Vec3* const force = p.force.data();
+  Vec3* const torque = p.torque.data();
   Vec3* const v = p.velocity.data();
   Vec3* const w = p.omega.data();
   Vec3* const x = p.position.data();
   Quat* const q = p.orientation.data();
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
-  double max_move2 = 0.0;
   double max_v2 = 0.0, max_w2 = 0.0;
-#pragma omp simd reduction(max : max_move2, max_v2, max_w2)
+#pragma omp simd reduction(max : max_v2, max_w2)
   for (std::size_t k = 0; k < n; ++k) {
     const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
     const double moving = motion[k] == Motion::kFixed ? 0.0 : 1.0;
@@ -83,8 +81,14 @@ DriftMaxima drift_pass(ParticleStore& p, double dt, const std::vector<Vec3>& ref
     w[k] += torque[k] * (free * half / inertia[k]);
     x[k] += v[k] * (moving * dt);
     if constexpr (kTurn) q[k] = rotated(q[k], w[k] * moving, dt);
-    const double move2 = norm2(x[k] - x_ref[k]);
-    max_move2 = move2 > max_move2 ? move2 : max_move2;
+    // The next step's initial load (GatherMap::initialise_loads), component by component so
+    // that the loop vectorises.
+    force[k].x = gravity.x * mass[k];
+    force[k].y = gravity.y * mass[k];
+    force[k].z = gravity.z * mass[k];
+    torque[k].x = 0.0;
+    torque[k].y = 0.0;
+    torque[k].z = 0.0;
     // The largest squared speeds, scaled after the loop: scaling by a positive constant keeps
     // the order, so max(scaled) is the scaled max. NaN compares false: it counts as infinite.
     const double v2 = norm2(v[k]), w2 = norm2(w[k]);
@@ -93,24 +97,22 @@ DriftMaxima drift_pass(ParticleStore& p, double dt, const std::vector<Vec3>& ref
   }
   const double s = max_v2 * step_scale, t = max_w2 * turn_scale;
   const double worst = std::min(s > t ? s : t, Integrator::kRunaway);
-  return {max_move2, worst};
+  return {max_v2, worst};
 }
 
 }  // namespace
 
-Integrator::Drift Integrator::first_half(ParticleStore& p, double dt,
-                                         const std::vector<Vec3>& reference, double max_step,
-                                         double max_turn, bool orientations) {
+Integrator::Drift Integrator::first_half(ParticleStore& p, double dt, const Vec3& gravity,
+                                         double max_step, double max_turn, bool orientations) {
   const std::size_t n = p.n_local();
   const Vec3* const v = p.velocity.data();
   const Vec3* const w = p.omega.data();
   const double step_scale = dt * dt / (max_step * max_step);
   const double turn_scale = dt * dt / (max_turn * max_turn);
-  const DriftMaxima m = orientations ? drift_pass<true>(p, dt, reference, step_scale, turn_scale)
-                                     : drift_pass<false>(p, dt, reference, step_scale, turn_scale);
-  const double max_move2 = m.max_move2;
+  const DriftMaxima m = orientations ? drift_pass<true>(p, dt, gravity, step_scale, turn_scale)
+                                     : drift_pass<false>(p, dt, gravity, step_scale, turn_scale);
   const double worst = m.worst;
-  Drift d{max_move2, worst, 0};
+  Drift d{std::sqrt(m.max_v2), worst, 0};
   // Only when something ran away: which particle (the first of the largest ratio).
   if (worst > 1.0)
     for (std::size_t k = 0; k < n; ++k) {

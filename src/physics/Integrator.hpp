@@ -15,9 +15,9 @@ namespace ringdem {
 struct Integrator {
   /// What the drift pass saw, folded into its one pass over the particles.
   struct Drift {
-    /// Largest squared distance of a particle from its position at the last rebuild (the
-    /// neighbour-list displacement test).
-    double max_move2 = 0.0;
+    /// Largest speed |v| dt of this drift: the neighbour-list test adds it up over the steps
+    /// since the last rebuild, a bound on every particle's move (Simulation::needs_rebuild).
+    double max_speed = 0.0;
     /// Largest (|v| dt / max_step)^2 or (|omega| dt / max_turn)^2 of this step, and
     /// kRunaway for a non-finite velocity: above 1, a particle moved farther in one step than
     /// a contact can be tracked (the divergence guard).
@@ -26,9 +26,11 @@ struct Integrator {
   };
   static constexpr double kRunaway = 1e300;
   /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles. `orientations`:
-  /// also turn the orientations (only bonds read them; spheres are isotropic).
-  static Drift first_half(ParticleStore& p, double dt, const std::vector<Vec3>& reference,
-                          double max_step, double max_turn, bool orientations);
+  /// also turn the orientations (only bonds read them; spheres are isotropic). Once a
+  /// particle's load has kicked it, the same pass starts the next step's load: F = m g, T = 0
+  /// (GatherMap::initialise_loads without a second pass over the particles).
+  static Drift first_half(ParticleStore& p, double dt, const Vec3& gravity, double max_step,
+                          double max_turn, bool orientations);
   /// Applies the global damping to the new loads (physics.md §4), then v += F/m dt/2,
   /// omega += T/I dt/2 for owned free particles; the damped loads stay for the next step.
   /// Adds the energy the damping took out (its power at the new velocities, times dt) to the

@@ -43,7 +43,7 @@ void make_lattice(ParticleStore& p, BondStore& bonds, int rank = 0, int ranks = 
         p.add(np);
       }
   for (std::size_t k = 0; k < p.n_local(); ++k)
-    p.external_force[k] = {7.0 * p.gid[k] + 1, 0, 0};
+    p.torque[k] = {7.0 * p.gid[k] + 1, 0, 0};
   BondTimoshenko::Section s;
   BondTimoshenko::Reference ref;
   std::int64_t id = 0;
@@ -151,7 +151,7 @@ TEST_F(Decomposition, MigrationCarriesParticlesBondsAndHistory) {
     EXPECT_GT(c.sum(std::int64_t{moved}), 0) << "some particles should change rank";
   }
   for (std::size_t k = 0; k < p.n_local(); ++k) {
-    EXPECT_EQ(p.external_force[k].x, 7.0 * p.gid[k] + 1) << "gid-encoded field lost";
+    EXPECT_EQ(p.torque[k].x, 7.0 * p.gid[k] + 1) << "gid-encoded field lost";
     EXPECT_EQ(p.velocity[k].x, before.at(p.gid[k]) + 1.0) << "rank-encoded value of old owner";
   }
   // Owned particles sit in gid order.

@@ -319,7 +319,7 @@ TEST(EnergyLedger, ExternalForceWork) {
   Model model = build_model(c);
   add_bond(model, 0, 1, 0, 1);
   const Vec3 load{200.0, 30.0, 0.0};  // stretches and bends the bond, far below failure
-  model.particles.external_force[1] = load;
+  model.point_loads = {{model.particles.gid[1], load}};
   const Communicator comm = self_comm();
   SimulationSettings st = settings(c, 0.0);
   st.dt_safety = 0.05;

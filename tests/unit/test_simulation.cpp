@@ -39,8 +39,7 @@ TEST(RingUnderPointLoads, ElongationMatchesThinRingTheory) {
   const double expected_per_load = (M_PI / 4.0 - 2.0 / M_PI) * std::pow(radius, 3) / ei;
   const double load = 1e-3 * radius / expected_per_load;  // elongation of 0.1 % of R
   // Particle 0 sits at +x, particle 50 at -x (reference direction x).
-  p.external_force[0] = {load, 0, 0};
-  p.external_force[50] = {-load, 0, 0};
+  model.point_loads = {{p.gid[0], {load, 0, 0}}, {p.gid[50], {-load, 0, 0}}};
   const double l0 = norm(p.position[0] - p.position[50]);
 
   const Communicator comm = self_comm();
@@ -167,6 +166,48 @@ TEST(Collision, RestitutionThroughTheStepLoop) {
     EXPECT_NEAR(v_rel_after / 1.0, e, 0.02 * e) << "e = " << e;
     EXPECT_NEAR(p.velocity[0].x + p.velocity[1].x, 0.0, 1e-12);
   }
+}
+
+// The neighbour lists are rebuilt when the sum of each step's largest speed times dt (a
+// bound on every particle's move, Simulation::needs_rebuild) passes half the skin, not from a
+// column of reference positions. Every touching contact must then be in the lists at every
+// step: two clouds of grains thrown at each other and onto a floor are checked against an all-pairs
+// count of the touching pairs and of the grains in the floor, every 5 steps over 4000 (about 70
+// rebuilds).
+TEST(NeighbourLists, NoTouchingContactIsMissedBetweenRebuilds) {
+  CaseConfig c = testing::grains_entering_and_leaving();
+  c.outflow.clear();
+  c.inflow.clear();
+  // Two clouds thrown at each other and at the floor.
+  c.grains[0].box_max = {0.05, 0.06, 0.03};
+  c.grains[0].velocity = {4.0, 0.0, -3.0};
+  c.grains.push_back(c.grains[0]);
+  c.grains[1].box_min = {0.05, 0.0, 0.0};
+  c.grains[1].box_max = {0.1, 0.06, 0.03};
+  c.grains[1].velocity = {-4.0, 0.0, -3.0};
+  const Communicator comm = self_comm();
+  Simulation sim(build_model(c, comm), comm, settings(c, 1e-6, 0.0005));
+  const ParticleStore& p = sim.model().particles;
+  ASSERT_GT(p.n_local(), 200u);
+  std::int64_t checked_touching = 0;
+  const std::int64_t rebuilds_before = sim.rebuilds();
+  for (int check = 0; check < 800; ++check) {
+    sim.run_steps(5);
+    std::int64_t touching = 0;
+    for (std::size_t a = 0; a < p.n_local(); ++a) {
+      touching += p.position[a].z < p.radius[a];  // the floor plane z = 0
+      for (std::size_t b = a + 1; b < p.n_local(); ++b) {
+        const double reach = p.radius[a] + p.radius[b];
+        touching += norm2(p.position[b] - p.position[a]) < reach * reach;
+      }
+    }
+    ASSERT_EQ(sim.overlaps(0.0, 0).count, touching) << "step " << sim.steps();
+    checked_touching += touching;
+  }
+  EXPECT_GT(checked_touching, 800 * 10)
+      << "too few contacts to test anything: " << p.n_local() << " grains, "
+      << sim.rebuilds() - rebuilds_before << " rebuilds";
+  EXPECT_GT(sim.rebuilds() - rebuilds_before, 10) << "too few rebuilds to test anything";
 }
 
 // A sphere resting on a fixed plane under gravity: the plane carries exactly its weight
