@@ -86,6 +86,7 @@ std::uint64_t DomainDecomposition::block_of(const Vec3& x) const {
 }
 
 int DomainDecomposition::owner_of(const Vec3& x) const {
+  if (comm_.size() == 1) return 0;  // no map of blocks: every one is this rank's
   const auto it = owner_.find(block_of(x));
   if (it == owner_.end()) throw std::logic_error("particle in a block without owner");
   return it->second;
@@ -93,44 +94,64 @@ int DomainDecomposition::owner_of(const Vec3& x) const {
 
 std::vector<DomainDecomposition::BlockLoad> DomainDecomposition::global_blocks(
     const ParticleStore& p, const std::vector<PairStore>& stores) const {
-  std::unordered_map<std::uint64_t, BlockLoad> local;
-  for (std::size_t k = 0; k < p.n_local(); ++k) {
-    const std::uint64_t key = block_of(p.position[k]);
-    auto [it, inserted] = local.try_emplace(key, BlockLoad{key, 0, 0, comm_.rank()});
-    ++it->second.particles;
+  // Counted by sorting block keys, not in a hash map: a block holds about one grain, so a map
+  // node per block cost six times the keys' memory (150 MB at 10^6 grains, the peak of a run).
+  std::vector<std::uint64_t> keys(p.n_local());
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    keys[k] = block_of(p.position[k]);
+  std::sort(keys.begin(), keys.end());
+  std::vector<BlockLoad> mine;
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    if (mine.empty() || mine.back().key != keys[k]) mine.push_back({keys[k], 0, 0, comm_.rank()});
+    ++mine.back().particles;
   }
   // A row of a weighing store (a bond) counts in the block of its first end, on the rank that
-  // counts it.
+  // counts it (an owned particle here: its block is in `mine`).
+  keys.clear();
   for (const PairStore& handle : stores)
     visit_store(handle, [&](const auto& s) {
       if (!std::remove_cvref_t<decltype(s)>::kWeighsBlocks) return;
       for (std::size_t r = 0; r < s.size(); ++r) {
         if (!counted_here(p, s, r)) continue;
         const auto a = static_cast<std::size_t>(p.index_of(s.ends(r)[0]));
-        ++local[block_of(p.position[a])].rows;
+        keys.push_back(block_of(p.position[a]));
       }
     });
-  std::vector<BlockLoad> mine;
-  for (const auto& [key, load] : local)
-    mine.push_back({key, load.particles, load.rows, load.rank});
-  std::vector<BlockLoad> all = comm_.allgather(mine);
+  for (const std::uint64_t key : keys) {
+    const auto it = std::lower_bound(mine.begin(), mine.end(), key,
+                                     [](const BlockLoad& b, std::uint64_t k) { return b.key < k; });
+    if (it == mine.end() || it->key != key)
+      throw std::logic_error("a counted bond whose first end is in no occupied block here");
+    ++it->rows;
+  }
+  std::vector<std::uint64_t>().swap(keys);
+  std::vector<BlockLoad> all = comm_.size() > 1 ? comm_.allgather(mine) : std::move(mine);
   std::sort(all.begin(), all.end(), [](const BlockLoad& a, const BlockLoad& b) {
     return a.key < b.key || (a.key == b.key && a.rank < b.rank);
   });
-  std::vector<BlockLoad> merged;
-  for (const auto& b : all) {
-    if (!merged.empty() && merged.back().key == b.key) {
-      merged.back().particles += b.particles;
-      merged.back().rows += b.rows;
+  // Merged in place: one entry per key, with the smallest rank that has particles there.
+  std::size_t merged = 0;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (merged > 0 && all[merged - 1].key == all[i].key) {
+      all[merged - 1].particles += all[i].particles;
+      all[merged - 1].rows += all[i].rows;
     } else {
-      merged.push_back(b);
+      all[merged++] = all[i];
     }
   }
-  return merged;
+  all.resize(merged);
+  return all;
 }
 
 void DomainDecomposition::partition(const std::vector<BlockLoad>& blocks) {
   owner_.clear();
+  blocks_held_ = static_cast<std::int64_t>(blocks.size());
+  if (comm_.size() == 1) {
+    // One rank owns every block: a map of them (a node per occupied block, about one per
+    // grain) would only say so.
+    ++repartitions_;
+    return;
+  }
   const int n_parts = comm_.size();
   std::vector<std::int32_t> part(blocks.size(), 0);
   if (n_parts > 1 && comm_.is_root()) {
@@ -179,6 +200,8 @@ void DomainDecomposition::partition(const std::vector<BlockLoad>& blocks) {
 void DomainDecomposition::assign_new_blocks(const std::vector<BlockLoad>& blocks) {
   // A block that became occupied goes to the smallest rank that has particles in it, which
   // every rank can tell from the merged list.
+  blocks_held_ = static_cast<std::int64_t>(blocks.size());
+  if (comm_.size() == 1) return;
   for (const auto& b : blocks)
     owner_.try_emplace(b.key, b.rank);
 }
@@ -502,6 +525,7 @@ std::vector<DomainDecomposition::RankReport> DomainDecomposition::report(
   }
   for (const auto& [key, rank] : owner_)
     mine.blocks += rank == comm_.rank();
+  if (comm_.size() == 1) mine.blocks = blocks_held_;
   return comm_.allgather(std::vector<RankReport>{mine});
 }
 

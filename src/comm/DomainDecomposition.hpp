@@ -86,7 +86,8 @@ class DomainDecomposition {
   const Communicator& comm_;
   double block_size_;
   double imbalance_threshold_;
-  std::unordered_map<std::uint64_t, int> owner_;
+  std::unordered_map<std::uint64_t, int> owner_;  ///< block -> rank; empty on one rank
+  std::int64_t blocks_held_ = 0;  ///< occupied blocks at the last partition or migration
   std::vector<std::vector<std::uint32_t>> ghost_send_;  ///< per rank: local indices to send
   std::vector<int> ghost_recv_count_;                   ///< per rank: ghosts received
   std::vector<std::vector<char>> ghost_send_buffers_;   ///< per-step scratch of update_ghosts

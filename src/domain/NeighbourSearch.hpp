@@ -52,6 +52,7 @@ class NeighbourSearch {
   std::vector<Level> levels_;         ///< by level number: radii in [r_min 2^l, r_min 2^(l+1))
   std::vector<const Level*> active_;  ///< the levels with members, finest first
   std::vector<std::uint32_t> by_gid_;
+  std::size_t last_pairs_ = 0;  ///< pairs of the last build (the next one's reserve)
 };
 
 /// O(N^2) reference with the same criterion, for tests.
