@@ -26,7 +26,6 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   torque[i] = {};
   radius[i] = p.radius;
   mass[i] = p.density * 4.0 / 3.0 * M_PI * p.radius * p.radius * p.radius;
-  inertia[i] = 0.4 * mass[i] * p.radius * p.radius;
   damping[i] = p.damping;
   material[i] = p.material;
   body[i] = p.body;

@@ -55,7 +55,6 @@ class ParticleStore {
   std::vector<Vec3> torque;
   std::vector<double> radius;
   std::vector<double> mass;
-  std::vector<double> inertia;  ///< isotropic moment of inertia (2/5 m r^2 for a sphere)
   std::vector<double> damping;  ///< Cundall global damping coefficient of this particle
   std::vector<std::int32_t> material;
   std::vector<std::int32_t> body;   ///< ring / clump id, -1 for none
@@ -93,9 +92,13 @@ class ParticleStore {
             ledger_value(dissipated_global[k], power_global[k], dt),
             ledger_value(boundary_work[k], power_boundary[k], dt)};
   }
+  /// Moment of inertia of a solid sphere, 2/5 m r^2 (isotropic), from its mass and radius: no
+  /// column of its own (8 B a particle less in memory and in every ghost exchange).
+  static double sphere_inertia(double m, double r) { return 0.4 * m * r * r; }
+  double inertia(std::size_t k) const { return sphere_inertia(mass[k], radius[k]); }
   /// Kinetic energy (translation and rotation) and potential energy -m g.x of particle k.
   double kinetic_energy(std::size_t k) const {
-    return 0.5 * mass[k] * norm2(velocity[k]) + 0.5 * inertia[k] * norm2(omega[k]);
+    return 0.5 * mass[k] * norm2(velocity[k]) + 0.5 * inertia(k) * norm2(omega[k]);
   }
   double potential_energy(std::size_t k, const Vec3& gravity) const {
     return -mass[k] * dot(gravity, position[k]);
@@ -115,7 +118,6 @@ class ParticleStore {
     f(FieldInfo{"torque", kState}, torque);
     f(FieldInfo{"radius", kState | kGhostOnce | kOutput}, radius);
     f(FieldInfo{"mass", kState | kGhostOnce}, mass);
-    f(FieldInfo{"inertia", kState | kGhostOnce}, inertia);
     f(FieldInfo{"damping", kState}, damping);
     f(FieldInfo{"material", kState | kGhostOnce}, material);
     f(FieldInfo{"body", kState | kGhostOnce | kOutput}, body);

@@ -64,7 +64,7 @@ DriftMaxima drift_pass(ParticleStore& p, double dt, const Vec3& gravity, double 
   const std::size_t n = p.n_local();
   const Motion* const motion = p.motion.data();
   const double* const mass = p.mass.data();
-  const double* const inertia = p.inertia.data();
+  const double* const radius = p.radius.data();
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
   Vec3* const v = p.velocity.data();
@@ -78,7 +78,7 @@ DriftMaxima drift_pass(ParticleStore& p, double dt, const Vec3& gravity, double 
     const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
     const double moving = motion[k] == Motion::kFixed ? 0.0 : 1.0;
     v[k] += force[k] * (free * half / mass[k]);
-    w[k] += torque[k] * (free * half / inertia[k]);
+    w[k] += torque[k] * (free * half / ParticleStore::sphere_inertia(mass[k], radius[k]));
     x[k] += v[k] * (moving * dt);
     if constexpr (kTurn) q[k] = rotated(q[k], w[k] * moving, dt);
     // The next step's initial load (GatherMap::initialise_loads), component by component so
@@ -132,7 +132,7 @@ void Integrator::second_half(ParticleStore& p, double dt) {
   const std::size_t n = p.n_local();
   const Motion* const motion = p.motion.data();
   const double* const mass = p.mass.data();
-  const double* const inertia = p.inertia.data();
+  const double* const radius = p.radius.data();
   const double* const alpha = p.damping.data();
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
@@ -156,7 +156,7 @@ void Integrator::second_half(ParticleStore& p, double dt) {
       for (std::size_t k = begin; k < end; ++k) {
         const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
         v[k] += force[k] * (free * half / mass[k]);
-        w[k] += torque[k] * (free * half / inertia[k]);
+        w[k] += torque[k] * (free * half / ParticleStore::sphere_inertia(mass[k], radius[k]));
         // Only a coefficient that just went to 0 leaves a last power to clear.
         power[k] = power[k] != 0.0 ? 0.0 : power[k];
       }
@@ -183,7 +183,8 @@ void Integrator::second_half(ParticleStore& p, double dt) {
       torque[k].x = hx;
       torque[k].y = hy;
       torque[k].z = hz;
-      const double kick = free * half / mass[k], turn = free * half / inertia[k];
+      const double kick = free * half / mass[k],
+                   turn = free * half / ParticleStore::sphere_inertia(mass[k], radius[k]);
       const double vx = v[k].x + gx * kick, vy = v[k].y + gy * kick, vz = v[k].z + gz * kick;
       const double wx = w[k].x + hx * turn, wy = w[k].y + hy * turn, wz = w[k].z + hz * turn;
       v[k].x = vx;

@@ -31,7 +31,7 @@ StabilityLimits stability_limits(const ParticleStore& p, const BondStore& bonds,
     const std::int64_t b = p.index_of(bonds.gid_b[k]);
     if (a < 0 || b < 0) continue;
     const double mass = std::min(p.mass[a], p.mass[b]);
-    const double inertia = std::min(p.inertia[a], p.inertia[b]);
+    const double inertia = std::min(p.inertia(a), p.inertia(b));
     s.bond_axial = std::min(s.bond_axial, spring_time_step(mass, bonds.k_axial[k]));
     s.bond_shear = std::min(s.bond_shear, spring_time_step(mass, bonds.k_shear[k]));
     s.bond_rotation =
