@@ -38,6 +38,11 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
   for (const char* c : {"outflow_grains", "outflow_mass_kg", "outflow_energy_J", "inflow_grains",
                         "inflow_mass_kg", "inflow_energy_J"})
     columns.push_back(c);
+  // The momentum balance of the free particles (docs/physics.md "Momentum balance"): their
+  // change (with what went out and came in) against the impulse of the reported loads.
+  for (const char* c : {"momentum_change_x_N_s", "momentum_change_y_N_s", "momentum_change_z_N_s",
+                        "impulse_x_N_s", "impulse_y_N_s", "impulse_z_N_s", "momentum_residual_N_s"})
+    columns.push_back(c);
   // The barrier in a flow (scenario.barrier; docs/debris.md "Barrier measures").
   if (config_.scenario.barrier) {
     barrier_.emplace(*config_.scenario.barrier, sim);
@@ -76,6 +81,7 @@ void FreeRunDriver::record(Simulation& sim) {
   const std::int64_t broken = sim.global_broken_bonds();
   const Simulation::GrainFlux out = sim.outflow_totals();
   const Simulation::GrainFlux in = sim.inflow_totals();
+  const MomentumBalance momentum = sim.momentum_balance();
   max_kinetic_ = std::max(max_kinetic_, e.kinetic);
   double util = 0.0;
   for (double u : sim.model().bonds.utilisation)
@@ -99,6 +105,10 @@ void FreeRunDriver::record(Simulation& sim) {
   row.push_back(static_cast<double>(in.grains));
   row.push_back(in.mass);
   row.push_back(e.inflow);
+  const Vec3 change = momentum.momentum - momentum.initial + momentum.outflow - momentum.inflow;
+  const Vec3 impulse = momentum.impulse();
+  row.insert(row.end(), {change.x, change.y, change.z, impulse.x, impulse.y, impulse.z,
+                         norm(momentum.residual())});
   row.insert(row.end(), barrier_row.begin(), barrier_row.end());
   series_.row(row);
 }
@@ -177,6 +187,7 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
   const std::int64_t n_broken = sim.global_broken_bonds();
   const Simulation::GrainFlux out = sim.outflow_totals();
   const Simulation::GrainFlux in = sim.inflow_totals();
+  const MomentumBalance momentum = sim.momentum_balance();
   const double particle_steps_per_s =
       times.loop_seconds > 0
           ? static_cast<double>(n_particles) * static_cast<double>(sim.steps() - times.first_step) /
@@ -225,6 +236,23 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
     };
     summary.set("outflow", flux(out, e.outflow));
     summary.set("inflow", flux(in, e.inflow));
+    const auto vec = [](const Vec3& v) { return std::vector<double>{v.x, v.y, v.z}; };
+    JsonObject impulses;
+    impulses.set("gravity_N_s", vec(momentum.gravity))
+        .set("point_loads_N_s", vec(momentum.point_loads))
+        .set("held_particles_N_s", vec(momentum.held))
+        .set("outflow_inflow_kicks_N_s", vec(momentum.exchange));
+    for (std::size_t b = 0; b < model.bodies.size(); ++b)
+      impulses.set(model.bodies[b].name + "_N_s", vec(momentum.bodies[b]));
+    JsonObject balance;
+    balance.set("momentum_kg_m_s", vec(momentum.momentum))
+        .set("initial_momentum_kg_m_s", vec(momentum.initial))
+        .set("outflow_momentum_kg_m_s", vec(momentum.outflow))
+        .set("inflow_momentum_kg_m_s", vec(momentum.inflow))
+        .set("impulse_N_s", vec(momentum.impulse()))
+        .set("impulses", impulses)
+        .set("residual_N_s", vec(momentum.residual()));
+    summary.set("momentum_balance", balance);
     if (barrier_) {
       const BarrierRecord& r = barrier_record_;
       JsonObject b;

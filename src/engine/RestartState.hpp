@@ -48,6 +48,9 @@ struct RestartState {
   std::vector<std::int64_t> inflow_batches;
   std::vector<double> inflow_next_due;
   std::vector<std::int64_t> inflow_totals;
+  /// The momentum ledger (engine/MomentumLedger): its totals and the half kick it has booked
+  /// for the next step, as exact sums' words.
+  std::vector<std::int64_t> momentum;
 };
 
 }  // namespace ringdem

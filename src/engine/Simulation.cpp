@@ -105,9 +105,11 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   find_typed_terms();
   outflow_ = OutflowSink(model_.outflow);
   inflow_ = InflowSource(model_.inflow);
+  momentum_ = MomentumLedger(model_.bodies.size());
   ParticleStore& p = model_.particles;
   // Each rank built a slice of every source; move the particles to the owners of their blocks.
   decomposition_.distribute_initial(p, pair_stores());
+  momentum_.book_initial_momentum(p);
   // After the distribution: every intact bond then has both ends on the ranks that hold it.
   init_limits();
   dt_ = settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
@@ -115,6 +117,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
     throw std::runtime_error("cannot choose a time step: give simulation.dt explicitly");
   rebuild();
   compute_forces();  // loads of the initial state, for the first half kick
+  book_momentum(/*initial=*/true);
   apply_global_damping(model_.particles, dt_);
   ledger_.accumulate(model_.particles, model_.bodies, slots_, gather_, dt_, /*initial=*/true);
 }
@@ -144,6 +147,8 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   inflow_ = InflowSource(model_.inflow);
   inflow_.restore(restart.inflow_batches, restart.inflow_next_due, restart.inflow_totals,
                   comm_.is_root());
+  momentum_ = MomentumLedger(model_.bodies.size());
+  momentum_.import_state(restart.momentum, comm_.is_root());
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("restart state has no valid time step");
   std::vector<RigidBody>& bodies = model_.bodies;
@@ -206,6 +211,7 @@ RestartState Simulation::restart_state() const {
   s.inflow_batches = inflow_.batches();
   s.inflow_next_due = inflow_.next_due();
   s.inflow_totals = inflow_.export_totals(comm_);
+  s.momentum = momentum_.export_state(comm_);
   return s;
 }
 
@@ -348,6 +354,16 @@ void Simulation::build_lists() {
   slots_.assign(allocator_.size());
   gather_.finish(p);
   ledger_.rebuild(gather_, allocator_.size());
+  // The mass that gravity pulls on changes only when particles come or go, which rebuilds.
+  ExactSum free_mass;
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    if (p.motion[k] == Motion::kFree) free_mass.add(p.mass[k]);
+  momentum_.rebuild(p, comm_.sum_exact({free_mass})[0]);
+}
+
+void Simulation::book_momentum(bool initial) {
+  momentum_.book_evaluation(model_.particles, model_.bodies, model_.point_loads, settings_.gravity,
+                            0.5 * dt_, comm_.is_root(), initial);
 }
 
 bool Simulation::needs_rebuild() {
@@ -543,6 +559,7 @@ void Simulation::step() {
     PhaseTimer t(phase_seconds_[kNeighbour]);
     exchange_grains();
   }
+  momentum_.book_first_half();
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     // The drift also starts the next loads (F = m g, T = 0): compute_forces() goes on from them.
@@ -557,6 +574,7 @@ void Simulation::step() {
     if (needs_rebuild()) rebuild();
   }
   compute_forces(/*loads_started=*/true);
+  book_momentum(/*initial=*/false);
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     Integrator::second_half(p, dt_);
@@ -579,6 +597,8 @@ void Simulation::exchange_grains() {
   };
   if (outflow_pending_) {  // every rank knows: the last step's reduction
     before_change();
+    for (std::size_t k = 0; k < p.n_local(); ++k)
+      if (outflow_.leaving(p, k)) momentum_.book_leaving(p, k, 0.5 * dt_);
     outflow_.remove_leaving(p, settings_.gravity, dt_);
     outflow_pending_ = false;
   }
@@ -587,7 +607,9 @@ void Simulation::exchange_grains() {
     // Due batches are rare (one per inlet interval), so one more reduction here is cheap.
     if (comm_.any(inflow_.occupied(i, p))) continue;  // the flow backs up: try next step
     before_change();
+    const std::size_t first_new = p.n_local();
     inflow_.emit(i, p, time_, settings_.gravity, comm_.rank(), comm_.size());
+    momentum_.book_arrivals(p, first_new, p.n_local(), 0.5 * dt_);
   }
   if (changed) rebuild();  // owned indices changed (on some rank): every rank rebuilds
 }
@@ -624,6 +646,36 @@ Simulation::GrainFlux Simulation::outflow_totals() const {
 
 Simulation::GrainFlux Simulation::inflow_totals() const {
   return sum_flux(comm_, inflow_.partial());
+}
+
+MomentumBalance Simulation::momentum_balance() const {
+  const ParticleStore& p = model_.particles;
+  std::vector<ExactSum> partial = momentum_.partial();
+  const std::size_t now = partial.size();
+  partial.resize(now + 3);
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    if (p.motion[k] != Motion::kFree) continue;
+    const Vec3 q = p.velocity[k] * p.mass[k];
+    partial[now].add(q.x);
+    partial[now + 1].add(q.y);
+    partial[now + 2].add(q.z);
+  }
+  const std::vector<double> sums = comm_.sum_exact(partial);
+  const auto column = [&sums](std::size_t source) {
+    return Vec3{sums[3 * source], sums[3 * source + 1], sums[3 * source + 2]};
+  };
+  MomentumBalance b;
+  b.momentum = {sums[now], sums[now + 1], sums[now + 2]};
+  b.initial = column(MomentumLedger::kInitial);
+  b.gravity = column(MomentumLedger::kGravity);
+  b.point_loads = column(MomentumLedger::kPointLoads);
+  b.held = column(MomentumLedger::kHeld);
+  b.exchange = column(MomentumLedger::kExchange);
+  for (std::size_t i = 0; i < model_.bodies.size(); ++i)
+    b.bodies.push_back(column(MomentumLedger::kFixedSources + i));
+  b.outflow = outflow_totals().momentum;
+  b.inflow = inflow_totals().momentum;
+  return b;
 }
 
 std::int64_t Simulation::global_particles() const {

@@ -15,6 +15,7 @@
 #include "engine/GatherMap.hpp"
 #include "engine/InflowSource.hpp"
 #include "engine/ModelBuilder.hpp"
+#include "engine/MomentumLedger.hpp"
 #include "engine/OutflowSink.hpp"
 #include "engine/RestartState.hpp"
 #include "io/CaseConfig.hpp"
@@ -167,6 +168,9 @@ class Simulation {
   GrainFlux outflow_totals() const;
   /// What the inlets brought in. Collective.
   GrainFlux inflow_totals() const;
+  /// The momentum balance of the free particles since the start of the run (engine/
+  /// MomentumLedger, docs/physics.md "Momentum balance"). Collective.
+  MomentumBalance momentum_balance() const;
 
   std::int64_t global_particles() const;
   std::int64_t global_bonds() const;
@@ -199,6 +203,9 @@ class Simulation {
   /// (Integrator::first_half); otherwise this does.
   void compute_forces(bool loads_started = false);
   void reduce_body_loads();
+  /// Books the loads of the evaluation just done in the momentum ledger (after the bodies'
+  /// loads are reduced, before global damping changes the particles' loads).
+  void book_momentum(bool initial);
   bool needs_rebuild();
   /// Names the particle (or body) that ran away and the likely cause; throws
   /// DivergenceError on every rank. Collective. `energy_excess`: the energy guard fired (its
@@ -247,6 +254,7 @@ class Simulation {
   EnergyGuard energy_guard_;        ///< the divergence guard's energy part, at every energies()
   OutflowSink outflow_;             ///< model_.outflow's boxes and what went out
   InflowSource inflow_;             ///< model_.inflow's inlets and what came in
+  MomentumLedger momentum_;         ///< impulses of the reported loads on the free particles
   bool outflow_pending_ = false;    ///< a grain left a box in the last drift (on some rank)
   std::vector<Vec3> body_position_at_rebuild_;
   std::vector<Quat> body_orientation_at_rebuild_;

@@ -295,10 +295,12 @@ TEST(Checkpoint, InflowAndOutflowRestartBitwiseOnAnyRankCount) {
     std::string straight, middle, resumed;
     Energies straight_energies;
     Simulation::GrainFlux straight_out, straight_in;
+    MomentumBalance straight_momentum;
     {
       Simulation sim(build_model(c, comm), comm, s);
       sim.run_steps(2 * kHalf);
       straight_energies = sim.energies();
+      straight_momentum = sim.momentum_balance();
       straight_out = sim.outflow_totals();
       straight_in = sim.inflow_totals();
       straight = CheckpointStore(dir + "/straight")
@@ -331,6 +333,12 @@ TEST(Checkpoint, InflowAndOutflowRestartBitwiseOnAnyRankCount) {
       EXPECT_EQ(in.grains, straight_in.grains);
       EXPECT_EQ(in.mass, straight_in.mass);
       EXPECT_EQ(e.inflow, straight_energies.inflow);
+      // The momentum ledger goes on from its checkpointed totals and booked half kick.
+      const MomentumBalance m = sim.momentum_balance();
+      EXPECT_EQ(m.initial, straight_momentum.initial);
+      EXPECT_EQ(m.impulse(), straight_momentum.impulse());
+      EXPECT_EQ(m.exchange, straight_momentum.exchange);
+      EXPECT_EQ(m.residual(), straight_momentum.residual());
     };
     {
       auto sim = restart(c, middle, comm);

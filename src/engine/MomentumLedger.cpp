@@ -1,0 +1,92 @@
+#include "engine/MomentumLedger.hpp"
+
+#include <stdexcept>
+
+namespace ringdem {
+
+MomentumLedger::MomentumLedger(std::size_t n_bodies)
+    : n_bodies_(n_bodies), totals_(3 * n_sources()), pending_(3 * n_sources()) {}
+
+void MomentumLedger::book_initial_momentum(const ParticleStore& p) {
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    if (p.motion[k] == Motion::kFree) add(totals_, kInitial, p.velocity[k] * p.mass[k]);
+}
+
+void MomentumLedger::rebuild(const ParticleStore& p, double free_mass) {
+  held_.clear();
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    if (p.motion[k] != Motion::kFree) held_.push_back(static_cast<std::uint32_t>(k));
+  free_mass_ = free_mass;
+}
+
+void MomentumLedger::book_evaluation(const ParticleStore& p, const std::vector<RigidBody>& bodies,
+                                     const std::vector<PointLoad>& point_loads, const Vec3& gravity,
+                                     double half_dt, bool root, bool initial) {
+  for (ExactSum& s : pending_)
+    s = ExactSum{};
+  if (root) {
+    add(pending_, kGravity, gravity * (free_mass_ * half_dt));
+    // Bodies are replicated: their reduced loads are the same bits on every rank.
+    for (std::size_t b = 0; b < bodies.size() && b < n_bodies_; ++b)
+      add(pending_, kFixedSources + b, bodies[b].force * -half_dt);
+  }
+  // Point loads are few (a list by gid): the loads on held particles come off their sums.
+  for (const PointLoad& load : point_loads) {
+    const std::int64_t k = p.index_of(load.gid);
+    if (k < 0 || static_cast<std::size_t>(k) >= p.n_local()) continue;
+    if (p.motion[static_cast<std::size_t>(k)] == Motion::kFree)
+      add(pending_, kPointLoads, load.force * half_dt);
+  }
+  for (const std::uint32_t k : held_) {
+    Vec3 received = p.force[k] - gravity * p.mass[k];
+    for (const PointLoad& load : point_loads)
+      if (load.gid == p.gid[k]) received -= load.force;
+    add(pending_, kHeld, received * -half_dt);
+  }
+  if (initial) return;
+  for (std::size_t c = 0; c < totals_.size(); ++c)
+    totals_[c] += pending_[c];
+}
+
+void MomentumLedger::book_leaving(const ParticleStore& p, std::size_t k, double half_dt) {
+  add(totals_, kExchange, p.force[k] * -half_dt);
+}
+
+void MomentumLedger::book_arrivals(const ParticleStore& p, std::size_t first, std::size_t last,
+                                   double half_dt) {
+  for (std::size_t k = first; k < last; ++k)
+    if (p.motion[k] == Motion::kFree) add(totals_, kExchange, p.force[k] * half_dt);
+}
+
+void MomentumLedger::book_first_half() {
+  for (std::size_t c = 0; c < totals_.size(); ++c)
+    totals_[c] += pending_[c];
+}
+
+std::vector<std::int64_t> MomentumLedger::export_state(const Communicator& comm) const {
+  std::vector<ExactSum> both = totals_;
+  both.insert(both.end(), pending_.begin(), pending_.end());
+  const std::vector<ExactSum> reduced = comm.reduce_exact(both);
+  std::vector<std::int64_t> words;
+  words.reserve(reduced.size() * ExactSum::kWords);
+  for (const ExactSum& t : reduced) {
+    const auto w = t.export_words();
+    words.insert(words.end(), w.begin(), w.end());
+  }
+  return words;
+}
+
+void MomentumLedger::import_state(const std::vector<std::int64_t>& words, bool root) {
+  const std::size_t columns = totals_.size();
+  totals_.assign(columns, ExactSum{});
+  pending_.assign(columns, ExactSum{});
+  if (words.empty() || !root) return;
+  if (words.size() != 2 * columns * ExactSum::kWords)
+    throw std::runtime_error("checkpoint: momentum record of the wrong size");
+  for (std::size_t c = 0; c < 2 * columns; ++c) {
+    ExactSum& target = c < columns ? totals_[c] : pending_[c - columns];
+    target = ExactSum::from_words(words.data() + c * ExactSum::kWords);
+  }
+}
+
+}  // namespace ringdem
