@@ -36,13 +36,16 @@ void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64
   const double imbalance = sim.decomposition().imbalance(sim.model().particles);
   if (!print) return;
   if (ranks.size() > 1) {
-    fmt::print("partition: {} ranks, block size {:.4g} m, particle imbalance {:.1f} %\n",
-               ranks.size(), sim.decomposition().block_size(), 100.0 * imbalance);
+    const DomainDecomposition& d = sim.decomposition();
+    fmt::print(
+        "partition: {} ranks, block size {:.4g} m, cells of {}^3 blocks, particle imbalance "
+        "{:.1f} %\n",
+        ranks.size(), d.block_size(), d.cell_blocks(), 100.0 * imbalance);
     fmt::print("  {:>4} {:>10} {:>10} {:>10} {:>10} {:>8}\n", "rank", "particles", "ghosts",
-               "bonds", "cut bonds", "blocks");
+               "bonds", "cut bonds", "cells");
     for (std::size_t r = 0; r < ranks.size(); ++r)
       fmt::print("  {:>4} {:>10} {:>10} {:>10} {:>10} {:>8}\n", r, ranks[r].particles,
-                 ranks[r].ghosts, ranks[r].bonds, ranks[r].cut_bonds, ranks[r].blocks);
+                 ranks[r].ghosts, ranks[r].bonds, ranks[r].cut_bonds, ranks[r].cells);
   }
   fmt::print("pre-flight: {} particles, {} bonds, {} rigid bodies, {} contact candidates\n",
              particles, bonds, sim.model().bodies.size(), sim.n_contact_candidates());

@@ -93,14 +93,25 @@ void Communicator::broadcast_bytes(void* data, std::size_t n, int root) const {
 
 std::vector<char> Communicator::alltoall_bytes(const std::vector<std::vector<char>>& send,
                                                std::vector<int>& recv_counts) const {
+  std::vector<std::vector<char>> copy = send;
+  return alltoall_bytes(std::move(copy), recv_counts);
+}
+
+std::vector<char> Communicator::alltoall_bytes(std::vector<std::vector<char>>&& send,
+                                               std::vector<int>& recv_counts) const {
   if (static_cast<int>(send.size()) != size_)
     throw std::invalid_argument("alltoall_bytes: one buffer per rank expected");
   std::vector<int> send_counts(send.size()), send_displs(send.size(), 0);
+  std::size_t total = 0;
+  for (const auto& b : send)
+    total += b.size();
   std::vector<char> packed;
+  packed.reserve(total);
   for (std::size_t r = 0; r < send.size(); ++r) {
     send_counts[r] = static_cast<int>(send[r].size());
     send_displs[r] = static_cast<int>(packed.size());
     packed.insert(packed.end(), send[r].begin(), send[r].end());
+    std::vector<char>().swap(send[r]);
   }
   recv_counts.assign(send.size(), 0);
   MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm_);

@@ -73,9 +73,23 @@ constexpr unsigned kGhostFields = field_flag::kGhostOnce | field_flag::kGhostSte
 }  // namespace
 
 DomainDecomposition::DomainDecomposition(const Communicator& comm, double block_size,
-                                         double imbalance_threshold)
-    : comm_(comm), block_size_(block_size), imbalance_threshold_(imbalance_threshold) {
+                                         double imbalance_threshold, int cell_blocks)
+    : comm_(comm),
+      block_size_(block_size),
+      imbalance_threshold_(imbalance_threshold),
+      fixed_cell_blocks_(cell_blocks),
+      cell_blocks_(cell_blocks > 0 ? cell_blocks : 1) {
   if (!(block_size_ > 0.0)) throw std::invalid_argument("block size must be positive");
+  if (cell_blocks < 0) throw std::invalid_argument("blocks per cell must not be negative");
+}
+
+std::uint64_t DomainDecomposition::cell_of_block(std::uint64_t block) const {
+  if (cell_blocks_ == 1) return block;
+  std::int64_t i, j, k;
+  unpack_block(block, i, j, k);
+  const std::int64_t n = cell_blocks_;
+  const auto floor_div = [n](std::int64_t v) { return v >= 0 ? v / n : -((-v + n - 1) / n); };
+  return pack_block(floor_div(i), floor_div(j), floor_div(k));
 }
 
 std::uint64_t DomainDecomposition::block_of(const Vec3& x) const {
@@ -86,27 +100,27 @@ std::uint64_t DomainDecomposition::block_of(const Vec3& x) const {
 }
 
 int DomainDecomposition::owner_of(const Vec3& x) const {
-  if (comm_.size() == 1) return 0;  // no map of blocks: every one is this rank's
-  const auto it = owner_.find(block_of(x));
-  if (it == owner_.end()) throw std::logic_error("particle in a block without owner");
+  if (comm_.size() == 1) return 0;  // no map of cells: every one is this rank's
+  const auto it = owner_.find(cell_of(x));
+  if (it == owner_.end()) throw std::logic_error("particle in a cell without owner");
   return it->second;
 }
 
-std::vector<DomainDecomposition::BlockLoad> DomainDecomposition::global_blocks(
+std::vector<DomainDecomposition::CellLoad> DomainDecomposition::global_cells(
     const ParticleStore& p, const std::vector<PairStore>& stores) const {
-  // Counted by sorting block keys, not in a hash map: a block holds about one grain, so a map
-  // node per block cost six times the keys' memory (150 MB at 10^6 grains, the peak of a run).
+  // Counted by sorting cell keys, not in a hash map: with one-block cells a cell holds about
+  // one grain, and a map node per cell cost six times the keys' memory.
   std::vector<std::uint64_t> keys(p.n_local());
   for (std::size_t k = 0; k < p.n_local(); ++k)
-    keys[k] = block_of(p.position[k]);
+    keys[k] = cell_of(p.position[k]);
   std::sort(keys.begin(), keys.end());
-  std::vector<BlockLoad> mine;
+  std::vector<CellLoad> mine;
   for (std::size_t k = 0; k < keys.size(); ++k) {
     if (mine.empty() || mine.back().key != keys[k]) mine.push_back({keys[k], 0, 0, comm_.rank()});
     ++mine.back().particles;
   }
-  // A row of a weighing store (a bond) counts in the block of its first end, on the rank that
-  // counts it (an owned particle here: its block is in `mine`).
+  // A row of a weighing store (a bond) counts in the cell of its first end, on the rank that
+  // counts it (an owned particle here: its cell is in `mine`).
   keys.clear();
   for (const PairStore& handle : stores)
     visit_store(handle, [&](const auto& s) {
@@ -114,19 +128,19 @@ std::vector<DomainDecomposition::BlockLoad> DomainDecomposition::global_blocks(
       for (std::size_t r = 0; r < s.size(); ++r) {
         if (!counted_here(p, s, r)) continue;
         const auto a = static_cast<std::size_t>(p.index_of(s.ends(r)[0]));
-        keys.push_back(block_of(p.position[a]));
+        keys.push_back(cell_of(p.position[a]));
       }
     });
   for (const std::uint64_t key : keys) {
     const auto it = std::lower_bound(mine.begin(), mine.end(), key,
-                                     [](const BlockLoad& b, std::uint64_t k) { return b.key < k; });
+                                     [](const CellLoad& b, std::uint64_t k) { return b.key < k; });
     if (it == mine.end() || it->key != key)
-      throw std::logic_error("a counted bond whose first end is in no occupied block here");
+      throw std::logic_error("a counted bond whose first end is in no occupied cell here");
     ++it->rows;
   }
   std::vector<std::uint64_t>().swap(keys);
-  std::vector<BlockLoad> all = comm_.size() > 1 ? comm_.allgather(mine) : std::move(mine);
-  std::sort(all.begin(), all.end(), [](const BlockLoad& a, const BlockLoad& b) {
+  std::vector<CellLoad> all = comm_.size() > 1 ? comm_.allgather(mine) : std::move(mine);
+  std::sort(all.begin(), all.end(), [](const CellLoad& a, const CellLoad& b) {
     return a.key < b.key || (a.key == b.key && a.rank < b.rank);
   });
   // Merged in place: one entry per key, with the smallest rank that has particles there.
@@ -143,12 +157,19 @@ std::vector<DomainDecomposition::BlockLoad> DomainDecomposition::global_blocks(
   return all;
 }
 
-void DomainDecomposition::partition(const std::vector<BlockLoad>& blocks) {
+void DomainDecomposition::partition(const ParticleStore& p, const std::vector<PairStore>& stores) {
+  if (fixed_cell_blocks_ == 0) {
+    // About max(4096, 256 per rank) cells if a block holds one particle: enough for METIS to
+    // balance, few enough that every rank's map of them stays small at any model size.
+    const auto n = static_cast<double>(comm_.sum(static_cast<std::int64_t>(p.n_local())));
+    const double target = std::max(4096.0, 256.0 * comm_.size());
+    cell_blocks_ = std::max(1, static_cast<int>(std::floor(std::cbrt(n / target))));
+  }
+  const std::vector<CellLoad> blocks = global_cells(p, stores);
   owner_.clear();
-  blocks_held_ = static_cast<std::int64_t>(blocks.size());
+  cells_held_ = static_cast<std::int64_t>(blocks.size());
   if (comm_.size() == 1) {
-    // One rank owns every block: a map of them (a node per occupied block, about one per
-    // grain) would only say so.
+    // One rank owns every cell: a map of them would only say so.
     ++repartitions_;
     return;
   }
@@ -161,12 +182,12 @@ void DomainDecomposition::partition(const std::vector<BlockLoad>& blocks) {
       index.emplace(blocks[static_cast<std::size_t>(v)].key, v);
     std::vector<idx_t> xadj{0}, adjncy, adjwgt, vwgt;
     for (idx_t v = 0; v < n; ++v) {
-      const BlockLoad& b = blocks[static_cast<std::size_t>(v)];
+      const CellLoad& b = blocks[static_cast<std::size_t>(v)];
       vwgt.push_back(static_cast<idx_t>(b.particles + b.rows) + 1);
       for_each_neighbour_block(b.key, [&](std::uint64_t other) {
         const auto it = index.find(other);
         if (it == index.end() || it->second == v) return;
-        const BlockLoad& o = blocks[static_cast<std::size_t>(it->second)];
+        const CellLoad& o = blocks[static_cast<std::size_t>(it->second)];
         adjncy.push_back(it->second);
         // Interactions across the face scale with the smaller population of the two.
         adjwgt.push_back(static_cast<idx_t>(std::min(b.particles, o.particles)) + 1);
@@ -197,13 +218,13 @@ void DomainDecomposition::partition(const std::vector<BlockLoad>& blocks) {
   ++repartitions_;
 }
 
-void DomainDecomposition::assign_new_blocks(const std::vector<BlockLoad>& blocks) {
-  // A block that became occupied goes to the smallest rank that has particles in it, which
+void DomainDecomposition::assign_new_cells(const std::vector<CellLoad>& cells) {
+  // A cell that became occupied goes to the smallest rank that has particles in it, which
   // every rank can tell from the merged list.
-  blocks_held_ = static_cast<std::int64_t>(blocks.size());
+  cells_held_ = static_cast<std::int64_t>(cells.size());
   if (comm_.size() == 1) return;
-  for (const auto& b : blocks)
-    owner_.try_emplace(b.key, b.rank);
+  for (const auto& c : cells)
+    owner_.try_emplace(c.key, c.rank);
 }
 
 std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
@@ -290,7 +311,7 @@ void DomainDecomposition::distribute_initial(ParticleStore& p,
                                              const std::vector<PairStore>& stores) {
   p.resize_ghosts(0);
   p.rebuild_index();
-  partition(global_blocks(p, stores));
+  partition(p, stores);
   std::vector<int> owner(p.n_local());
   for (std::size_t k = 0; k < p.n_local(); ++k)
     owner[k] = owner_of(p.position[k]);
@@ -321,11 +342,10 @@ void DomainDecomposition::distribute_initial(ParticleStore& p,
 
 void DomainDecomposition::redistribute(ParticleStore& p, const std::vector<PairStore>& stores) {
   p.rebuild_index();
-  const auto blocks = global_blocks(p, stores);
   if (imbalance(p) > imbalance_threshold_) {
-    partition(blocks);
+    partition(p, stores);
   } else {
-    assign_new_blocks(blocks);
+    assign_new_cells(global_cells(p, stores));
   }
   // New owner of every particle this rank holds (owned and ghost): an intact bond or a
   // contact has both its particles here, owned or as ghosts.
@@ -388,9 +408,9 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
   }
 
   std::vector<int> counts;
-  const std::vector<char> recv_p = comm_.alltoall_bytes(send_p, counts);
+  const std::vector<char> recv_p = comm_.alltoall_bytes(std::move(send_p), counts);
   std::vector<int> row_bytes;
-  const std::vector<char> recv_rows = comm_.alltoall_bytes(send_rows, row_bytes);
+  const std::vector<char> recv_rows = comm_.alltoall_bytes(std::move(send_rows), row_bytes);
 
   // Particles: drop ghosts and emigrants, append immigrants.
   p.resize_ghosts(0);
@@ -449,14 +469,22 @@ void DomainDecomposition::build_ghosts(ParticleStore& p) {
   ghost_send_.assign(n_ranks, {});
   std::vector<std::vector<char>> send(n_ranks);
   std::vector<int> targets;
+  std::vector<std::uint64_t> cells;
   // With one rank every block is this rank's: nobody to send a ghost to.
   const std::size_t n_senders = n_ranks > 1 ? p.n_local() : 0;
   for (std::size_t k = 0; k < n_senders; ++k) {
-    targets.clear();
+    // The owners of the cells of the 27 blocks around this particle's (at most 8 cells when
+    // a cell is two blocks wide or more; one inside a cell).
+    cells.clear();
     for_each_neighbour_block(block_of(p.position[k]), [&](std::uint64_t key) {
-      const auto it = owner_.find(key);
-      if (it != owner_.end() && it->second != me) targets.push_back(it->second);
+      const std::uint64_t cell = cell_of_block(key);
+      if (std::find(cells.begin(), cells.end(), cell) == cells.end()) cells.push_back(cell);
     });
+    targets.clear();
+    for (const std::uint64_t cell : cells) {
+      const auto it = owner_.find(cell);
+      if (it != owner_.end() && it->second != me) targets.push_back(it->second);
+    }
     std::sort(targets.begin(), targets.end());
     targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
     for (int r : targets) {
@@ -465,7 +493,7 @@ void DomainDecomposition::build_ghosts(ParticleStore& p) {
     }
   }
   std::vector<int> counts;
-  const std::vector<char> recv = comm_.alltoall_bytes(send, counts);
+  const std::vector<char> recv = comm_.alltoall_bytes(std::move(send), counts);
   const std::size_t size = record_size(p, kGhostFields);
   ghost_recv_count_.assign(n_ranks, 0);
   for (std::size_t r = 0; r < n_ranks; ++r)
@@ -524,8 +552,8 @@ std::vector<DomainDecomposition::RankReport> DomainDecomposition::report(
     mine.cut_bonds += a_here != b_here;
   }
   for (const auto& [key, rank] : owner_)
-    mine.blocks += rank == comm_.rank();
-  if (comm_.size() == 1) mine.blocks = blocks_held_;
+    mine.cells += rank == comm_.rank();
+  if (comm_.size() == 1) mine.cells = cells_held_;
   return comm_.allgather(std::vector<RankReport>{mine});
 }
 

@@ -13,16 +13,25 @@
 namespace ringdem {
 
 /// Spatial domain decomposition (DESIGN §4). Space is cut into cubic blocks at least one
-/// interaction range wide (contact reach + skin, longest bond); only occupied blocks exist.
-/// METIS k-way partitions the block graph (vertex weight: particles and bonds in the block;
-/// edge weight: the particles that can interact across the shared face), a particle belongs
-/// to the rank owning its block, and every rank receives as ghosts the particles of all blocks
-/// adjacent to its own. Bonds live on every rank that owns one of their ends (owner computes),
-/// the contact terms' spring stores travel with the particles. All MPI traffic of the particle
-/// data is here; it reaches every store through its field registry.
+/// interaction range wide (contact reach + skin, longest bond), and blocks are grouped into
+/// cubic partition cells of k x k x k blocks; only occupied cells exist. METIS k-way
+/// partitions the cell graph (vertex weight: particles and bonds in the cell; edge weight: the
+/// particles that can interact across the shared face), a particle belongs to the rank owning
+/// its cell, and every rank receives as ghosts the particles of every block adjacent to a block
+/// of one of its cells: the ghost layer stays one block thick whatever k is.
+///
+/// Every rank holds the owner of every occupied cell. With blocks one reach wide (about one
+/// grain each) a map of blocks would grow with the whole model on every rank; k is chosen at
+/// each partition so that there are about max(4096, 256 x ranks) cells, and the map then
+/// stays small at any model size (`cell_blocks` fixes k instead, for tests). Bonds live on every
+/// rank that owns one of their ends (owner computes), the contact terms' spring stores travel with
+/// the particles. All MPI traffic of the particle data is here; it reaches every store through its
+/// field registry.
 class DomainDecomposition {
  public:
-  DomainDecomposition(const Communicator& comm, double block_size, double imbalance_threshold);
+  /// `cell_blocks`: blocks per partition-cell edge; 0 chooses it from the particle count.
+  DomainDecomposition(const Communicator& comm, double block_size, double imbalance_threshold,
+                      int cell_blocks = 0);
 
   /// First distribution, from any spread of the particles over the ranks (each held by one
   /// rank, none a ghost) and of the bonds and springs (each held by at least one rank, not
@@ -46,7 +55,7 @@ class DomainDecomposition {
 
   /// Per-rank numbers for the pre-flight report (gathered on every rank).
   struct RankReport {
-    std::int64_t particles = 0, ghosts = 0, bonds = 0, cut_bonds = 0, blocks = 0;
+    std::int64_t particles = 0, ghosts = 0, bonds = 0, cut_bonds = 0, cells = 0;
   };
   std::vector<RankReport> report(const ParticleStore& p, const BondStore& bonds) const;
   /// max(local particles) / mean - 1 over the ranks.
@@ -54,19 +63,26 @@ class DomainDecomposition {
 
   /// Block key of a position (exposed for tests).
   std::uint64_t block_of(const Vec3& x) const;
+  /// Blocks per edge of a partition cell (chosen at the last partition).
+  int cell_blocks() const { return cell_blocks_; }
+  /// Occupied partition cells at the last partition or migration (over all ranks).
+  std::int64_t cells() const { return cells_held_; }
 
  private:
-  struct BlockLoad {
+  struct CellLoad {
     std::uint64_t key;
     std::int64_t particles;
-    std::int64_t rows;  ///< rows of the weighing pair stores (bonds) counted in the block
-    int rank;           ///< a rank with particles in the block (the smallest, after merging)
+    std::int64_t rows;  ///< rows of the weighing pair stores (bonds) counted in the cell
+    int rank;           ///< a rank with particles in the cell (the smallest, after merging)
   };
-  /// Occupied blocks of all ranks, merged and sorted by key (identical on every rank).
-  std::vector<BlockLoad> global_blocks(const ParticleStore& p,
-                                       const std::vector<PairStore>& stores) const;
-  void partition(const std::vector<BlockLoad>& blocks);
-  void assign_new_blocks(const std::vector<BlockLoad>& blocks);
+  /// Occupied cells of all ranks, merged and sorted by key (identical on every rank).
+  std::vector<CellLoad> global_cells(const ParticleStore& p,
+                                     const std::vector<PairStore>& stores) const;
+  /// Chooses k from the global particle count (or keeps the fixed one), then partitions.
+  void partition(const ParticleStore& p, const std::vector<PairStore>& stores);
+  void assign_new_cells(const std::vector<CellLoad>& cells);
+  std::uint64_t cell_of_block(std::uint64_t block) const;
+  std::uint64_t cell_of(const Vec3& x) const { return cell_of_block(block_of(x)); }
   int owner_of(const Vec3& x) const;
   void build_ghosts(ParticleStore& p);
   /// The owner of each of `gids`, given the owner of each owned particle of p (owner[k]), from
@@ -86,8 +102,10 @@ class DomainDecomposition {
   const Communicator& comm_;
   double block_size_;
   double imbalance_threshold_;
-  std::unordered_map<std::uint64_t, int> owner_;  ///< block -> rank; empty on one rank
-  std::int64_t blocks_held_ = 0;  ///< occupied blocks at the last partition or migration
+  int fixed_cell_blocks_ = 0;                     ///< 0: k is chosen at each partition
+  int cell_blocks_ = 1;                           ///< k: blocks per cell edge
+  std::unordered_map<std::uint64_t, int> owner_;  ///< cell -> rank; empty on one rank
+  std::int64_t cells_held_ = 0;  ///< occupied cells at the last partition or migration
   std::vector<std::vector<std::uint32_t>> ghost_send_;  ///< per rank: local indices to send
   std::vector<int> ghost_recv_count_;                   ///< per rank: ghosts received
   std::vector<std::vector<char>> ghost_send_buffers_;   ///< per-step scratch of update_ghosts

@@ -4,6 +4,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 #include <vector>
@@ -174,6 +175,69 @@ TEST_F(Decomposition, MigrationCarriesParticlesBondsAndHistory) {
     holders_of_30 += bonds.gid_a[b] == 30;
   const bool own_an_end = after.at(30) == c.rank() || after.at(31) == c.rank();
   EXPECT_EQ(holders_of_30, own_an_end ? 1 : 0);
+}
+
+/// Every particle within one block of an owned particle is here (the brute-force neighbourhood
+/// of the whole lattice), and every ghost lies in a block next to a block of an owned particle:
+/// the ghost layer is one block thick, whatever the partition cells are.
+void expect_one_block_ghost_layer(const ParticleStore& p, const Vec3& shift) {
+  ParticleStore all;
+  BondStore unused;
+  make_lattice(all, unused);
+  std::set<std::int64_t> here(p.gid.begin(), p.gid.end());
+  for (std::size_t a = 0; a < p.n_local(); ++a)
+    for (std::size_t b = 0; b < all.n_local(); ++b)
+      if (norm(all.position[b] + shift - p.position[a]) < kBlock) {
+        EXPECT_TRUE(here.count(all.gid[b])) << "neighbour " << all.gid[b] << " of " << p.gid[a];
+      }
+  const auto index = [](double x) { return static_cast<long>(std::floor(x / kBlock)); };
+  for (std::size_t g = p.n_local(); g < p.n_total(); ++g) {
+    bool next_to_owned = false;
+    for (std::size_t a = 0; a < p.n_local() && !next_to_owned; ++a)
+      next_to_owned = std::abs(index(p.position[g].x) - index(p.position[a].x)) <= 1 &&
+                      std::abs(index(p.position[g].y) - index(p.position[a].y)) <= 1 &&
+                      std::abs(index(p.position[g].z) - index(p.position[a].z)) <= 1;
+    EXPECT_TRUE(next_to_owned) << "ghost " << p.gid[g] << " is beyond the one-block layer";
+  }
+}
+
+// Partition cells of 3 x 3 x 3 blocks (what large models get, so that no rank holds a map entry
+// per grain): particles go to the owner of their cell, the ghost layer stays one block thick,
+// after the first distribution and after a migration, and only occupied cells are held.
+TEST_F(Decomposition, CellsOfSeveralBlocksKeepTheGhostLayerOneBlockThick) {
+  const Communicator c(comm_);
+  ParticleStore p;
+  BondStore bonds;
+  make_lattice(p, bonds, c.rank(), c.size());
+  const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
+  DomainDecomposition d(c, kBlock, /*imbalance_threshold=*/0.0, /*cell_blocks=*/3);
+  d.distribute_initial(p, {&bonds});
+  EXPECT_EQ(d.cell_blocks(), 3);
+  owners(c, p, n_total);
+  expect_one_block_ghost_layer(p, {});
+  // The lattice spans 0..66 mm: blocks 0..6 along x and y, 0 along z; cells 0..2 along x and
+  // y (blocks 0-2, 3-5, 6), one layer: 9 cells, against 49 occupied blocks.
+  EXPECT_EQ(d.cells(), 9);
+  // Rank-encoded refresh through the cells' ghost lists.
+  std::map<std::int64_t, int> owner = owners(c, p, n_total);
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    p.velocity[k] = {c.rank() + 1.0, 0, 0};
+  d.update_ghosts(p);
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
+    EXPECT_EQ(p.velocity[k].x, owner.at(p.gid[k]) + 1.0) << "ghost gid " << p.gid[k];
+  // Shift by 4 blocks and repartition: the cells are other ones, the layer is the same.
+  const Vec3 shift{4 * kBlock, 2 * kBlock, 0};
+  for (std::size_t k = 0; k < p.n_total(); ++k)
+    p.position[k] += shift;
+  d.redistribute(p, {&bonds});
+  owner = owners(c, p, n_total);
+  expect_one_block_ghost_layer(p, shift);
+  if (c.size() > 1) {
+    std::set<int> ranks_used;
+    for (const auto& [gid, rank] : owner)
+      ranks_used.insert(rank);
+    EXPECT_EQ(static_cast<int>(ranks_used.size()), c.size()) << "every rank owns some cells";
+  }
 }
 
 TEST_F(Decomposition, FirstDistributionSendsBondsAndSpringsHeldAnywhereToTheirParticles) {
