@@ -46,6 +46,15 @@ bool BarrierMonitor::is_grain(const Simulation& sim, std::size_t k) const {
   return std::find(grain_groups_.begin(), grain_groups_.end(), p.group[k]) != grain_groups_.end();
 }
 
+BarrierMonitor::Impulse BarrierMonitor::impulse(const MomentumBalance& balance) const {
+  // The ledger books what the particles received: the barrier's share is the opposite.
+  Impulse out;
+  out.net = -dot(balance.held, config_.direction);
+  for (const std::size_t b : posts_)
+    out.posts -= dot(balance.bodies.at(b), config_.direction);
+  return out;
+}
+
 BarrierSample BarrierMonitor::sample(const Simulation& sim) const {
   const Model& model = sim.model();
   const ParticleStore& p = model.particles;

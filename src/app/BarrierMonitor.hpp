@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/Vec3.hpp"
+#include "engine/MomentumLedger.hpp"
 #include "io/CaseConfig.hpp"
 
 namespace ringdem {
@@ -39,6 +40,16 @@ class BarrierMonitor {
 
   /// One sample. Collective.
   BarrierSample sample(const Simulation& sim) const;
+
+  /// The barrier's loads along d integrated over the run so far [N s], from the momentum
+  /// ledger: what the posts and the held particles (the net's frame and shackles) received
+  /// from the particles, every step counted. Their change over an interval, divided by its
+  /// length, is the interval's mean force, free of the single strikes that an instantaneous
+  /// sample may catch or miss.
+  struct Impulse {
+    double net = 0.0, posts = 0.0;
+  };
+  Impulse impulse(const MomentumBalance& balance) const;
 
  private:
   bool is_grain(const Simulation& sim, std::size_t k) const;

@@ -50,7 +50,8 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
          {"barrier_net_force_N", "barrier_posts_force_N", "barrier_force_N", "flow_depth_m",
           "flow_velocity_m_s", "bulk_density_kg_m3", "front_m", "front_velocity_m_s",
           "retained_mass_kg", "overflow_mass_kg", "net_deflection_m", "net_max_utilisation",
-          "net_max_utilisation_x_m", "net_max_utilisation_y_m", "net_max_utilisation_z_m"})
+          "net_max_utilisation_x_m", "net_max_utilisation_y_m", "net_max_utilisation_z_m",
+          "barrier_mean_net_force_N", "barrier_mean_posts_force_N", "barrier_mean_force_N"})
       columns.push_back(c);
   }
   if (sim.comm().is_root() && !output_dir_.empty())
@@ -89,7 +90,7 @@ void FreeRunDriver::record(Simulation& sim) {
   max_utilisation_ = std::max(max_utilisation_, sim.comm().max(util));
   // Collective: every rank samples the barrier and keeps the same peaks.
   std::vector<double> barrier_row;
-  if (barrier_) record_barrier(sim, barrier_row);
+  if (barrier_) record_barrier(sim, momentum, barrier_row);
   if (!sim.comm().is_root() || output_dir_.empty()) return;
   std::vector<double> row{sim.time(),     e.kinetic,         e.potential,
                           e.bond_elastic, e.contact_elastic, static_cast<double>(broken)};
@@ -113,10 +114,28 @@ void FreeRunDriver::record(Simulation& sim) {
   series_.row(row);
 }
 
-void FreeRunDriver::record_barrier(const Simulation& sim, std::vector<double>& row) {
+void FreeRunDriver::record_barrier(const Simulation& sim, const MomentumBalance& momentum,
+                                   std::vector<double>& row) {
   const BarrierSample b = barrier_->sample(sim);
   last_barrier_ = b;
   BarrierRecord& r = barrier_record_;
+  // Mean forces since the record before, from the impulses of every step (NaN at the first).
+  const BarrierMonitor::Impulse impulse = barrier_->impulse(momentum);
+  double mean_net = std::nan(""), mean_posts = std::nan("");
+  if (r.last_impulse_time >= 0.0 && sim.time() > r.last_impulse_time) {
+    const double interval = sim.time() - r.last_impulse_time;
+    mean_net = (impulse.net - r.last_net_impulse) / interval;
+    mean_posts = (impulse.posts - r.last_posts_impulse) / interval;
+    if (mean_net + mean_posts > r.peak_mean_force) {
+      r.peak_mean_force = mean_net + mean_posts;
+      r.peak_mean_time = sim.time();
+    }
+    r.peak_mean_net_force = std::max(r.peak_mean_net_force, mean_net);
+    r.peak_mean_posts_force = std::max(r.peak_mean_posts_force, mean_posts);
+  }
+  r.last_net_impulse = impulse.net;
+  r.last_posts_impulse = impulse.posts;
+  r.last_impulse_time = sim.time();
   const double total = b.net_force + b.posts_force;
   // The front's speed since the record before (NaN at the first record or without grains).
   double front_velocity = std::nan("");
@@ -146,7 +165,7 @@ void FreeRunDriver::record_barrier(const Simulation& sim, std::vector<double>& r
        {b.net_force, b.posts_force, total, b.flow_depth, b.flow_velocity, b.bulk_density,
         std::isfinite(b.front) ? b.front : std::nan(""), front_velocity, b.retained_mass,
         b.overflow_mass, deflection, b.max_utilisation, b.utilisation_at.x, b.utilisation_at.y,
-        b.utilisation_at.z})
+        b.utilisation_at.z, mean_net, mean_posts, mean_net + mean_posts})
     row.push_back(v);
 }
 
@@ -267,7 +286,11 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
           .set("max_net_deflection_m", r.max_deflection)
           .set("max_net_utilisation", r.max_utilisation)
           .set("max_net_utilisation_at_m",
-               std::vector<double>{r.max_utilisation_x, r.max_utilisation_y, r.max_utilisation_z});
+               std::vector<double>{r.max_utilisation_x, r.max_utilisation_y, r.max_utilisation_z})
+          .set("peak_mean_force_N", r.peak_mean_force)
+          .set("peak_mean_force_time_s", r.peak_mean_time)
+          .set("peak_mean_net_force_N", r.peak_mean_net_force)
+          .set("peak_mean_posts_force_N", r.peak_mean_posts_force);
       summary.set("barrier", b);
     }
     summary.write(output_dir_ + "/summary.json");

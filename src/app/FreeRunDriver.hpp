@@ -32,7 +32,8 @@ class FreeRunDriver : public ScenarioDriver {
   /// One row of series.csv and the running peaks. Collective.
   void record(Simulation& sim);
   /// The barrier's columns of one row, and its peaks. Collective: call it on every rank.
-  void record_barrier(const Simulation& sim, std::vector<double>& row);
+  void record_barrier(const Simulation& sim, const MomentumBalance& momentum,
+                      std::vector<double>& row);
 
   CaseConfig config_;
   RunControl* control_ = nullptr;
@@ -51,6 +52,11 @@ class FreeRunDriver : public ScenarioDriver {
     double peak_force = 0.0, peak_time = 0.0, peak_net_force = 0.0, peak_posts_force = 0.0;
     double peak_depth = 0.0, peak_velocity = 0.0, max_deflection = 0.0, max_utilisation = 0.0;
     double max_utilisation_x = 0.0, max_utilisation_y = 0.0, max_utilisation_z = 0.0;
+    /// The barrier's impulses at the record before (BarrierMonitor::impulse), for the mean
+    /// forces over the interval since, and the peaks of those means.
+    double last_net_impulse = 0.0, last_posts_impulse = 0.0, last_impulse_time = -1.0;
+    double peak_mean_force = 0.0, peak_mean_time = 0.0, peak_mean_net_force = 0.0;
+    double peak_mean_posts_force = 0.0;
     /// Each value with its driver-state name (the one list that state() and start() read).
     template <class F>
     void for_each(F&& f) {
@@ -68,6 +74,13 @@ class FreeRunDriver : public ScenarioDriver {
       f("barrier_max_utilisation_x", max_utilisation_x);
       f("barrier_max_utilisation_y", max_utilisation_y);
       f("barrier_max_utilisation_z", max_utilisation_z);
+      f("barrier_last_net_impulse", last_net_impulse);
+      f("barrier_last_posts_impulse", last_posts_impulse);
+      f("barrier_last_impulse_time", last_impulse_time);
+      f("barrier_peak_mean_force", peak_mean_force);
+      f("barrier_peak_mean_time", peak_mean_time);
+      f("barrier_peak_mean_net_force", peak_mean_net_force);
+      f("barrier_peak_mean_posts_force", peak_mean_posts_force);
     }
   };
   std::optional<BarrierMonitor> barrier_;
