@@ -7,7 +7,7 @@ RINGDEM_PACKAGES=(
   libopenmpi-dev openmpi-bin libhdf5-openmpi-dev libmetis-dev libeigen3-dev
   libyaml-cpp-dev libcli11-dev libfmt-dev libnlopt-dev nlohmann-json3-dev libgtest-dev
   libbenchmark-dev
-  python3-numpy python3-h5py python3-matplotlib
+  python3-numpy python3-h5py python3-matplotlib python3-yaml
 )
 
 # Open MPI refuses root and more ranks than cores unless told; CI and containers run as root.
