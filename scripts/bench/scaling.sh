@@ -1,8 +1,12 @@
 #!/usr/bin/env bash
-# Strong and weak scaling of whole runs (issue 4). Builds the native preset, generates the
-# workloads with make_ring_grid.py and runs them at several rank counts.
-#   scripts/bench/scaling.sh [MAX_RANKS]     (default: the number of cores)
+# Strong and weak scaling of whole runs (issue 4, issue 13 item 5). Builds the native preset,
+# generates the workloads and runs them at several rank counts.
+#   scripts/bench/scaling.sh [MAX_RANKS] [GRAINS_PER_RANK]   (default: the number of cores, 0)
 # Strong: 200 rings (20 000 particles) at 1..MAX_RANKS ranks. Weak: 100 rings per rank.
+# With GRAINS_PER_RANK > 0 also weak scaling of a flowing packing (the `flow` bed of
+# scripts/bench/peer_granular.py: 5 mm grains sliding down a 35 degree incline, rebuilding
+# every ~35 steps) of about that many grains per rank, at 1, 2, 4, ... MAX_RANKS ranks, with
+# the loop's time per particle-step and the largest rank's peak memory.
 # Ranks beyond the core count are oversubscribed and say so.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
@@ -11,6 +15,7 @@ ringdem_build native
 cd "$RINGDEM_ROOT"
 cores=$(nproc)
 max_ranks="${1:-$cores}"
+grains_per_rank="${2:-0}"
 work=build/native/scaling
 mkdir -p "$work"
 py=/usr/bin/python3
@@ -37,4 +42,30 @@ echo "weak scaling, 100 rings = 10 000 particles per rank:"
 for ranks in $(seq 1 "$max_ranks"); do
   $py scripts/bench/make_ring_grid.py --linked 10 $((10 * ranks)) "$work/weak_np$ranks.yaml"
   run "$ranks" "$work/weak_np$ranks.yaml" "weak_np$ranks"
+done
+
+[ "$grains_per_rank" -gt 0 ] || exit 0
+echo "weak scaling, flowing packing of about $grains_per_rank grains per rank:"
+ranks=1
+while [ "$ranks" -le "$max_ranks" ]; do
+  case=$($py - "$work" "$((grains_per_rank * ranks))" <<'PY'
+import os, sys
+sys.path.insert(0, os.path.join(os.getcwd(), "scripts", "bench"))
+import peer_granular
+print(peer_granular.write_ringdem(sys.argv[1], "flow", int(sys.argv[2])))
+PY
+)
+  peak=$( { /usr/bin/time -f "%M" mpirun -np "$ranks" build/native/ringdem run "$case" -q \
+            -o "$work/flow_np$ranks" --force-size >/dev/null; } 2>&1 | tail -1)
+  $py - "$work/flow_np$ranks/summary.json" "$ranks" "$cores" "$peak" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1])); ranks = int(sys.argv[2]); cores = int(sys.argv[3])
+peak_mib = int(sys.argv[4]) / 1024
+note = " (oversubscribed)" if ranks > cores else ""
+per_rank = s["particles"] / ranks
+print(f"flow         ranks {ranks:>2}  grains {s['particles']:>8}  "
+      f"{1e9 * ranks / s['particle_steps_per_s']:6.1f} ns/particle-step/rank  "
+      f"largest rank {peak_mib:7.1f} MiB = {peak_mib * 2**20 / per_rank:5.0f} B/grain{note}")
+PY
+  ranks=$((ranks * 2))
 done
