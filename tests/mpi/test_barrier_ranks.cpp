@@ -23,24 +23,8 @@ CaseConfig flow_into_barrier() {
   c.bonds[0].youngs_modulus = 200e9;
   c.bonds[0].radius_multiplier = 0.43;
   c.bonds[0].tensile_strength = c.bonds[0].compressive_strength = c.bonds[0].shear_strength = 1e9;
-  MaterialConfig rock;
-  rock.name = "rock";
-  rock.density = 2600;
-  rock.youngs_modulus = 1e8;
-  c.materials.push_back(rock);
-  RigidBodyConfig bed;
-  bed.name = "bed";
-  bed.shape = ShapeKind::kPlane;
-  bed.material = "rock";
-  RigidBodyConfig post;
-  post.name = "post";
-  post.shape = ShapeKind::kCylinder;
-  post.position = {0.02, 0.2, 0.1};
-  post.axis = {0, 0, 1};
-  post.radius = 0.03;
-  post.length = 0.2;
-  post.material = "rock";
-  c.rigid_bodies = {bed, post};
+  c.materials.push_back(testing::soft_rock());
+  c.rigid_bodies = testing::bed_and_post({0.02, 0.2, 0.1}, 0.03);
   // A fixed ring (the frame) and a free one (the net) standing across the flow at x = 0.
   RingConfig frame = testing::paper_ring({0.0, -0.17, 0.16}, {1, 0, 0});
   frame.group = "frame";

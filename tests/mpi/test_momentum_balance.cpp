@@ -22,26 +22,11 @@ namespace {
 CaseConfig flow_through_grate() {
   CaseConfig c = testing::base_case();
   c.simulation.gravity = {0, 0, -9.81};
-  MaterialConfig rock;
-  rock.name = "rock";
-  rock.density = 2600;
-  rock.youngs_modulus = 1e8;
+  MaterialConfig rock = testing::soft_rock();
   rock.friction = 0.5;
   rock.restitution = 0.3;
   c.materials.push_back(rock);
-  RigidBodyConfig bed;
-  bed.name = "bed";
-  bed.shape = ShapeKind::kPlane;
-  bed.material = "rock";
-  RigidBodyConfig post;
-  post.name = "post";
-  post.shape = ShapeKind::kCylinder;
-  post.position = {0.0, 0.1, 0.1};
-  post.axis = {0, 0, 1};
-  post.radius = 0.02;
-  post.length = 0.2;
-  post.material = "rock";
-  c.rigid_bodies = {bed, post};
+  c.rigid_bodies = testing::bed_and_post({0.0, 0.1, 0.1}, 0.02);
   // The grate: fixed spheres across the flow at x = 0.05, gaps that grains squeeze through.
   for (int j = 0; j < 8; ++j)
     for (int k = 0; k < 2; ++k) {

@@ -5,6 +5,7 @@
 #include <mpi.h>
 
 #include <cmath>
+#include <vector>
 
 #include "comm/Communicator.hpp"
 #include "io/CaseConfig.hpp"
@@ -41,6 +42,34 @@ inline RingConfig paper_ring(const Vec3& centre = {}, const Vec3& normal = {0, 1
   r.normal = normal;
   r.reference = {1, 0, 0};
   return r;
+}
+
+/// Soft rock for grain flows (E = 1e8 Pa, for steps of 1e-5 s): 2600 kg/m^3, default friction
+/// and restitution unless given.
+inline MaterialConfig soft_rock() {
+  MaterialConfig rock;
+  rock.name = "rock";
+  rock.density = 2600;
+  rock.youngs_modulus = 1e8;
+  return rock;
+}
+
+/// A channel bed z = 0 of soft_rock and a vertical post (a fixed cylinder of 0.2 m, its
+/// centre at `centre`), the rigid bodies of the flow-against-a-barrier tests.
+inline std::vector<RigidBodyConfig> bed_and_post(const Vec3& centre, double radius) {
+  RigidBodyConfig bed;
+  bed.name = "bed";
+  bed.shape = ShapeKind::kPlane;
+  bed.material = "rock";
+  RigidBodyConfig post;
+  post.name = "post";
+  post.shape = ShapeKind::kCylinder;
+  post.position = centre;
+  post.axis = {0, 0, 1};
+  post.radius = radius;
+  post.length = 0.2;
+  post.material = "rock";
+  return {bed, post};
 }
 
 /// 25 paper rings linked like chain mail (each with its four diagonal neighbours, the layout

@@ -106,23 +106,8 @@ TEST(BarrierMonitor, FlowMeasuresAreTheHandSums) {
 TEST(BarrierMonitor, MeanForcesAreTheTrapezoidOfTheStepLoads) {
   CaseConfig c = testing::base_case();
   c.simulation.gravity = {0, 0, -9.81};
-  MaterialConfig rock;
-  rock.name = "rock";
-  rock.density = 2600;
-  rock.youngs_modulus = 1e8;
-  c.materials.push_back(rock);
-  RigidBodyConfig bed;
-  bed.name = "bed";
-  bed.shape = ShapeKind::kPlane;
-  bed.material = "rock";
-  RigidBodyConfig post;
-  post.name = "post";
-  post.shape = ShapeKind::kCylinder;
-  post.position = {0.05, 0.03, 0.1};
-  post.radius = 0.02;
-  post.length = 0.2;
-  post.material = "rock";
-  c.rigid_bodies = {bed, post};
+  c.materials.push_back(testing::soft_rock());
+  c.rigid_bodies = testing::bed_and_post({0.05, 0.03, 0.1}, 0.02);
   SphereConfig frame;
   frame.group = "frame";
   frame.position = {0.05, -0.03, 0.011};
