@@ -4,16 +4,18 @@
 
 namespace ringdem {
 
-MomentumLedger::MomentumLedger(std::size_t n_bodies)
-    : n_bodies_(n_bodies), totals_(3 * n_sources()), pending_(3 * n_sources()) {}
+MomentumLedger::MomentumLedger(std::size_t n_bodies, bool enabled)
+    : n_bodies_(n_bodies), enabled_(enabled), totals_(3 * n_sources()), pending_(3 * n_sources()) {}
 
 void MomentumLedger::book_initial_momentum(const ParticleStore& p) {
+  if (!enabled_) return;
   for (std::size_t k = 0; k < p.n_local(); ++k)
     if (p.motion[k] == Motion::kFree) add(totals_, kInitial, p.velocity[k] * p.mass[k]);
 }
 
 void MomentumLedger::rebuild(const ParticleStore& p, double free_mass) {
   held_.clear();
+  if (!enabled_) return;
   for (std::size_t k = 0; k < p.n_local(); ++k)
     if (p.motion[k] != Motion::kFree) held_.push_back(static_cast<std::uint32_t>(k));
   free_mass_ = free_mass;
@@ -22,6 +24,7 @@ void MomentumLedger::rebuild(const ParticleStore& p, double free_mass) {
 void MomentumLedger::book_evaluation(const ParticleStore& p, const std::vector<RigidBody>& bodies,
                                      const std::vector<PointLoad>& point_loads, const Vec3& gravity,
                                      double half_dt, bool root, bool initial) {
+  if (!enabled_) return;
   for (ExactSum& s : pending_)
     s = ExactSum{};
   if (root) {
@@ -49,18 +52,46 @@ void MomentumLedger::book_evaluation(const ParticleStore& p, const std::vector<R
 }
 
 void MomentumLedger::book_leaving(const ParticleStore& p, std::size_t k, double half_dt) {
+  if (!enabled_) return;
   add(totals_, kExchange, p.force[k] * -half_dt);
 }
 
 void MomentumLedger::book_arrivals(const ParticleStore& p, std::size_t first, std::size_t last,
                                    double half_dt) {
+  if (!enabled_) return;
   for (std::size_t k = first; k < last; ++k)
     if (p.motion[k] == Motion::kFree) add(totals_, kExchange, p.force[k] * half_dt);
 }
 
 void MomentumLedger::book_first_half() {
+  if (!enabled_) return;
   for (std::size_t c = 0; c < totals_.size(); ++c)
     totals_[c] += pending_[c];
+}
+
+MomentumBalance MomentumLedger::balance(const ParticleStore& p, const Communicator& comm) const {
+  std::vector<ExactSum> partial = totals_;
+  const std::size_t now = partial.size();
+  partial.resize(now + 3);
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    if (p.motion[k] != Motion::kFree) continue;
+    const Vec3 q = p.velocity[k] * p.mass[k];
+    partial[now].add(q.x);
+    partial[now + 1].add(q.y);
+    partial[now + 2].add(q.z);
+  }
+  const std::vector<double> sums = comm.sum_exact(partial);
+  const auto column = [&sums](std::size_t c) { return Vec3{sums[c], sums[c + 1], sums[c + 2]}; };
+  MomentumBalance b;
+  b.momentum = column(now);
+  b.initial = column(3 * kInitial);
+  b.gravity = column(3 * kGravity);
+  b.point_loads = column(3 * kPointLoads);
+  b.held = column(3 * kHeld);
+  b.exchange = column(3 * kExchange);
+  for (std::size_t i = 0; i < n_bodies_; ++i)
+    b.bodies.push_back(column(3 * (kFixedSources + i)));
+  return b;
 }
 
 std::vector<std::int64_t> MomentumLedger::export_state(const Communicator& comm) const {

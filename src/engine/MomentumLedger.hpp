@@ -61,7 +61,10 @@ class MomentumLedger {
   /// The booked columns, three components each (x, y, z), then one per rigid body.
   enum Source { kInitial, kGravity, kPointLoads, kHeld, kExchange, kFixedSources };
 
-  explicit MomentumLedger(std::size_t n_bodies = 0);
+  /// `enabled`: false books nothing and costs nothing per step (scenarios that do not report
+  /// the balance); its state is then zero.
+  explicit MomentumLedger(std::size_t n_bodies = 0, bool enabled = true);
+  bool enabled() const { return enabled_; }
 
   /// The momentum of the free particles at the start of the run (owned ones).
   void book_initial_momentum(const ParticleStore& p);
@@ -82,8 +85,9 @@ class MomentumLedger {
   void book_first_half();
 
   std::size_t n_sources() const { return kFixedSources + n_bodies_; }
-  /// This rank's partial totals, 3 per source (x, y, z).
-  const std::vector<ExactSum>& partial() const { return totals_; }
+  /// The totals over the ranks and the free particles' momentum now (owned ones of `p`); the
+  /// outflow and inflow terms are left to the caller, who holds those sums. Collective.
+  MomentumBalance balance(const ParticleStore& p, const Communicator& comm) const;
 
   /// Totals and pending half kick over the ranks as ExactSum words. Collective.
   std::vector<std::int64_t> export_state(const Communicator& comm) const;
@@ -99,6 +103,7 @@ class MomentumLedger {
   }
 
   std::size_t n_bodies_ = 0;
+  bool enabled_ = true;
   std::vector<ExactSum> totals_;   ///< 3 per source
   std::vector<ExactSum> pending_;  ///< 3 per source: the next first half kick
   std::vector<std::uint32_t> held_;

@@ -49,6 +49,7 @@ SimulationSettings settings_from_case(const CaseConfig& c) {
   s.skin = c.simulation.skin;
   s.gravity = c.simulation.gravity;
   s.imbalance_threshold = c.simulation.imbalance_threshold;
+  s.momentum_ledger = c.scenario.type == "free_run";
   return s;
 }
 
@@ -105,7 +106,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   find_typed_terms();
   outflow_ = OutflowSink(model_.outflow);
   inflow_ = InflowSource(model_.inflow);
-  momentum_ = MomentumLedger(model_.bodies.size());
+  momentum_ = MomentumLedger(model_.bodies.size(), settings_.momentum_ledger);
   ParticleStore& p = model_.particles;
   // Each rank built a slice of every source; move the particles to the owners of their blocks.
   decomposition_.distribute_initial(p, pair_stores());
@@ -147,7 +148,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   inflow_ = InflowSource(model_.inflow);
   inflow_.restore(restart.inflow_batches, restart.inflow_next_due, restart.inflow_totals,
                   comm_.is_root());
-  momentum_ = MomentumLedger(model_.bodies.size());
+  momentum_ = MomentumLedger(model_.bodies.size(), settings_.momentum_ledger);
   momentum_.import_state(restart.momentum, comm_.is_root());
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("restart state has no valid time step");
@@ -356,9 +357,10 @@ void Simulation::build_lists() {
   ledger_.rebuild(gather_, allocator_.size());
   // The mass that gravity pulls on changes only when particles come or go, which rebuilds.
   ExactSum free_mass;
-  for (std::size_t k = 0; k < p.n_local(); ++k)
-    if (p.motion[k] == Motion::kFree) free_mass.add(p.mass[k]);
-  momentum_.rebuild(p, comm_.sum_exact({free_mass})[0]);
+  if (momentum_.enabled())
+    for (std::size_t k = 0; k < p.n_local(); ++k)
+      if (p.motion[k] == Motion::kFree) free_mass.add(p.mass[k]);
+  momentum_.rebuild(p, momentum_.enabled() ? comm_.sum_exact({free_mass})[0] : 0.0);
 }
 
 void Simulation::book_momentum(bool initial) {
@@ -597,7 +599,7 @@ void Simulation::exchange_grains() {
   };
   if (outflow_pending_) {  // every rank knows: the last step's reduction
     before_change();
-    for (std::size_t k = 0; k < p.n_local(); ++k)
+    for (std::size_t k = 0; k < p.n_local() && momentum_.enabled(); ++k)
       if (outflow_.leaving(p, k)) momentum_.book_leaving(p, k, 0.5 * dt_);
     outflow_.remove_leaving(p, settings_.gravity, dt_);
     outflow_pending_ = false;
@@ -649,30 +651,7 @@ Simulation::GrainFlux Simulation::inflow_totals() const {
 }
 
 MomentumBalance Simulation::momentum_balance() const {
-  const ParticleStore& p = model_.particles;
-  std::vector<ExactSum> partial = momentum_.partial();
-  const std::size_t now = partial.size();
-  partial.resize(now + 3);
-  for (std::size_t k = 0; k < p.n_local(); ++k) {
-    if (p.motion[k] != Motion::kFree) continue;
-    const Vec3 q = p.velocity[k] * p.mass[k];
-    partial[now].add(q.x);
-    partial[now + 1].add(q.y);
-    partial[now + 2].add(q.z);
-  }
-  const std::vector<double> sums = comm_.sum_exact(partial);
-  const auto column = [&sums](std::size_t source) {
-    return Vec3{sums[3 * source], sums[3 * source + 1], sums[3 * source + 2]};
-  };
-  MomentumBalance b;
-  b.momentum = {sums[now], sums[now + 1], sums[now + 2]};
-  b.initial = column(MomentumLedger::kInitial);
-  b.gravity = column(MomentumLedger::kGravity);
-  b.point_loads = column(MomentumLedger::kPointLoads);
-  b.held = column(MomentumLedger::kHeld);
-  b.exchange = column(MomentumLedger::kExchange);
-  for (std::size_t i = 0; i < model_.bodies.size(); ++i)
-    b.bodies.push_back(column(MomentumLedger::kFixedSources + i));
+  MomentumBalance b = momentum_.balance(model_.particles, comm_);
   b.outflow = outflow_totals().momentum;
   b.inflow = inflow_totals().momentum;
   return b;
