@@ -229,6 +229,8 @@ void Simulation::change_time_step(double dt) {
     p.dissipated_global[k] += shift * p.power_global[k];
     p.boundary_work[k] += shift * p.power_boundary[k];
   }
+  // The momentum ledger's booked half kick (MomentumLedger) stays at the old dt/2: an exact sum
+  // cannot be rescaled exactly, so the balance keeps (dt - dt_old)/2 times that step's loads.
   dt_ = dt;
   dt_origin_step_ = steps_;
   dt_origin_time_ = time_;
