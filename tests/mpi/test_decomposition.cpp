@@ -76,6 +76,30 @@ std::map<std::int64_t, int> owners(const Communicator& c, const ParticleStore& p
   return out;
 }
 
+/// Every particle within one block of an owned particle is here (the brute-force neighbourhood
+/// of the whole lattice), and every ghost lies in a block next to a block of an owned particle:
+/// the ghost layer is one block thick, whatever the partition cells are.
+void expect_one_block_ghost_layer(const ParticleStore& p, const Vec3& shift) {
+  ParticleStore all;
+  BondStore unused;
+  make_lattice(all, unused);
+  std::set<std::int64_t> here(p.gid.begin(), p.gid.end());
+  for (std::size_t a = 0; a < p.n_local(); ++a)
+    for (std::size_t b = 0; b < all.n_local(); ++b)
+      if (norm(all.position[b] + shift - p.position[a]) < kBlock) {
+        EXPECT_TRUE(here.count(all.gid[b])) << "neighbour " << all.gid[b] << " of " << p.gid[a];
+      }
+  const auto index = [](double x) { return static_cast<long>(std::floor(x / kBlock)); };
+  for (std::size_t g = p.n_local(); g < p.n_total(); ++g) {
+    bool next_to_owned = false;
+    for (std::size_t a = 0; a < p.n_local() && !next_to_owned; ++a)
+      next_to_owned = std::abs(index(p.position[g].x) - index(p.position[a].x)) <= 1 &&
+                      std::abs(index(p.position[g].y) - index(p.position[a].y)) <= 1 &&
+                      std::abs(index(p.position[g].z) - index(p.position[a].z)) <= 1;
+    EXPECT_TRUE(next_to_owned) << "ghost " << p.gid[g] << " is beyond the one-block layer";
+  }
+}
+
 TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
   const Communicator c(comm_);
   ParticleStore p;
@@ -96,17 +120,10 @@ TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
   // Gid-encoded once-only field came with the ghost.
   for (std::size_t k = 0; k < p.n_total(); ++k)
     EXPECT_EQ(p.radius[k], 0.002);
-  // Every particle within one block of an owned particle is present (owned or ghost): the
-  // brute-force neighbourhood of the whole lattice.
+  expect_one_block_ghost_layer(p, {});
   ParticleStore all;
   BondStore unused;
   make_lattice(all, unused);
-  std::set<std::int64_t> here(p.gid.begin(), p.gid.end());
-  for (std::size_t a = 0; a < p.n_local(); ++a)
-    for (std::size_t b = 0; b < all.n_local(); ++b)
-      if (norm(all.position[b] - p.position[a]) < kBlock) {
-        EXPECT_TRUE(here.count(all.gid[b])) << "neighbour " << all.gid[b] << " of " << p.gid[a];
-      }
   // Bonds: exactly those with an owned end.
   std::size_t expected_bonds = 0;
   for (std::size_t b = 0; b < unused.size(); ++b) {
@@ -175,30 +192,6 @@ TEST_F(Decomposition, MigrationCarriesParticlesBondsAndHistory) {
     holders_of_30 += bonds.gid_a[b] == 30;
   const bool own_an_end = after.at(30) == c.rank() || after.at(31) == c.rank();
   EXPECT_EQ(holders_of_30, own_an_end ? 1 : 0);
-}
-
-/// Every particle within one block of an owned particle is here (the brute-force neighbourhood
-/// of the whole lattice), and every ghost lies in a block next to a block of an owned particle:
-/// the ghost layer is one block thick, whatever the partition cells are.
-void expect_one_block_ghost_layer(const ParticleStore& p, const Vec3& shift) {
-  ParticleStore all;
-  BondStore unused;
-  make_lattice(all, unused);
-  std::set<std::int64_t> here(p.gid.begin(), p.gid.end());
-  for (std::size_t a = 0; a < p.n_local(); ++a)
-    for (std::size_t b = 0; b < all.n_local(); ++b)
-      if (norm(all.position[b] + shift - p.position[a]) < kBlock) {
-        EXPECT_TRUE(here.count(all.gid[b])) << "neighbour " << all.gid[b] << " of " << p.gid[a];
-      }
-  const auto index = [](double x) { return static_cast<long>(std::floor(x / kBlock)); };
-  for (std::size_t g = p.n_local(); g < p.n_total(); ++g) {
-    bool next_to_owned = false;
-    for (std::size_t a = 0; a < p.n_local() && !next_to_owned; ++a)
-      next_to_owned = std::abs(index(p.position[g].x) - index(p.position[a].x)) <= 1 &&
-                      std::abs(index(p.position[g].y) - index(p.position[a].y)) <= 1 &&
-                      std::abs(index(p.position[g].z) - index(p.position[a].z)) <= 1;
-    EXPECT_TRUE(next_to_owned) << "ghost " << p.gid[g] << " is beyond the one-block layer";
-  }
 }
 
 // Partition cells of 3 x 3 x 3 blocks (what large models get, so that no rank holds a map entry
