@@ -100,6 +100,19 @@ void expect_one_block_ghost_layer(const ParticleStore& p, const Vec3& shift) {
   }
 }
 
+/// Rank-encoded refresh: owners write rank + 1, ghosts (poisoned first) must read their
+/// owner's rank + 1 after update_ghosts.
+void expect_rank_encoded_refresh(const Communicator& c, ParticleStore& p, DomainDecomposition& d,
+                                 const std::map<std::int64_t, int>& owner) {
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    p.velocity[k] = {c.rank() + 1.0, 0, 0};
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
+    p.velocity[k] = {-1, 0, 0};
+  d.update_ghosts(p);
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
+    EXPECT_EQ(p.velocity[k].x, owner.at(p.gid[k]) + 1.0) << "ghost gid " << p.gid[k];
+}
+
 TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
   const Communicator c(comm_);
   ParticleStore p;
@@ -109,14 +122,7 @@ TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
   DomainDecomposition d(c, kBlock, 0.1);
   d.distribute_initial(p, {&bonds});
   const auto owner = owners(c, p, n_total);
-  // Rank-encoded refresh: owners write rank + 1, ghosts must read their owner's rank + 1.
-  for (std::size_t k = 0; k < p.n_local(); ++k)
-    p.velocity[k] = {c.rank() + 1.0, 0, 0};
-  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
-    p.velocity[k] = {-1, 0, 0};
-  d.update_ghosts(p);
-  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
-    EXPECT_EQ(p.velocity[k].x, owner.at(p.gid[k]) + 1.0) << "ghost gid " << p.gid[k];
+  expect_rank_encoded_refresh(c, p, d, owner);
   // Gid-encoded once-only field came with the ghost.
   for (std::size_t k = 0; k < p.n_total(); ++k)
     EXPECT_EQ(p.radius[k], 0.002);
@@ -213,11 +219,7 @@ TEST_F(Decomposition, CellsOfSeveralBlocksKeepTheGhostLayerOneBlockThick) {
   EXPECT_EQ(d.cells(), 9);
   // Rank-encoded refresh through the cells' ghost lists.
   std::map<std::int64_t, int> owner = owners(c, p, n_total);
-  for (std::size_t k = 0; k < p.n_local(); ++k)
-    p.velocity[k] = {c.rank() + 1.0, 0, 0};
-  d.update_ghosts(p);
-  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
-    EXPECT_EQ(p.velocity[k].x, owner.at(p.gid[k]) + 1.0) << "ghost gid " << p.gid[k];
+  expect_rank_encoded_refresh(c, p, d, owner);
   // Shift by 4 blocks and repartition: the cells are other ones, the layer is the same.
   const Vec3 shift{4 * kBlock, 2 * kBlock, 0};
   for (std::size_t k = 0; k < p.n_total(); ++k)
