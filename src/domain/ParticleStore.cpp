@@ -21,7 +21,7 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   const bool fixed = p.motion == Motion::kFixed;
   velocity[i] = fixed ? Vec3{} : p.velocity;
   omega[i] = fixed ? Vec3{} : p.omega;
-  orientation[i] = p.orientation;
+  if (tracks_orientation_) orientation[i] = p.orientation;
   force[i] = {};
   torque[i] = {};
   radius[i] = p.radius;
@@ -33,6 +33,15 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   motion[i] = p.motion;
   index_.set(static_cast<std::uint32_t>(i), gid.data(), gid.size());
   return i;
+}
+
+void ParticleStore::set_tracks_orientation(bool on) {
+  if (on == tracks_orientation_) return;
+  tracks_orientation_ = on;
+  if (on)
+    orientation.assign(n_total(), Quat{});
+  else
+    std::vector<Quat>().swap(orientation);  // the memory goes back, not only the size
 }
 
 void ParticleStore::resize_local(std::size_t n) {

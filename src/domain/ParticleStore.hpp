@@ -50,6 +50,8 @@ class ParticleStore {
   std::vector<Vec3> position;
   std::vector<Vec3> velocity;
   std::vector<Vec3> omega;  ///< angular velocity, world frame
+  /// Only while tracks_orientation(): bonds are all that read it; a model without bonds keeps
+  /// this column empty.
   std::vector<Quat> orientation;
   std::vector<Vec3> force;
   std::vector<Vec3> torque;
@@ -113,7 +115,7 @@ class ParticleStore {
     f(FieldInfo{"position", kState | kGhostStep | kOutput}, position);
     f(FieldInfo{"velocity", kState | kGhostStep | kOutput}, velocity);
     f(FieldInfo{"omega", kState | kGhostStep | kOutput}, omega);
-    f(FieldInfo{"orientation", kState | kGhostStep}, orientation);
+    if (tracks_orientation_) f(FieldInfo{"orientation", kState | kGhostStep}, orientation);
     f(FieldInfo{"force", kState}, force);
     f(FieldInfo{"torque", kState}, torque);
     f(FieldInfo{"radius", kState | kGhostOnce | kOutput}, radius);
@@ -134,6 +136,13 @@ class ParticleStore {
     f(FieldInfo{"tangential_energy", kState}, tangential_energy);
     f(FieldInfo{"contact_energy", kState}, contact_energy);
   }
+
+  /// Whether the store keeps the particles' orientations. Only bonds read them (the beam ends'
+  /// frames): a model without bonds turns the column off, which takes 32 B a particle out of
+  /// memory, of every migration and ghost refresh and of checkpoints. On by default.
+  bool tracks_orientation() const { return tracks_orientation_; }
+  /// Turns the column on (every particle at the identity) or off (emptied).
+  void set_tracks_orientation(bool on);
 
   std::size_t n_local() const { return n_local_; }
   std::size_t n_ghost() const { return n_ghost_; }
@@ -179,6 +188,7 @@ class ParticleStore {
  private:
   void resize_all(std::size_t n);
 
+  bool tracks_orientation_ = true;
   std::size_t n_local_ = 0;
   std::size_t n_ghost_ = 0;
   GidIndex index_;

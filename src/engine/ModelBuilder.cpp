@@ -247,6 +247,9 @@ ModelPlan plan_model(const CaseConfig& c) {
     model.initial_particles += src->count();
     model.initial_bonds += src->bond_count();
   }
+  // Only bonds read orientations, and only the start-up sources create bonds (inlets emit
+  // grains): the same answer on every rank, at start-up and on restart.
+  model.particles.set_tracks_orientation(model.initial_bonds > 0);
 
   // Inlets: gids above every start-up source's, 2^48 apart per inlet (batches of a million
   // items each leave room for 2.8e8 batches).
@@ -359,6 +362,8 @@ void add_bond(Model& model, std::int64_t id, const BondEnd& a, const BondEnd& b,
 
 void add_bond(Model& model, std::size_t index_a, std::size_t index_b, int bond_type,
               std::uint64_t seed) {
+  // A model built without bonds keeps no orientations: its particles sit at the identity.
+  model.particles.set_tracks_orientation(true);
   const ParticleStore& p = model.particles;
   const auto end = [&](std::size_t i) {
     return BondEnd{p.gid[i], p.position[i], p.orientation[i], p.radius[i]};

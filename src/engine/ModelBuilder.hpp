@@ -37,7 +37,9 @@ double group_damping(const CaseConfig& config, const std::string& group);
 /// (seed, gid pair).
 void add_bond(Model& model, std::int64_t id, const BondEnd& a, const BondEnd& b, int bond_type,
               std::uint64_t seed);
-/// The same between two particles of this rank's store (by index), with the next free id.
+/// The same between two particles of this rank's store (by index), with the next free id. A
+/// model built without bonds starts keeping orientations here (ParticleStore::
+/// tracks_orientation), its particles at the identity.
 void add_bond(Model& model, std::size_t index_a, std::size_t index_b, int bond_type,
               std::uint64_t seed);
 

@@ -78,6 +78,8 @@ void Simulation::find_typed_terms() {
     if (auto* b = dynamic_cast<BodyContactTerm*>(t.get())) body_term_ = b;
   // Only bonds read a particle's orientation: without any, the drift leaves it alone.
   track_orientations_ = comm_.max(model_.bonds.size() > 0 ? 1.0 : 0.0) > 0.0;
+  if (track_orientations_ && !model_.particles.tracks_orientation())
+    throw std::logic_error("a model with bonds must keep the particles' orientations");
 }
 
 double Simulation::block_size() const {

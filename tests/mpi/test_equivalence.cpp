@@ -51,7 +51,8 @@ State gather_state(const Simulation& sim) {
   const ParticleStore& p = sim.model().particles;
   std::vector<ParticleRecord> mine;
   for (std::size_t k = 0; k < p.n_local(); ++k)
-    mine.push_back({p.gid[k], p.position[k], p.velocity[k], p.omega[k], p.orientation[k]});
+    mine.push_back({p.gid[k], p.position[k], p.velocity[k], p.omega[k],
+                    p.tracks_orientation() ? p.orientation[k] : Quat{}});
   State s;
   s.particles = sim.comm().allgather(mine);
   std::sort(s.particles.begin(), s.particles.end(),

@@ -8,7 +8,9 @@
 #include <tuple>
 
 #include "TestCases.hpp"
+#include "comm/Communicator.hpp"
 #include "engine/ModelBuilder.hpp"
+#include "engine/Simulation.hpp"
 #include "io/SizeEstimate.hpp"
 
 namespace ringdem {
@@ -147,6 +149,36 @@ TEST(ParticleSources, RingBondsJoinConsecutiveParticlesOfOneRing) {
     EXPECT_TRUE(d == 1 || d == ring_size - 1) << "bond " << k << " spans " << d;
     EXPECT_NEAR(m.bonds.length0[k], norm(p.position[b] - p.position[a]), 1e-15);
   }
+}
+
+// Only bonds read a particle's orientation. A model without bonds keeps no orientation column:
+// not in memory, not among the fields that migrate, go to ghosts or into checkpoints, also while
+// grains arrive and leave. A model with bonds keeps one for every particle.
+TEST(ParticleSources, OnlyModelsWithBondsKeepOrientations) {
+  const auto registered = [](ParticleStore& p) {
+    bool found = false;
+    p.for_each_field([&](const FieldInfo& f, auto&) { found = found || f.name == "orientation"; });
+    return found;
+  };
+  Model bonded = build_model(every_source());
+  ASSERT_GT(bonded.bonds.size(), 0u);
+  EXPECT_TRUE(bonded.particles.tracks_orientation());
+  EXPECT_EQ(bonded.particles.orientation.size(), bonded.particles.n_total());
+  EXPECT_TRUE(registered(bonded.particles));
+
+  const CaseConfig c = testing::grains_entering_and_leaving();
+  Model grains = build_model(c);
+  ASSERT_GT(grains.particles.n_local(), 0u);
+  EXPECT_FALSE(grains.particles.tracks_orientation());
+  EXPECT_FALSE(registered(grains.particles));
+  EXPECT_EQ(grains.particles.orientation.capacity(), 0u);
+  const Communicator comm = testing::self_comm();
+  Simulation sim(std::move(grains), comm, settings_from_case(c));
+  const std::int64_t before = sim.inflow_totals().grains;
+  sim.run_steps(2000);
+  ASSERT_GT(sim.inflow_totals().grains, before) << "no grain arrived: the test checks nothing";
+  ASSERT_GT(sim.outflow_totals().grains, 0) << "no grain left: the test checks nothing";
+  EXPECT_EQ(sim.model().particles.orientation.capacity(), 0u);
 }
 
 }  // namespace
