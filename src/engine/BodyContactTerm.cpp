@@ -44,7 +44,7 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
   const ParticleStore& p = ctx.particles;
   ForceSlots& slots = ctx.slots;
   EnergyLedger& ledger = ctx.ledger;
-  body_loads_.clear();
+  body_load_sums_.assign(kLoadColumns * ctx.bodies.size(), ExactSum{});
   std::vector<Vec3>& spring = springs_.spring;
   for (std::size_t w = 0; w < particle_.size(); ++w) {
     const std::uint32_t k = particle_[w];
@@ -85,8 +85,13 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
                            r.elastic_energy,
                            static_cast<std::int32_t>(body_[w])};
     const Vec3 torque_on_body = cross(contact - body.position, -r.force_i);
-    body_loads_.push_back(
-        {p.gid[k], static_cast<std::int32_t>(body_[w]), -r.force_i, torque_on_body});
+    ExactSum* const sums = &body_load_sums_[kLoadColumns * body_[w]];
+    sums[kForceX].add(-r.force_i.x);
+    sums[kForceY].add(-r.force_i.y);
+    sums[kForceZ].add(-r.force_i.z);
+    sums[kTorqueX].add(torque_on_body.x);
+    sums[kTorqueY].add(torque_on_body.y);
+    sums[kTorqueZ].add(torque_on_body.z);
   }
 }
 

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "comm/ExactSum.hpp"
 #include "engine/ForceTerm.hpp"
 
 namespace ringdem {
@@ -22,22 +23,20 @@ class BodyContactTerm final : public ForceTerm {
   void find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies, double fraction,
                      std::vector<ContactOverlap>& out) const override;
 
-  /// One particle's contact load on a rigid body in the last compute(), summed by the
-  /// simulation in (body, gid) order over all ranks.
-  struct BodyLoad {
-    std::int64_t gid;
-    std::int32_t body;
-    Vec3 force;   ///< on the body
-    Vec3 torque;  ///< on the body, about its reference point
-  };
-  const std::vector<BodyLoad>& body_loads() const { return body_loads_; }
+  /// Columns of body_load_sums(), per body.
+  enum LoadColumn { kForceX, kForceY, kForceZ, kTorqueX, kTorqueY, kTorqueZ, kLoadColumns };
+  /// This rank's exact partial sums (comm/ExactSum) of the contact loads on each rigid body in
+  /// the last compute(): body b's column c at kLoadColumns b + c. The force on the body, and
+  /// its torque about the body's reference point. Exact, so the simulation's sum over the ranks
+  /// does not depend on how the contacts are spread over them.
+  const std::vector<ExactSum>& body_load_sums() const { return body_load_sums_; }
 
  private:
   std::vector<std::uint32_t> particle_, body_;
   /// Row w: contact w (gid of particle_[w], partner the body's number).
   ContactSpringStore springs_{ContactSpringStore::Partner::kRigidBody};
   SlotRange slots_;
-  std::vector<BodyLoad> body_loads_;
+  std::vector<ExactSum> body_load_sums_;
 };
 
 }  // namespace ringdem

@@ -543,19 +543,15 @@ void Simulation::compute_forces(bool loads_started) {
 
 void Simulation::reduce_body_loads() {
   if (model_.bodies.empty() || body_term_ == nullptr) return;
-  // Every rank sums all contributions in (body, gid) order: the same bits for any rank count.
-  auto loads = comm_.allgather(body_term_->body_loads());
-  std::sort(loads.begin(), loads.end(), [](const auto& x, const auto& y) {
-    return x.body < y.body || (x.body == y.body && x.gid < y.gid);
-  });
-  for (auto& b : model_.bodies) {
-    b.force = {};
-    b.torque = {};
-  }
-  for (const auto& l : loads) {
-    RigidBody& b = model_.bodies[static_cast<std::size_t>(l.body)];
-    b.force += l.force;
-    b.torque += l.torque;
+  // Each body's load is the exact sum of its contacts' loads: the same bits on any rank count,
+  // in one all-reduce of a few words per body whatever the number of contacts. No rank gathers
+  // the others' contacts (a debris flow's bed touches every grain that rests on it).
+  using L = BodyContactTerm::LoadColumn;
+  const std::vector<double> total = comm_.sum_exact(body_term_->body_load_sums());
+  for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
+    const double* const t = &total[L::kLoadColumns * b];
+    model_.bodies[b].force = {t[L::kForceX], t[L::kForceY], t[L::kForceZ]};
+    model_.bodies[b].torque = {t[L::kTorqueX], t[L::kTorqueY], t[L::kTorqueZ]};
   }
 }
 
