@@ -38,7 +38,12 @@ Inputs (all from OUTDIR, as ringdem wrote them):
   Note how ringdem measures them: h is the highest grain top above the bed in the gauge (a
   saltating grain raises it), rho = gauge mass / (gauge length x scenario.barrier.width x h),
   so rho h is the solid mass per unit bed area and does not depend on how h is defined, while
-  rho g h^2 grows with h: an overestimated h raises both bounds.
+  rho g h^2 grows with h: an overestimated h raises both bounds. --depth centroid takes h
+  from flow_depth_centroid_m instead, twice the mass-weighted mean height of the gauge's grain
+  centres (the depth of a uniform layer with the same centroid; a saltating grain moves it by
+  its mass share only), and rho = the same gauge mass over that h. It assumes a layer resting
+  on the bed: over a sparse front of grains off the bed it exceeds the top depth (a lone grain
+  at height z gives 2 z), and the largest over the rows used may come from there.
 - w: the barrier width, --width (or scenario.barrier.width of --case); rho is used as the run
   measured it, whatever --width says.
 - g = 9.81 m/s^2 (the guidance's g, not its component normal to an inclined bed; --g changes it).
@@ -119,6 +124,9 @@ def main():
     ap.add_argument("--alpha", type=pair, help="alpha range MIN,MAX (overrides --barrier)")
     ap.add_argument("--k", type=pair, help="k range MIN,MAX (overrides --barrier)")
     ap.add_argument("--g", type=float, default=9.81, help="g in the static term (m/s^2)")
+    ap.add_argument("--depth", choices=("top", "centroid"), default="top",
+                    help="h: the highest grain top (flow_depth_m) or twice the mass-weighted "
+                         "mean height of the grain centres (flow_depth_centroid_m)")
     ap.add_argument("--force", choices=("mean", "sample"),
                     help="judge the interval-mean force (default where written) or the sampled one")
     ap.add_argument("--window", type=float, default=0.0,
@@ -146,6 +154,8 @@ def main():
             raise ValueError("--force mean: the run wrote no barrier_mean_force_N (older ringdem)")
         force_col = "barrier_mean_force_N" if kind == "mean" else "barrier_force_N"
         need = ("time_s", force_col, "flow_depth_m", "flow_velocity_m_s", "bulk_density_kg_m3")
+        if a.depth == "centroid":
+            need += ("flow_depth_centroid_m",)
         missing = [c for c in need if not rows or c not in rows[0]]
         if missing:
             raise ValueError(f"series.csv lacks {', '.join(missing)}")
@@ -193,12 +203,19 @@ def main():
         print("FAIL: no series row before the peak force has flow at the gauge "
               "(flow_depth_m > 0): the gauge saw no approaching flow")
         return 1
-    h = max(col["flow_depth_m"][i] for i in use)
     v = max(col["flow_velocity_m_s"][i] for i in use)
-    rho = max(col["bulk_density_kg_m3"][i] for i in use)
+    if a.depth == "centroid":
+        # The same gauge mass over the centroid depth: rho h stays what the run measured.
+        h = max(col["flow_depth_centroid_m"][i] for i in use)
+        rho = max(col["bulk_density_kg_m3"][i] * col["flow_depth_m"][i] /
+                  col["flow_depth_centroid_m"][i] for i in use if col["flow_depth_centroid_m"][i] > 0)
+    else:
+        h = max(col["flow_depth_m"][i] for i in use)
+        rho = max(col["bulk_density_kg_m3"][i] for i in use)
     t0, t1 = col["time_s"][use[0]], col["time_s"][use[-1]]
     print(f"gauge rows used         {len(use)} rows, t = {t0:.6g} .. {t1:.6g} s (flow at the gauge, up to the peak)")
-    print(f"flow depth              h     = {h:.6g} m (largest)")
+    print(f"flow depth              h     = {h:.6g} m (largest; "
+          f"{'centroid depth' if a.depth == 'centroid' else 'highest grain top'})")
     print(f"flow velocity           v     = {v:.6g} m/s (largest)")
     print(f"bulk density            rho   = {rho:.6g} kg/m^3 (largest)")
     print(f"barrier width           w     = {w:.6g} m")

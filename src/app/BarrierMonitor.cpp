@@ -64,8 +64,9 @@ BarrierSample BarrierMonitor::sample(const Simulation& sim) const {
   const Vec3 up = rotate(bed.orientation, Vec3{0, 0, 1});  // a plane's normal is its body z
   const double gauge_hi = -config_.gauge_distance, gauge_lo = gauge_hi - config_.gauge_length;
 
-  // Exact sums: gauge mass, gauge momentum along d, retained mass, overflow mass.
-  std::vector<ExactSum> sums(4);
+  // Exact sums: gauge mass, gauge momentum along d, retained mass, overflow mass, gauge mass
+  // moment of height above the bed.
+  std::vector<ExactSum> sums(5);
   double depth = 0.0, front = -std::numeric_limits<double>::infinity();
   double reach = -std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < p.n_local(); ++k) {
@@ -78,7 +79,9 @@ BarrierSample BarrierMonitor::sample(const Simulation& sim) const {
     if (s >= gauge_lo && s <= gauge_hi) {
       sums[0].add(p.mass[k]);
       sums[1].add(p.mass[k] * dot(p.velocity[k], d));
-      depth = std::max(depth, dot(p.position[k] - bed.position, up) + p.radius[k]);
+      const double height = dot(p.position[k] - bed.position, up);
+      sums[4].add(p.mass[k] * height);
+      depth = std::max(depth, height + p.radius[k]);
     }
   }
   const std::vector<double> total = comm.sum_exact(sums);
@@ -88,6 +91,7 @@ BarrierSample BarrierMonitor::sample(const Simulation& sim) const {
   out.retained_mass = total[2];
   out.overflow_mass = total[3];
   out.flow_depth = comm.max(depth);
+  out.flow_depth_centroid = total[0] > 0.0 ? 2.0 * total[4] / total[0] : 0.0;
   out.front = comm.max(front);
   out.net_reach = comm.max(reach);
   if (config_.width > 0.0 && out.flow_depth > 0.0)

@@ -20,8 +20,12 @@ struct BarrierSample {
   double net_force = 0.0;    ///< along d: contact load on the frame holding the net [N]
   double posts_force = 0.0;  ///< along d: contact force on the posts [N]
   /// Gauge section, s in [-(gauge_distance + gauge_length), -gauge_distance]: flow grains there.
-  double gauge_mass = 0.0;     ///< [kg]
-  double flow_depth = 0.0;     ///< highest grain top above the bed [m] (0: no grain)
+  double gauge_mass = 0.0;  ///< [kg]
+  double flow_depth = 0.0;  ///< highest grain top above the bed [m] (0: no grain)
+  /// Twice the mass-weighted mean height of the grain centres above the bed [m] (0: no grain):
+  /// the depth of a layer of uniform bulk density with the same centroid. A grain saltating
+  /// above the flow moves it by its share of the mass, not to its own height.
+  double flow_depth_centroid = 0.0;
   double flow_velocity = 0.0;  ///< mass-weighted mean velocity along d [m/s] (0: no grain)
   double bulk_density = 0.0;   ///< gauge mass / (gauge length x width x depth) [kg/m^3]
   double front = -std::numeric_limits<double>::infinity();  ///< largest s + r of a grain [m]

@@ -48,10 +48,11 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
     barrier_.emplace(*config_.scenario.barrier, sim);
     for (const char* c :
          {"barrier_net_force_N", "barrier_posts_force_N", "barrier_force_N", "flow_depth_m",
-          "flow_velocity_m_s", "bulk_density_kg_m3", "front_m", "front_velocity_m_s",
-          "retained_mass_kg", "overflow_mass_kg", "net_deflection_m", "net_max_utilisation",
-          "net_max_utilisation_x_m", "net_max_utilisation_y_m", "net_max_utilisation_z_m",
-          "barrier_mean_net_force_N", "barrier_mean_posts_force_N", "barrier_mean_force_N"})
+          "flow_depth_centroid_m", "flow_velocity_m_s", "bulk_density_kg_m3", "front_m",
+          "front_velocity_m_s", "retained_mass_kg", "overflow_mass_kg", "net_deflection_m",
+          "net_max_utilisation", "net_max_utilisation_x_m", "net_max_utilisation_y_m",
+          "net_max_utilisation_z_m", "barrier_mean_net_force_N", "barrier_mean_posts_force_N",
+          "barrier_mean_force_N"})
       columns.push_back(c);
   }
   if (sim.comm().is_root() && !output_dir_.empty())
@@ -162,10 +163,10 @@ void FreeRunDriver::record_barrier(const Simulation& sim, const MomentumBalance&
     r.max_utilisation_z = b.utilisation_at.z;
   }
   for (const double v :
-       {b.net_force, b.posts_force, total, b.flow_depth, b.flow_velocity, b.bulk_density,
-        std::isfinite(b.front) ? b.front : std::nan(""), front_velocity, b.retained_mass,
-        b.overflow_mass, deflection, b.max_utilisation, b.utilisation_at.x, b.utilisation_at.y,
-        b.utilisation_at.z, mean_net, mean_posts, mean_net + mean_posts})
+       {b.net_force, b.posts_force, total, b.flow_depth, b.flow_depth_centroid, b.flow_velocity,
+        b.bulk_density, std::isfinite(b.front) ? b.front : std::nan(""), front_velocity,
+        b.retained_mass, b.overflow_mass, deflection, b.max_utilisation, b.utilisation_at.x,
+        b.utilisation_at.y, b.utilisation_at.z, mean_net, mean_posts, mean_net + mean_posts})
     row.push_back(v);
 }
 

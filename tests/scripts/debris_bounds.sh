@@ -48,6 +48,18 @@ echo "--- the run against the bounds (rigid barrier, w = 0.2 m), interval-mean f
 echo "--- the same with the sampled force:"
 "$py" "$check" "$work/out" --width 0.2 --barrier rigid --force sample \
   || { echo "FAIL: the peak sampled force is outside the hydrodynamic bounds"; exit 1; }
+echo "--- the same with the centroid depth (a saltating grain does not set h):"
+"$py" "$check" "$work/out" --width 0.2 --barrier rigid --depth centroid \
+  || { echo "FAIL: the peak mean force is outside the bounds of the centroid depth"; exit 1; }
+"$py" - "$work/out/series.csv" <<'PY'
+import csv, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if float(r["flow_depth_m"]) > 0]
+# Twice the mean centre height never exceeds twice the highest centre, which lies r_min below
+# the highest top: a bound independent of how the column is computed.
+bad = [r for r in rows if float(r["flow_depth_centroid_m"]) > 2 * float(r["flow_depth_m"])]
+assert rows and not bad, f"centroid depth above twice the top depth: {bad[:1]}"
+print(f"--- centroid depth within twice the top depth in {len(rows)} rows")
+PY
 
 # The check must be able to fail: a wrong width and a force scaled up or down.
 expect_fail() {  # label, check arguments...

@@ -83,6 +83,7 @@ TEST(BarrierMonitor, FlowMeasuresAreTheHandSums) {
   EXPECT_NEAR(s.gauge_mass, ma + mb, 1e-15 * (ma + mb));
   EXPECT_NEAR(s.flow_velocity, (2.0 * ma + 4.0 * mb) / (ma + mb), 1e-14);
   EXPECT_DOUBLE_EQ(s.flow_depth, 0.3 + 0.01);  // A's top above the bed
+  EXPECT_NEAR(s.flow_depth_centroid, 2.0 * (0.3 * ma + 0.1 * mb) / (ma + mb), 1e-14);
   EXPECT_NEAR(s.bulk_density, (ma + mb) / (0.5 * 0.4 * 0.31), 1e-12 * s.bulk_density);
   EXPECT_NEAR(s.retained_mass, ma + mb + mc, 1e-15 * (ma + mb + mc));  // s in [-2, 0]
   EXPECT_NEAR(s.overflow_mass, md, 1e-15 * md);
@@ -97,6 +98,39 @@ TEST(BarrierMonitor, FlowMeasuresAreTheHandSums) {
   EXPECT_EQ(s.max_utilisation, 0.0);
   const Vec3 mid = 0.5 * (p.position[p.index_of(0)] + p.position[p.index_of(1)]);
   EXPECT_LT(norm(s.utilisation_at - mid), 1e-15);
+}
+
+// The centroid depth of a uniform layer is its depth: a lattice of grains 4 deep resting on the
+// bed in the gauge section (its centres at r, 3r, 5r, 7r: twice their mean is 8r, the layer's
+// top). One grain saltating at five times that height sets the highest-top depth to its own
+// top, and moves the centroid depth only by twice its mass share of its height above the mean.
+TEST(BarrierMonitor, CentroidDepthIsTheLayerDepthAndBarelyFeelsASaltatingGrain) {
+  CaseConfig c = barrier_case();
+  const double r = 0.01, layer = 8 * r;
+  LatticeConfig bed_layer;
+  bed_layer.group = "debris";
+  bed_layer.origin = {-1.45, -0.04, r};
+  bed_layer.count = {20, 5, 4};
+  bed_layer.spacing = 2 * r;
+  bed_layer.particle_radius = r;
+  c.lattices = {bed_layer};
+  SphereConfig saltating;
+  saltating.group = "debris";
+  saltating.radius = r;
+  saltating.position = {-1.25, 0.0, 5 * layer};
+  c.spheres = {saltating};
+  const Communicator comm = self_comm();
+  SimulationSettings st = settings_from_case(c);
+  st.dt = 1e-7;
+  Simulation sim(build_model(c), comm, st);
+  const BarrierSample s = BarrierMonitor(*c.scenario.barrier, sim).sample(sim);
+  const double grains = 20 * 5 * 4 + 1;
+  EXPECT_DOUBLE_EQ(s.flow_depth, 5 * layer + r);
+  // Equal masses: twice the mean height is (400 layer + 2 (5 layer)) / 401 = layer + 2 (4.5 layer)
+  // / 401, the layer's depth plus the saltating grain's share.
+  const double expected = layer + 2.0 * (5 * layer - 0.5 * layer) / grains;
+  EXPECT_NEAR(s.flow_depth_centroid, expected, 1e-12);
+  EXPECT_LT(s.flow_depth_centroid - layer, 0.03 * layer);
 }
 
 // The mean forces over an interval (BarrierMonitor::impulse, from the momentum ledger) are the
