@@ -59,7 +59,7 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
   if (!std::is_sorted(carried_order_.begin(), carried_order_.end(), row_before))
     std::stable_sort(carried_order_.begin(), carried_order_.end(), row_before);
   const std::size_t np = pairs_.size();
-  spring_.assign(np, Vec3{});
+  spring_.reset(np);
   std::size_t c = 0;
   for (std::size_t m = 0; m < np && c < n_carried; ++m) {
     const std::int64_t key_a = p.gid[pairs_.i[m]], key_b = p.gid[pairs_.j[m]];
@@ -68,7 +68,7 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
       ++c;
     if (c < n_carried && carried.gid[carried_order_[c]] == key_a &&
         carried.partner[carried_order_[c]] == key_b)
-      spring_[m] = carried.spring[carried_order_[c]];
+      spring_.take(m) = carried.spring[carried_order_[c]];
   }
   // Read back: the keyed rows' memory goes until the next pack.
   springs_ = ContactSpringStore{ContactSpringStore::Partner::kParticle};
@@ -78,18 +78,19 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
 void PairContactTerm::pack_springs(const ParticleStore& p) {
   // Rows already in the store (a checkpoint's, before the first rebuild) stay.
   springs_.drop_released();
-  for (std::size_t m = 0; m < spring_.size(); ++m)
-    if (norm2(spring_[m]) > 0.0)
-      springs_.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_[m]);
+  for (std::size_t m = 0; m < spring_.n_candidates(); ++m)
+    if (spring_.holds(m) && norm2(spring_.value(m)) > 0.0)
+      springs_.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_.value(m));
   // The candidates are rebuilt next: their springs' memory goes before the search's comes.
-  std::vector<Vec3>().swap(spring_);
+  spring_.release_memory();
 }
 
 ContactSpringStore PairContactTerm::touching_springs(const ParticleStore& p) const {
   ContactSpringStore out = springs_;
   out.drop_released();
-  for (std::size_t m = 0; m < spring_.size(); ++m)
-    if (norm2(spring_[m]) > 0.0) out.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_[m]);
+  for (std::size_t m = 0; m < spring_.n_candidates(); ++m)
+    if (spring_.holds(m) && norm2(spring_.value(m)) > 0.0)
+      out.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_.value(m));
   return out;
 }
 
@@ -102,11 +103,12 @@ void PairContactTerm::compute(ComputeContext& ctx) {
   const std::uint32_t* const pair_b = pairs_.j.data();
   const Vec3* const position = p.position.data();
   const double* const radius = p.radius.data();
-  Vec3* const spring = spring_.data();
+  SpringSlots& springs = spring_;
   // Particle contacts (physics.md §3). The pairs come in ascending (gid of a, gid of b) order
   // (NeighbourSearch), and each adds its loads to both ends at once: every particle then gets
   // its contacts in ascending partner gid, the gather order (DESIGN §4), without a slot per
-  // pair. Most candidates do not touch: they cost a distance test and nothing is written.
+  // pair. Most candidates do not touch: they cost a distance test and a slot read, and hold no
+  // spring.
   for_each_in_order(IndexRange{0, pairs_.size()}, [&](std::size_t m) {
     const std::uint32_t a = pair_a[m];
     const std::uint32_t b = pair_b[m];
@@ -114,9 +116,10 @@ void PairContactTerm::compute(ComputeContext& ctx) {
     const double reach = radius[a] + radius[b];
     const double dist2 = norm2(d);
     if (dist2 >= reach * reach) {
-      if (spring[m].x != 0.0 || spring[m].y != 0.0 || spring[m].z != 0.0) spring[m] = {};
+      springs.release(m);  // an open contact's spring is zero (physics.md §3)
       return;
     }
+    Vec3& spring = springs.take(m);
     const double dist = std::sqrt(dist2);
     const Vec3 n = d / dist;
     const double overlap = reach - dist;
@@ -135,7 +138,7 @@ void PairContactTerm::compute(ComputeContext& ctx) {
     in.omega_i = p.omega[a];
     in.omega_j = p.omega[b];
     const auto r =
-        HertzMindlin::compute(ctx.materials.pair(p.material[a], p.material[b]), in, spring[m]);
+        HertzMindlin::compute(ctx.materials.pair(p.material[a], p.material[b]), in, spring);
     const Vec3 lever_a = n * arm_a;   // from a's centre to the contact point
     const Vec3 lever_b = n * -arm_b;  // from b's centre to the contact point
     // Each end's loads, and for the ledger its viscous and spring loads and moments
@@ -146,8 +149,8 @@ void PairContactTerm::compute(ComputeContext& ctx) {
       ContactMoments& c = ledger.moments(a);
       c.damping += r.damping_force_i;
       c.damping_moment += cross(lever_a, r.damping_force_i);
-      c.friction += spring[m];
-      c.friction_moment += cross(lever_a, spring[m]) + r.rolling_torque_i;
+      c.friction += spring;
+      c.friction_moment += cross(lever_a, spring) + r.rolling_torque_i;
       c.tangential_energy += 0.5 * r.tangential_energy;
       c.elastic_energy += 0.5 * r.elastic_energy;
     }
@@ -157,8 +160,8 @@ void PairContactTerm::compute(ComputeContext& ctx) {
       ContactMoments& c = ledger.moments(b);
       c.damping += -r.damping_force_i;
       c.damping_moment += cross(lever_b, -r.damping_force_i);
-      c.friction += -spring[m];
-      c.friction_moment += cross(lever_b, -spring[m]) + r.rolling_torque_j;
+      c.friction += -spring;
+      c.friction_moment += cross(lever_b, -spring) + r.rolling_torque_j;
       c.tangential_energy += 0.5 * r.tangential_energy;
       c.elastic_energy += 0.5 * r.elastic_energy;
     }

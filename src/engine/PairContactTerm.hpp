@@ -4,14 +4,15 @@
 #include <vector>
 
 #include "domain/NeighbourSearch.hpp"
+#include "domain/SpringSlots.hpp"
 #include "engine/ForceTerm.hpp"
 
 namespace ringdem {
 
 /// Contacts between particles (Hertz–Mindlin, physics.md §3): cell-grid candidate pairs with
 /// a Verlet skin in ascending gid order, each with its tangential spring. Between rebuilds the
-/// springs are a plain column beside the candidates (their keys are the candidates' gids, so
-/// no key columns: 16 bytes a candidate less); at a rebuild the touching ones go into the
+/// springs of the touching candidates are in SpringSlots (their keys are the candidates' gids,
+/// so no key columns; no spring where nothing touches); at a rebuild they go into the
 /// ContactSpringStore keyed by the gid pair, for migration, and come back by key. It takes no
 /// slots: each pair adds its loads to both ends' ParticleLoads and ContactMoments, in the
 /// gather order (ForceSlots.hpp).
@@ -34,8 +35,8 @@ class PairContactTerm final : public ForceTerm {
   NeighbourSearch search_;
   PairExclusions exclusions_;
   PairCandidates pairs_;
-  /// Spring m: pair m of pairs_ (physics.md §3), zero when not touching.
-  std::vector<Vec3> spring_;
+  /// The springs of pairs_'s touching candidates (physics.md §3).
+  SpringSlots spring_;
   /// Keyed rows (gid of end a, partner the gid of end b), only from pack_springs() (or a
   /// restart) to the next rebuild(): empty between rebuilds.
   ContactSpringStore springs_{ContactSpringStore::Partner::kParticle};

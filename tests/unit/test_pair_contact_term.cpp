@@ -195,5 +195,51 @@ TEST(PairContactTerm, RebuildGivesEveryPairItsCarriedSpring) {
   EXPECT_EQ(carried, before.size());
 }
 
+// A contact that opens forgets its spring (physics.md §3): the cloud is pulled apart so that no
+// candidate touches (its candidates kept), then put back. Its loads must then be those of its first
+// evaluation, from fresh springs, bit for bit, and nothing may be carried while it is apart.
+TEST(PairContactTerm, AnOpenedContactForgetsItsSpring) {
+  ParticleStore p = dense_cloud(300, 0, 13);
+  const MaterialTable materials({Material{"rock", 2600.0, 1e9, 0.25, 0.3, 0.5, 0.1}}, {});
+  const Vec3 gravity{0.0, 0.0, -9.81};
+  PairContactTerm term;
+  std::vector<ExcludedPair> excluded;
+  std::vector<RigidBody> bodies;
+  SlotAllocator allocator;
+  GatherMap gather;
+  gather.begin(p.n_local());
+  RebuildContext rebuild{p, bodies, 0.0005, excluded, allocator, gather, 0};
+  term.rebuild(rebuild);
+  gather.finish(p);
+  ForceSlots slots;
+  EnergyLedger ledger;
+  const auto compute = [&] {
+    GatherMap::initialise_loads(p, gravity);
+    ledger.begin_step(p.n_local());
+    ComputeContext ctx{
+        p,      bodies, materials, slots,
+        ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
+    term.compute(ctx);
+  };
+  compute();
+  const std::vector<Vec3> first_force = p.force, first_torque = p.torque;
+  ASSERT_GT(term.touching_springs(p).size(), 100u);
+  const std::vector<Vec3> together = p.position;
+  for (std::size_t k = 0; k < p.n_total(); ++k)  // in a row 10 cm apart: nothing touches
+    p.position[k] = Vec3{0.1 * static_cast<double>(k), 0.0, 0.0};
+  compute();
+  EXPECT_EQ(term.touching_springs(p).size(), 0u) << "an open contact keeps no spring";
+  p.position = together;
+  compute();
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    EXPECT_EQ(p.force[k].x, first_force[k].x) << "particle " << k;
+    EXPECT_EQ(p.force[k].y, first_force[k].y) << "particle " << k;
+    EXPECT_EQ(p.force[k].z, first_force[k].z) << "particle " << k;
+    EXPECT_EQ(p.torque[k].x, first_torque[k].x) << "particle " << k;
+    EXPECT_EQ(p.torque[k].y, first_torque[k].y) << "particle " << k;
+    EXPECT_EQ(p.torque[k].z, first_torque[k].z) << "particle " << k;
+  }
+}
+
 }  // namespace
 }  // namespace ringdem
