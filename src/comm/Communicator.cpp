@@ -101,7 +101,7 @@ std::vector<char> Communicator::alltoall_bytes(std::vector<std::vector<char>>&& 
                                                std::vector<int>& recv_counts) const {
   if (static_cast<int>(send.size()) != size_)
     throw std::invalid_argument("alltoall_bytes: one buffer per rank expected");
-  std::vector<int> send_counts(send.size()), send_displs(send.size(), 0);
+  std::vector<int> send_counts(send.size());
   std::size_t total = 0;
   for (const auto& b : send)
     total += b.size();
@@ -109,17 +109,30 @@ std::vector<char> Communicator::alltoall_bytes(std::vector<std::vector<char>>&& 
   packed.reserve(total);
   for (std::size_t r = 0; r < send.size(); ++r) {
     send_counts[r] = static_cast<int>(send[r].size());
-    send_displs[r] = static_cast<int>(packed.size());
     packed.insert(packed.end(), send[r].begin(), send[r].end());
     std::vector<char>().swap(send[r]);
   }
-  recv_counts.assign(send.size(), 0);
+  return alltoall_bytes(std::move(packed), send_counts, recv_counts);
+}
+
+std::vector<char> Communicator::alltoall_bytes(std::vector<char>&& packed,
+                                               const std::vector<int>& send_counts,
+                                               std::vector<int>& recv_counts) const {
+  if (static_cast<int>(send_counts.size()) != size_)
+    throw std::invalid_argument("alltoall_bytes: one count per rank expected");
+  std::vector<int> send_displs(send_counts.size(), 0);
+  std::partial_sum(send_counts.begin(), send_counts.end() - 1, send_displs.begin() + 1);
+  if (static_cast<std::size_t>(send_displs.back()) + static_cast<std::size_t>(send_counts.back()) !=
+      packed.size())
+    throw std::invalid_argument("alltoall_bytes: the counts do not add up to the buffer");
+  recv_counts.assign(send_counts.size(), 0);
   MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm_);
-  std::vector<int> recv_displs(send.size(), 0);
+  std::vector<int> recv_displs(send_counts.size(), 0);
   std::partial_sum(recv_counts.begin(), recv_counts.end() - 1, recv_displs.begin() + 1);
   std::vector<char> out(static_cast<std::size_t>(recv_displs.back() + recv_counts.back()));
   MPI_Alltoallv(packed.data(), send_counts.data(), send_displs.data(), MPI_BYTE, out.data(),
                 recv_counts.data(), recv_displs.data(), MPI_BYTE, comm_);
+  std::vector<char>().swap(packed);
   return out;
 }
 

@@ -86,6 +86,11 @@ class Communicator {
   /// one copy of what leaves, not two, at the peak of a run's memory.
   std::vector<char> alltoall_bytes(std::vector<std::vector<char>>&& send,
                                    std::vector<int>& recv_counts) const;
+  /// The same from one buffer that holds what goes to each rank one after the other,
+  /// send_counts[r] bytes for rank r: packed where it is built, with no copy (a migration's
+  /// peak then holds what leaves once). `packed` is freed before the result is returned.
+  std::vector<char> alltoall_bytes(std::vector<char>&& packed, const std::vector<int>& send_counts,
+                                   std::vector<int>& recv_counts) const;
 
   /// True on every rank when any rank passes true.
   bool any(bool v) const;

@@ -49,6 +49,17 @@ void pack_fields(Store& s, std::size_t i, unsigned flags, std::vector<char>& buf
   });
 }
 
+/// Writes the flagged fields of row i at `out` and returns the end (record_size bytes).
+template <class Store>
+char* pack_fields_at(Store& s, std::size_t i, unsigned flags, char* out) {
+  s.for_each_field([&](const FieldInfo& f, auto& v) {
+    if (!(f.flags & flags)) return;
+    std::memcpy(out, static_cast<const void*>(&v[i]), sizeof(v[i]));
+    out += sizeof(v[i]);
+  });
+  return out;
+}
+
 template <class Store>
 const char* unpack_fields(Store& s, std::size_t i, unsigned flags, const char* data) {
   s.for_each_field([&](const FieldInfo& f, auto& v) {
@@ -371,18 +382,72 @@ void DomainDecomposition::redistribute(ParticleStore& p, const std::vector<PairS
   migrate(p, stores, to);
 }
 
+void DomainDecomposition::migrate_particles(ParticleStore& p, const std::vector<int>& owner) {
+  const int me = comm_.rank();
+  const unsigned migrate = field_flag::kMigrate;
+  const std::size_t p_size = record_size(p, migrate);
+  p.resize_ghosts(0);
+  // In rounds of at most an eighth of the store (and at least round_min_bytes_): each round
+  // packs its share of what leaves into one buffer, exactly sized, exchanges it, drops it from
+  // the store and appends what arrived into the room it left. At the start-up distribution
+  // most of a rank's particles leave it; in one round the store, what leaves and what arrives
+  // were all held at once, more than twice the store. Every rank takes part in every round.
+  constexpr std::size_t kRoundsPerStore = 8;
+  std::vector<int> dest(owner.begin(), owner.end());
+  const std::size_t n_leaving = static_cast<std::size_t>(
+      std::count_if(dest.begin(), dest.end(), [me](int r) { return r != me; }));
+  const std::size_t per_round =
+      std::max({std::size_t{1}, round_min_bytes_ / p_size, p.n_local() / kRoundsPerStore});
+  const std::int64_t rounds = comm_.max(
+      static_cast<std::int64_t>(std::max<std::size_t>(1, (n_leaving + per_round - 1) / per_round)));
+  last_rounds_ = rounds;
+  std::vector<int> send_counts(static_cast<std::size_t>(comm_.size()));
+  std::vector<std::size_t> send_at(send_counts.size());
+  std::vector<char> keep;
+  for (std::int64_t round = 0; round < rounds; ++round) {
+    // This round's share: the first per_round particles (in store order) that leave.
+    const std::size_t n = p.n_local();
+    keep.assign(n, 1);
+    std::fill(send_counts.begin(), send_counts.end(), 0);
+    for (std::size_t k = 0, taken = 0; k < n && taken < per_round; ++k)
+      if (dest[k] != me) {
+        keep[k] = 0;
+        ++taken;
+        send_counts[static_cast<std::size_t>(dest[k])] += static_cast<int>(p_size);
+      }
+    send_at[0] = 0;
+    for (std::size_t r = 1; r < send_at.size(); ++r)
+      send_at[r] = send_at[r - 1] + static_cast<std::size_t>(send_counts[r - 1]);
+    std::vector<char> send(send_at.back() + static_cast<std::size_t>(send_counts.back()));
+    for (std::size_t k = 0; k < n; ++k)
+      if (!keep[k]) {
+        std::size_t& at = send_at[static_cast<std::size_t>(dest[k])];
+        pack_fields_at(p, k, migrate, send.data() + at);
+        at += p_size;
+      }
+    std::vector<int> recv_counts;
+    const std::vector<char> arrived =
+        comm_.alltoall_bytes(std::move(send), send_counts, recv_counts);
+    const std::size_t n_kept = compact_rows(p, keep);
+    p.resize_local(n_kept);
+    std::size_t d = 0;
+    for (std::size_t k = 0; k < n; ++k)
+      if (keep[k]) dest[d++] = dest[k];
+    dest.resize(d);
+    const std::size_t n_in = arrived.size() / p_size;
+    p.resize_local(n_kept + n_in);
+    const char* data = arrived.data();
+    for (std::size_t k = 0; k < n_in; ++k)
+      data = unpack_fields(p, n_kept + k, migrate, data);
+    dest.resize(n_kept + n_in, me);
+  }
+}
+
 void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>& stores,
                                   const Destinations& to) {
   const int me = comm_.rank();
   const int n_ranks = comm_.size();
   const unsigned migrate = field_flag::kMigrate;
-  // Particles: one buffer per rank.
-  std::vector<std::vector<char>> send_p(static_cast<std::size_t>(n_ranks));
-  std::vector<char> keep(p.n_local());
-  for (std::size_t k = 0; k < p.n_local(); ++k) {
-    keep[k] = to.particle[k] == me;
-    if (!keep[k]) pack_fields(p, k, migrate, send_p[static_cast<std::size_t>(to.particle[k])]);
-  }
   // Rows of all pair stores in one exchange: per rank, each store's row count, then its rows.
   // A row goes to each owner of its ends (once when both are the same rank), in one pass.
   const auto n_stores = stores.size();
@@ -407,21 +472,10 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
     send_rows[r].insert(send_rows[r].end(), rows_to[r].begin(), rows_to[r].end());
   }
 
-  std::vector<int> counts;
-  const std::vector<char> recv_p = comm_.alltoall_bytes(std::move(send_p), counts);
   std::vector<int> row_bytes;
   const std::vector<char> recv_rows = comm_.alltoall_bytes(std::move(send_rows), row_bytes);
 
-  // Particles: drop ghosts and emigrants, append immigrants.
-  p.resize_ghosts(0);
-  const std::size_t n_kept = compact_rows(p, keep);
-  p.resize_local(n_kept);
-  const std::size_t p_size = record_size(p, migrate);
-  const std::size_t n_in = recv_p.size() / p_size;
-  p.resize_local(n_kept + n_in);
-  const char* data = recv_p.data();
-  for (std::size_t k = 0; k < n_in; ++k)
-    data = unpack_fields(p, n_kept + k, migrate, data);
+  migrate_particles(p, to.particle);
 
   // Rows: keep those with an end here, append the arrivals, and let each store settle them
   // (a bond store drops duplicates and restores its canonical order).
@@ -434,7 +488,7 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
       store.keep_rows(keep_row);
       first_arrival[s] = store.size();
     });
-  data = recv_rows.data();
+  const char* data = recv_rows.data();
   for (int r = 0; r < n_ranks && !stores.empty(); ++r) {
     const char* const end = data + row_bytes[static_cast<std::size_t>(r)];
     std::vector<std::uint64_t> n_rows(stores.size());

@@ -47,6 +47,13 @@ class DomainDecomposition {
   /// rebuilt. Each pair store holds this rank's rows on entry, the new ones on exit.
   void redistribute(ParticleStore& p, const std::vector<PairStore>& stores);
 
+  /// Particles migrate in rounds of at most max(bytes, an eighth of the store) each, so that a
+  /// migration in which most particles leave (the first distribution) never holds the store
+  /// and two copies of what moves at once. Default 8 MiB; tests set it small to get many rounds.
+  void set_migration_round_bytes(std::size_t bytes) { round_min_bytes_ = bytes; }
+  /// Rounds the last migration took (the same on every rank).
+  std::int64_t last_migration_rounds() const { return last_rounds_; }
+
   /// Refreshes the per-step ghost fields (field_flag::kGhostStep) from their owners.
   void update_ghosts(ParticleStore& p);
 
@@ -98,8 +105,12 @@ class DomainDecomposition {
   /// Moves the items to their destinations, lets each pair store settle its arrivals, keeps
   /// owned particles in gid order, and rebuilds the ghost layer.
   void migrate(ParticleStore& p, const std::vector<PairStore>& stores, const Destinations& to);
+  /// The particle part of migrate(): owned particle k goes to rank owner[k]; the ghosts go.
+  void migrate_particles(ParticleStore& p, const std::vector<int>& owner);
 
   const Communicator& comm_;
+  std::size_t round_min_bytes_ = std::size_t{8} << 20;
+  std::int64_t last_rounds_ = 0;
   double block_size_;
   double imbalance_threshold_;
   int fixed_cell_blocks_ = 0;                     ///< 0: k is chosen at each partition

@@ -283,6 +283,49 @@ TEST_F(Decomposition, FirstDistributionSendsBondsAndSpringsHeldAnywhereToTheirPa
   }
 }
 
+/// Every field of every particle a store holds (owned and ghosts), as bytes by field name.
+std::map<std::string, std::vector<char>> field_bytes(ParticleStore& p) {
+  std::map<std::string, std::vector<char>> out;
+  p.for_each_field([&](const FieldInfo& f, auto& v) {
+    const char* data = reinterpret_cast<const char*>(v.data());
+    out[std::string(f.name)].assign(data, data + v.size() * sizeof(v[0]));
+  });
+  return out;
+}
+
+// The first distribution in many small rounds must give every rank what one round gives: the
+// same particles and ghosts in the same order, every field the same bits, the same bonds.
+TEST_F(Decomposition, FirstDistributionInRoundsGivesWhatOneRoundGives) {
+  const Communicator c(comm_);
+  ParticleStore one_p, rounds_p;
+  BondStore one_b, rounds_b;
+  make_lattice(one_p, one_b, c.rank(), c.size());
+  make_lattice(rounds_p, rounds_b, c.rank(), c.size());
+  DomainDecomposition one(c, kBlock, 0.1), in_rounds(c, kBlock, 0.1);
+  in_rounds.set_migration_round_bytes(1);  // an eighth of the store a round
+  one.distribute_initial(one_p, {&one_b});
+  in_rounds.distribute_initial(rounds_p, {&rounds_b});
+  EXPECT_EQ(one.last_migration_rounds(), 1);
+  if (c.size() > 1) {
+    EXPECT_GE(in_rounds.last_migration_rounds(), 3);
+  }
+  ASSERT_EQ(rounds_p.n_local(), one_p.n_local());
+  ASSERT_EQ(rounds_p.n_total(), one_p.n_total());
+  EXPECT_TRUE(field_bytes(rounds_p) == field_bytes(one_p)) << "rank " << c.rank();
+  ASSERT_EQ(rounds_b.size(), one_b.size());
+  for (std::size_t b = 0; b < one_b.size(); ++b) {
+    EXPECT_EQ(rounds_b.id[b], one_b.id[b]);
+    EXPECT_EQ(rounds_b.model_column(0)[b], one_b.model_column(0)[b]);
+  }
+  // And nothing lost or doubled: every gid of the lattice is owned exactly once.
+  const std::int64_t n_total = c.sum(static_cast<std::int64_t>(rounds_p.n_local()));
+  EXPECT_EQ(n_total, 12 * 12 * 2);
+  std::int64_t gid_sum = 0;
+  for (std::size_t k = 0; k < rounds_p.n_local(); ++k)
+    gid_sum += rounds_p.gid[k];
+  EXPECT_EQ(c.sum(gid_sum), n_total * (n_total - 1) / 2);
+}
+
 TEST_F(Decomposition, FirstDistributionRefusesABondToAMissingParticle) {
   const Communicator c(comm_);
   ParticleStore p;
