@@ -214,6 +214,7 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
                 times.loop_seconds
           : 0.0;
   const FrameWriter* frames = control_->frames();
+  const MemoryUse memory = measure_memory_use(config_, comm);  // collective
 
   if (comm.is_root() && !output_dir_.empty()) {
     JsonObject summary;
@@ -229,6 +230,8 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("neighbour_rebuilds", static_cast<long long>(sim.rebuilds()))
         .set("wall_time_s", times.wall_seconds)
         .set("particle_steps_per_s", particle_steps_per_s)
+        .set("peak_memory_largest_rank_bytes", memory.peak_largest_rank)
+        .set("estimated_memory_per_rank_bytes", memory.estimate_per_rank)
         .set("final_kinetic_energy_J", e.kinetic)
         .set("max_kinetic_energy_J", max_kinetic_)
         .set("final_bond_energy_J", e.bond_elastic)
@@ -298,7 +301,7 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
   }
 
   if (comm.is_root() && verbose_) {
-    print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size());
+    print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size(), memory);
     fmt::print("results: {}/summary.json, {}/series.csv\n", output_dir_, output_dir_);
     if (frames)
       fmt::print("frames: {} ({} frames, {:.2f} s writing); open {} in ParaView\n",

@@ -544,6 +544,7 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
   const std::int64_t broken = sim.global_broken_bonds();
   const std::int64_t n_bonds = sim.global_bonds();
   const FrameWriter* frames = control_->frames();
+  const MemoryUse memory = measure_memory_use(config_, comm);
   // Every impact, the one cut off by simulation.end_time included.
   std::vector<ImpactRecord> impacts = impacts_;
   if (phase_ == kImpact && impacts.size() < static_cast<std::size_t>(impact_))
@@ -598,6 +599,8 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("impact_wall_time_s", impact_wall)
         .set("particle_steps_per_s", particle_steps_per_s)
         .set("particle_steps_per_s_per_rank", particle_steps_per_s / comm.size())
+        .set("peak_memory_largest_rank_bytes", memory.peak_largest_rank)
+        .set("estimated_memory_per_rank_bytes", memory.estimate_per_rank)
         .set("restarted", control_->restarted())
         .set("frames", static_cast<long long>(frames ? frames->frames() : 0))
         .set("frame_output_s", frames ? frames->seconds() : 0.0);
@@ -610,7 +613,7 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
     s.write(output_dir_ + "/summary.json");
   }
   if (print_) {
-    print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size());
+    print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size(), memory);
     if (reached_end_time_)
       fmt::print(
           "rockfall: stopped at simulation.end_time = {:.6g} s, {}\n", config_.simulation.end_time,

@@ -10,6 +10,7 @@
 #include "domain/RingGenerator.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
+#include "io/SizeEstimate.hpp"
 
 namespace ringdem {
 
@@ -83,8 +84,15 @@ void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64
     fmt::print("WARNING: dt exceeds the smallest stability limit; the run may blow up\n");
 }
 
+MemoryUse measure_memory_use(const CaseConfig& config, const Communicator& comm) {
+  MemoryUse m;
+  m.peak_largest_rank = comm.max(peak_resident_bytes());
+  m.estimate_per_rank = estimate_size(config).bytes_per_rank(comm.size());
+  return m;
+}
+
 void print_timing(const Simulation& sim, double loop_seconds, double particle_steps_per_s,
-                  int ranks) {
+                  int ranks, const MemoryUse& memory) {
   fmt::print("done: {} steps in {} ({:.3g} particle-steps/s, {:.1f} ns per particle-step)\n",
              sim.steps(), format_duration(loop_seconds), particle_steps_per_s,
              particle_steps_per_s > 0 ? 1e9 / particle_steps_per_s * ranks : 0.0);
@@ -95,6 +103,10 @@ void print_timing(const Simulation& sim, double loop_seconds, double particle_st
   for (int ph = 0; ph < Simulation::kPhaseCount; ++ph)
     fmt::print("  {:<10} {:8.2f} s  {:5.1f} %\n", Simulation::phase_name(ph),
                sim.phase_seconds()[ph], sum > 0 ? 100.0 * sim.phase_seconds()[ph] / sum : 0.0);
+  if (memory.peak_largest_rank > 0.0)
+    fmt::print("peak memory: {:.0f} MiB on the largest rank (start-up estimate {:.0f} MiB)\n",
+               memory.peak_largest_rank / (1024.0 * 1024.0),
+               memory.estimate_per_rank / (1024.0 * 1024.0));
 }
 
 int run_case(const CaseConfig& config, const RunOptions& options, const Communicator& comm) {

@@ -41,8 +41,15 @@ void print_banner(const CaseConfig& config, const std::string& out_dir, const Co
 /// case's (fixed or auto). Collective (every rank calls it); prints only if `print`.
 void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64_t planned_steps,
                      bool print, const std::string& time_step_origin = {});
-/// Steps, particle-steps/s and the time per phase (rank 0 of the simulation).
+/// Peak resident memory against the start-up size estimate (io/SizeEstimate.hpp).
+struct MemoryUse {
+  double peak_largest_rank = 0.0;  ///< bytes, the largest rank's peak (0 when unknown)
+  double estimate_per_rank = 0.0;  ///< bytes, what the refusal test assumed
+};
+/// Collective (every rank calls it): the peaks so far, and the estimate for this rank count.
+MemoryUse measure_memory_use(const CaseConfig& config, const Communicator& comm);
+/// Steps, particle-steps/s, the time per phase (rank 0 of the simulation) and the memory.
 void print_timing(const Simulation& sim, double loop_seconds, double particle_steps_per_s,
-                  int ranks);
+                  int ranks, const MemoryUse& memory);
 
 }  // namespace ringdem

@@ -303,7 +303,8 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
   result_.broken_bonds = sim.global_broken_bonds();
   result_.particles = sim.global_particles();
   const std::int64_t n_bonds = sim.global_bonds();  // collective: on every rank, before `write_`
-  const double plastic_work = sim.energies().plastic_work;  // collective too
+  const double plastic_work = sim.energies().plastic_work;     // collective too
+  const MemoryUse memory = measure_memory_use(config_, comm);  // collective too
   result_.steps = sim.steps();
   result_.final_displacement = meter_->displacement(sim.model().bodies);
   result_.particle_steps_per_s = times.loop_seconds > 0
@@ -341,7 +342,9 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("residual_displacement_m", or_nan(result_.residual_displacement))
         .set("steps", static_cast<long long>(result_.steps))
         .set("wall_time_s", result_.wall_time)
-        .set("particle_steps_per_s", result_.particle_steps_per_s);
+        .set("particle_steps_per_s", result_.particle_steps_per_s)
+        .set("peak_memory_largest_rank_bytes", memory.peak_largest_rank)
+        .set("estimated_memory_per_rank_bytes", memory.estimate_per_rank);
     summary.write(output_dir_ + "/summary.json");
   }
   if (comm.is_root() && verbose_) {
@@ -357,7 +360,7 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
                      ? fmt::format("the load is zero at u = {:.3f} mm (residual displacement)",
                                    1e3 * *result_.residual_displacement)
                      : std::string("the load did not fall to zero"));
-    print_timing(sim, times.loop_seconds, result_.particle_steps_per_s, comm.size());
+    print_timing(sim, times.loop_seconds, result_.particle_steps_per_s, comm.size(), memory);
     if (!output_dir_.empty())
       fmt::print("results: {0}/summary.json, {0}/series.csv\n", output_dir_);
   }

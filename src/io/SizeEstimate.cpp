@@ -53,16 +53,29 @@ SizeEstimate estimate_size(const CaseConfig& c) {
   return e;
 }
 
-double available_memory_bytes() {
-  std::ifstream in("/proc/meminfo");
+namespace {
+
+/// The value of `key` (a "Key:  N kB" line) in a /proc file, in bytes; 0 when absent.
+double proc_kib_entry(const char* file, const std::string& key) {
+  std::ifstream in(file);
   std::string line;
   while (std::getline(in, line)) {
     std::istringstream s(line);
-    std::string key;
+    std::string name;
     double kib = 0.0;
-    if (s >> key >> kib && key == "MemAvailable:") return kib * 1024.0;
+    if (s >> name >> kib && name == key) return kib * 1024.0;
   }
   return 0.0;
+}
+
+}  // namespace
+
+double available_memory_bytes() {
+  return proc_kib_entry("/proc/meminfo", "MemAvailable:");
+}
+
+double peak_resident_bytes() {
+  return proc_kib_entry("/proc/self/status", "VmHWM:");
 }
 
 std::string describe(const SizeEstimate& e, int ranks) {

@@ -33,6 +33,9 @@ SizeEstimate estimate_size(const CaseConfig& config);
 /// The memory this machine has available now (MemAvailable), in bytes; 0 when unknown.
 double available_memory_bytes();
 
+/// The peak resident memory of this process so far (VmHWM), in bytes; 0 when unknown.
+double peak_resident_bytes();
+
 /// A one-line report: particles, bonds, memory per rank.
 std::string describe(const SizeEstimate& estimate, int ranks);
 

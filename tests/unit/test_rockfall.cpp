@@ -238,12 +238,14 @@ std::size_t column(const std::vector<std::string>& header, const std::string& na
   return static_cast<std::size_t>(it - header.begin());
 }
 
-/// summary.json without what depends on the wall clock or on having restarted.
+/// summary.json without what depends on the wall clock, the process's memory or on having
+/// restarted.
 nlohmann::json summary_without_timings(const fs::path& file) {
   nlohmann::json j = nlohmann::json::parse(file_text(file));
   for (const char* key :
        {"wall_time_s", "sag_wall_time_s", "impact_wall_time_s", "particle_steps_per_s",
-        "particle_steps_per_s_per_rank", "time_per_phase_s", "frame_output_s", "restarted"})
+        "particle_steps_per_s_per_rank", "time_per_phase_s", "frame_output_s", "restarted",
+        "peak_memory_largest_rank_bytes"})
     j.erase(key);
   return j;
 }
