@@ -205,7 +205,8 @@ TEST(SizeEstimate, ClosedFormsCountWhatTheSourcesBuild) {
   // Memory per rank falls with the ranks, ghosts and the base aside.
   SizeEstimate big;
   big.particles = 1000000;
-  EXPECT_NEAR(big.bytes_per_rank(1), SizeEstimate::kBaseBytes + 2.0e9, 1.0);
+  EXPECT_NEAR(big.bytes_per_rank(1),
+              SizeEstimate::kBaseBytes + 1.0e6 * SizeEstimate::kBytesPerParticle, 1.0);
   EXPECT_LT(big.bytes_per_rank(4), 0.4 * big.bytes_per_rank(1));
 }
 
