@@ -1,6 +1,7 @@
 #include "comm/Communicator.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -127,9 +128,16 @@ std::vector<char> Communicator::alltoall_bytes(std::vector<char>&& packed,
     throw std::invalid_argument("alltoall_bytes: the counts do not add up to the buffer");
   recv_counts.assign(send_counts.size(), 0);
   MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm_);
+  // MPI's displacements are ints: refuse plainly what would overflow them.
+  const std::int64_t recv_total =
+      std::accumulate(recv_counts.begin(), recv_counts.end(), std::int64_t{0});
+  // Every rank throws, not only the one that would receive too much (the others would wait).
+  if (any(recv_total > std::numeric_limits<int>::max()))
+    throw std::runtime_error(
+        "alltoall_bytes: more than 2 GiB would arrive at one rank in one exchange");
   std::vector<int> recv_displs(send_counts.size(), 0);
   std::partial_sum(recv_counts.begin(), recv_counts.end() - 1, recv_displs.begin() + 1);
-  std::vector<char> out(static_cast<std::size_t>(recv_displs.back() + recv_counts.back()));
+  std::vector<char> out(static_cast<std::size_t>(recv_total));
   MPI_Alltoallv(packed.data(), send_counts.data(), send_displs.data(), MPI_BYTE, out.data(),
                 recv_counts.data(), recv_displs.data(), MPI_BYTE, comm_);
   std::vector<char>().swap(packed);

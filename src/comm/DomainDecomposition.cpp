@@ -392,12 +392,15 @@ void DomainDecomposition::migrate_particles(ParticleStore& p, const std::vector<
   // the store and appends what arrived into the room it left. At the start-up distribution
   // most of a rank's particles leave it; in one round the store, what leaves and what arrives
   // were all held at once, more than twice the store. Every rank takes part in every round.
+  // At most 1 GiB a round: MPI counts bytes in an int.
   constexpr std::size_t kRoundsPerStore = 8;
+  constexpr std::size_t kMaxRoundBytes = std::size_t{1} << 30;
   std::vector<int> dest(owner.begin(), owner.end());
   const std::size_t n_leaving = static_cast<std::size_t>(
       std::count_if(dest.begin(), dest.end(), [me](int r) { return r != me; }));
   const std::size_t per_round =
-      std::max({std::size_t{1}, round_min_bytes_ / p_size, p.n_local() / kRoundsPerStore});
+      std::min(std::max({std::size_t{1}, round_min_bytes_ / p_size, p.n_local() / kRoundsPerStore}),
+               kMaxRoundBytes / p_size);
   const std::int64_t rounds = comm_.max(
       static_cast<std::int64_t>(std::max<std::size_t>(1, (n_leaving + per_round - 1) / per_round)));
   last_rounds_ = rounds;
