@@ -23,9 +23,10 @@ std::int64_t odd_sites(std::int64_t a, std::int64_t length) {
 double SizeEstimate::bytes_per_rank(int ranks) const {
   const double share = 1.0 / ranks;
   const double ghosts = ranks > 1 ? kGhostFactor : 1.0;
-  return kBaseBytes + ghosts * share *
-                          (static_cast<double>(particles) * kBytesPerParticle +
-                           static_cast<double>(bonds) * kBytesPerBond);
+  return kBaseBytes + (writes_frames ? kFrameFileBytes : 0.0) +
+         ghosts * share *
+             (static_cast<double>(particles) * kBytesPerParticle +
+              static_cast<double>(bonds) * kBytesPerBond);
 }
 
 SizeEstimate estimate_size(const CaseConfig& c) {
@@ -50,6 +51,7 @@ SizeEstimate estimate_size(const CaseConfig& c) {
   for (const GrainsConfig& g : c.grains)
     e.particles += static_cast<std::int64_t>(std::llround(expected_grain_count(g)));
   e.particles += static_cast<std::int64_t>(c.spheres.size());
+  e.writes_frames = c.output.frame_interval > 0.0 || c.output.frame_interval_steps > 0;
   return e;
 }
 
