@@ -215,6 +215,7 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
           : 0.0;
   const FrameWriter* frames = control_->frames();
   const MemoryUse memory = measure_memory_use(config_, comm);  // collective
+  const PhaseSpread phases = measure_phases(sim);              // collective
 
   if (comm.is_root() && !output_dir_.empty()) {
     JsonObject summary;
@@ -239,7 +240,8 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("max_bond_utilisation", max_utilisation_)
         .set("restarted", control_->restarted())
         .set("frames", static_cast<long long>(frames ? frames->frames() : 0))
-        .set("frame_output_s", frames ? frames->seconds() : 0.0);
+        .set("frame_output_s", frames ? frames->seconds() : 0.0)
+        .set("time_per_phase_s", phase_spread_json(phases));
     JsonObject bodies;
     for (const auto& b : model.bodies) {
       JsonObject one;
@@ -301,7 +303,7 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
   }
 
   if (comm.is_root() && verbose_) {
-    print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size(), memory);
+    print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size(), memory, phases);
     fmt::print("results: {}/summary.json, {}/series.csv\n", output_dir_, output_dir_);
     if (frames)
       fmt::print("frames: {} ({} frames, {:.2f} s writing); open {} in ParaView\n",

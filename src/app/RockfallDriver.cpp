@@ -545,6 +545,7 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
   const std::int64_t n_bonds = sim.global_bonds();
   const FrameWriter* frames = control_->frames();
   const MemoryUse memory = measure_memory_use(config_, comm);
+  const PhaseSpread phases = measure_phases(sim);  // collective
   // Every impact, the one cut off by simulation.end_time included.
   std::vector<ImpactRecord> impacts = impacts_;
   if (phase_ == kImpact && impacts.size() < static_cast<std::size_t>(impact_))
@@ -604,16 +605,13 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("restarted", control_->restarted())
         .set("frames", static_cast<long long>(frames ? frames->frames() : 0))
         .set("frame_output_s", frames ? frames->seconds() : 0.0);
-    JsonObject phases;
-    for (int ph = 0; ph < Simulation::kPhaseCount; ++ph)
-      phases.set(Simulation::phase_name(ph), sim.phase_seconds()[ph]);
-    s.set("time_per_phase_s", phases);
+    s.set("time_per_phase_s", phase_spread_json(phases));
     s.set("impacts_planned", rf_.impacts);
     set_impacts(s, impacts, g_, impact_energy_);
     s.write(output_dir_ + "/summary.json");
   }
   if (print_) {
-    print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size(), memory);
+    print_timing(sim, times.loop_seconds, particle_steps_per_s, comm.size(), memory, phases);
     if (reached_end_time_)
       fmt::print(
           "rockfall: stopped at simulation.end_time = {:.6g} s, {}\n", config_.simulation.end_time,

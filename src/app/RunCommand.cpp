@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "app/ScenarioRunner.hpp"
+#include "comm/ExactSum.hpp"
 #include "core/Version.hpp"
 #include "domain/RingGenerator.hpp"
 #include "engine/Simulation.hpp"
@@ -91,18 +92,52 @@ MemoryUse measure_memory_use(const CaseConfig& config, const Communicator& comm)
   return m;
 }
 
+PhaseSpread measure_phases(const Simulation& sim) {
+  const Communicator& comm = sim.comm();
+  constexpr std::size_t n = Simulation::kPhaseCount;
+  const std::array<double, n>& mine = sim.phase_seconds();
+  std::array<double, n> negated{};
+  std::vector<ExactSum> partial(n);
+  for (std::size_t ph = 0; ph < n; ++ph) {
+    negated[ph] = -mine[ph];
+    partial[ph].add(mine[ph]);
+  }
+  const std::array<double, n> most = comm.max(mine);
+  const std::array<double, n> least = comm.max(negated);
+  const std::vector<double> total = comm.sum_exact(partial);
+  PhaseSpread s;
+  for (std::size_t ph = 0; ph < n; ++ph) {
+    s.names.emplace_back(Simulation::phase_name(static_cast<int>(ph)));
+    s.min.push_back(-least[ph]);
+    s.mean.push_back(total[ph] / comm.size());
+    s.max.push_back(most[ph]);
+  }
+  return s;
+}
+
+JsonObject phase_spread_json(const PhaseSpread& phases) {
+  JsonObject all;
+  for (std::size_t ph = 0; ph < phases.names.size(); ++ph) {
+    JsonObject one;
+    one.set("min", phases.min[ph]).set("mean", phases.mean[ph]).set("max", phases.max[ph]);
+    all.set(phases.names[ph], one);
+  }
+  return all;
+}
+
 void print_timing(const Simulation& sim, double loop_seconds, double particle_steps_per_s,
-                  int ranks, const MemoryUse& memory) {
+                  int ranks, const MemoryUse& memory, const PhaseSpread& phases) {
   fmt::print("done: {} steps in {} ({:.3g} particle-steps/s, {:.1f} ns per particle-step)\n",
              sim.steps(), format_duration(loop_seconds), particle_steps_per_s,
              particle_steps_per_s > 0 ? 1e9 / particle_steps_per_s * ranks : 0.0);
-  fmt::print("time per phase (rank 0):\n");
   double sum = 0;
-  for (double s : sim.phase_seconds())
+  for (double s : phases.mean)
     sum += s;
-  for (int ph = 0; ph < Simulation::kPhaseCount; ++ph)
-    fmt::print("  {:<10} {:8.2f} s  {:5.1f} %\n", Simulation::phase_name(ph),
-               sim.phase_seconds()[ph], sum > 0 ? 100.0 * sim.phase_seconds()[ph] / sum : 0.0);
+  fmt::print("time per phase over {} rank{}:  {:>9} {:>9} {:>9}  of mean\n", ranks,
+             ranks == 1 ? " " : "s", "min", "mean", "max");
+  for (std::size_t ph = 0; ph < phases.names.size(); ++ph)
+    fmt::print("  {:<27} {:8.2f}s {:8.2f}s {:8.2f}s  {:5.1f} %\n", phases.names[ph], phases.min[ph],
+               phases.mean[ph], phases.max[ph], sum > 0 ? 100.0 * phases.mean[ph] / sum : 0.0);
   if (memory.peak_largest_rank > 0.0)
     fmt::print("peak memory: {:.0f} MiB on the largest rank (start-up estimate {:.0f} MiB)\n",
                memory.peak_largest_rank / (1024.0 * 1024.0),

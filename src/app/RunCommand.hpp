@@ -7,6 +7,7 @@
 #include "app/RunControl.hpp"
 #include "comm/Communicator.hpp"
 #include "io/CaseConfig.hpp"
+#include "io/ResultsWriter.hpp"
 
 namespace ringdem {
 
@@ -48,8 +49,18 @@ struct MemoryUse {
 };
 /// Collective (every rank calls it): the peaks so far, and the estimate for this rank count.
 MemoryUse measure_memory_use(const CaseConfig& config, const Communicator& comm);
-/// Steps, particle-steps/s, the time per phase (rank 0 of the simulation) and the memory.
+/// The loop's seconds in each phase of Simulation::Phase over the ranks: the least, the mean
+/// and the most. A phase whose most is well above its mean is where ranks wait for others.
+struct PhaseSpread {
+  std::vector<std::string> names;
+  std::vector<double> min, mean, max;
+};
+/// Collective (every rank calls it).
+PhaseSpread measure_phases(const Simulation& sim);
+/// {"integrate": {"min": .., "mean": .., "max": ..}, ...} for summary.json.
+JsonObject phase_spread_json(const PhaseSpread& phases);
+/// Steps, particle-steps/s, the time per phase over the ranks and the memory.
 void print_timing(const Simulation& sim, double loop_seconds, double particle_steps_per_s,
-                  int ranks, const MemoryUse& memory);
+                  int ranks, const MemoryUse& memory, const PhaseSpread& phases);
 
 }  // namespace ringdem

@@ -305,6 +305,7 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
   const std::int64_t n_bonds = sim.global_bonds();  // collective: on every rank, before `write_`
   const double plastic_work = sim.energies().plastic_work;     // collective too
   const MemoryUse memory = measure_memory_use(config_, comm);  // collective too
+  const PhaseSpread phases = measure_phases(sim);              // collective
   result_.steps = sim.steps();
   result_.final_displacement = meter_->displacement(sim.model().bodies);
   result_.particle_steps_per_s = times.loop_seconds > 0
@@ -360,7 +361,8 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
                      ? fmt::format("the load is zero at u = {:.3f} mm (residual displacement)",
                                    1e3 * *result_.residual_displacement)
                      : std::string("the load did not fall to zero"));
-    print_timing(sim, times.loop_seconds, result_.particle_steps_per_s, comm.size(), memory);
+    print_timing(sim, times.loop_seconds, result_.particle_steps_per_s, comm.size(), memory,
+                 phases);
     if (!output_dir_.empty())
       fmt::print("results: {0}/summary.json, {0}/series.csv\n", output_dir_);
   }

@@ -54,7 +54,7 @@ SimulationSettings settings_from_case(const CaseConfig& c) {
 }
 
 const char* Simulation::phase_name(int phase) {
-  static const char* names[] = {"integrate", "neighbour", "bonds", "contacts", "gather"};
+  static const char* names[] = {"integrate", "comm", "neighbour", "bonds", "contacts", "gather"};
   return names[phase];
 }
 
@@ -558,8 +558,15 @@ void Simulation::reduce_body_loads() {
 void Simulation::step() {
   ParticleStore& p = model_.particles;
   if (outflow_pending_ || !inflow_.empty()) {
-    PhaseTimer t(phase_seconds_[kNeighbour]);
-    exchange_grains();
+    bool changed = false;
+    {
+      PhaseTimer t(phase_seconds_[kComm]);
+      changed = exchange_grains();
+    }
+    if (changed) {  // owned indices changed (on some rank): every rank rebuilds
+      PhaseTimer t(phase_seconds_[kNeighbour]);
+      rebuild();
+    }
   }
   momentum_.book_first_half();
   {
@@ -570,10 +577,15 @@ void Simulation::step() {
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);
   }
   time_ += dt_;
+  bool rebuild_now = false;
   {
-    PhaseTimer t(phase_seconds_[kNeighbour]);
+    PhaseTimer t(phase_seconds_[kComm]);
     decomposition_.update_ghosts(p);
-    if (needs_rebuild()) rebuild();
+    rebuild_now = needs_rebuild();
+  }
+  if (rebuild_now) {
+    PhaseTimer t(phase_seconds_[kNeighbour]);
+    rebuild();
   }
   compute_forces(/*loads_started=*/true);
   book_momentum(/*initial=*/false);
@@ -586,7 +598,7 @@ void Simulation::step() {
   ++steps_;
 }
 
-void Simulation::exchange_grains() {
+bool Simulation::exchange_grains() {
   ParticleStore& p = model_.particles;
   // Taking grains out or putting them in moves particle indices: the contact terms key their
   // springs by gid first, once, and the rebuild below reads them back.
@@ -613,7 +625,7 @@ void Simulation::exchange_grains() {
     inflow_.emit(i, p, time_, settings_.gravity, comm_.rank(), comm_.size());
     momentum_.book_arrivals(p, first_new, p.n_local(), 0.5 * dt_);
   }
-  if (changed) rebuild();  // owned indices changed (on some rank): every rank rebuilds
+  return changed;
 }
 
 void Simulation::run_steps(std::int64_t n) {

@@ -187,7 +187,10 @@ class Simulation {
   Energies energies();
 
   /// Seconds spent per phase since the start (this rank).
-  enum Phase { kIntegrate, kNeighbour, kBonds, kContacts, kGather, kPhaseCount };
+  /// Where the loop's time goes. kComm is the per-step traffic (ghost refresh, the one
+  /// reduction, grains in and out) and the waiting in it for slower ranks; kNeighbour is the
+  /// rebuild (migration, ghost lists, pair lists).
+  enum Phase { kIntegrate, kComm, kNeighbour, kBonds, kContacts, kGather, kPhaseCount };
   static const char* phase_name(int phase);
   const std::array<double, kPhaseCount>& phase_seconds() const { return phase_seconds_; }
 
@@ -217,8 +220,9 @@ class Simulation {
   /// The force terms of the model's bond and contact models (engine/ModelTable).
   static std::vector<std::unique_ptr<ForceTerm>> make_terms(Model& m);
   /// Takes out the grains that left an outflow box and puts in the inlets' due batches, at
-  /// the start of a step; rebuilds the lists when either changed the particles. Collective.
-  void exchange_grains();
+  /// the start of a step. Returns whether either changed the particles on some rank (the
+  /// same answer on every rank): then the lists must be rebuilt. Collective.
+  bool exchange_grains();
   /// Sets bond_term_ and body_term_, the terms the simulation asks more of than compute().
   void find_typed_terms();
   /// Block width of the decomposition: the widest term's partner distance plus the skin (the
