@@ -38,6 +38,35 @@ void for_each_neighbour_block(std::uint64_t key, F&& f) {
         f(pack_block(i + di, j + dj, k + dk));
 }
 
+/// floor(v / n) for n > 0, also for negative v.
+std::int64_t floor_div(std::int64_t v, std::int64_t n) {
+  return v >= 0 ? v / n : -((-v + n - 1) / n);
+}
+
+/// The cells of `cell_blocks` blocks a side that hold the 27 blocks around block `key`, each
+/// once: per axis the distinct cells of i - 1, i and i + 1 (one, or two at a cell's face, for
+/// cells of two blocks or more; three for one-block cells), and their product. The same set as
+/// mapping each of for_each_neighbour_block's blocks to its cell, without the 27 divisions and
+/// the search for repeats (most particles sit inside a cell: one cell, their own).
+template <class F>
+void for_each_cell_around_block(std::uint64_t key, std::int64_t cell_blocks, F&& f) {
+  std::int64_t b[3];
+  unpack_block(key, b[0], b[1], b[2]);
+  std::int64_t cells[3][3];
+  int count[3];
+  for (int a = 0; a < 3; ++a) {
+    count[a] = 0;
+    for (std::int64_t d = -1; d <= 1; ++d) {
+      const std::int64_t c = floor_div(b[a] + d, cell_blocks);  // rises with d: repeats adjoin
+      if (count[a] == 0 || cells[a][count[a] - 1] != c) cells[a][count[a]++] = c;
+    }
+  }
+  for (int x = 0; x < count[0]; ++x)
+    for (int y = 0; y < count[1]; ++y)
+      for (int z = 0; z < count[2]; ++z)
+        f(pack_block(cells[0][x], cells[1][y], cells[2][z]));
+}
+
 /// Appends the fields of element i that carry any of `flags` to buf, as bytes, in registry
 /// order; unpack_fields reads them back in the same order.
 template <class Store>
@@ -99,8 +128,7 @@ std::uint64_t DomainDecomposition::cell_of_block(std::uint64_t block) const {
   std::int64_t i, j, k;
   unpack_block(block, i, j, k);
   const std::int64_t n = cell_blocks_;
-  const auto floor_div = [n](std::int64_t v) { return v >= 0 ? v / n : -((-v + n - 1) / n); };
-  return pack_block(floor_div(i), floor_div(j), floor_div(k));
+  return pack_block(floor_div(i, n), floor_div(j, n), floor_div(k, n));
 }
 
 std::uint64_t DomainDecomposition::block_of(const Vec3& x) const {
@@ -526,24 +554,16 @@ void DomainDecomposition::build_ghosts(ParticleStore& p) {
   ghost_send_.assign(n_ranks, {});
   std::vector<std::vector<char>> send(n_ranks);
   std::vector<int> targets;
-  std::vector<std::uint64_t> cells;
   // With one rank every block is this rank's: nobody to send a ghost to.
   const std::size_t n_senders = n_ranks > 1 ? p.n_local() : 0;
   for (std::size_t k = 0; k < n_senders; ++k) {
     // The owners of the cells of the 27 blocks around this particle's (at most 8 cells when
     // a cell is two blocks wide or more; one inside a cell).
-    cells.clear();
-    for_each_neighbour_block(block_of(p.position[k]), [&](std::uint64_t key) {
-      const std::uint64_t cell = cell_of_block(key);
-      // One-block cells are 27 different ones: no search for repeats.
-      if (cell_blocks_ == 1 || std::find(cells.begin(), cells.end(), cell) == cells.end())
-        cells.push_back(cell);
-    });
     targets.clear();
-    for (const std::uint64_t cell : cells) {
+    for_each_cell_around_block(block_of(p.position[k]), cell_blocks_, [&](std::uint64_t cell) {
       const auto it = owner_.find(cell);
       if (it != owner_.end() && it->second != me) targets.push_back(it->second);
-    }
+    });
     std::sort(targets.begin(), targets.end());
     targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
     for (int r : targets) {
