@@ -1,71 +1,111 @@
 #!/usr/bin/env bash
-# Strong and weak scaling of whole runs (issue 4, issue 13 item 5). Builds the native preset,
-# generates the workloads and runs them at several rank counts.
+# Strong and weak scaling of whole runs (issue 4, issue 12, issue 13 item 5). Builds the native
+# preset, generates the workloads and runs them at several rank counts.
 #   scripts/bench/scaling.sh [MAX_RANKS] [GRAINS_PER_RANK]   (default: the number of cores, 0)
 # Strong: 200 rings (20 000 particles) at 1..MAX_RANKS ranks. Weak: 100 rings per rank.
 # With GRAINS_PER_RANK > 0 also weak scaling of a flowing packing (the `flow` bed of
 # scripts/bench/peer_granular.py: 5 mm grains sliding down a 35 degree incline, rebuilding
 # every ~35 steps) of about that many grains per rank, at 1, 2, 4, ... MAX_RANKS ranks, with
-# the loop's time per particle-step and the largest rank's peak memory.
+# the loop's time per particle-step, the largest rank's peak memory and the phases over the
+# ranks (mean and most: a most well above the mean is waiting), and then the same number of
+# independent 1-rank copies run at once: the node's own limit (memory bandwidth) without any
+# MPI traffic, to tell the code's loss from the machine's.
 # Ranks beyond the core count are oversubscribed and say so.
+# Environment: RINGDEM_BINARY (a built ringdem: no package install, no build), MPIRUN (the
+# launcher, default mpirun), MPIRUN_FLAGS (e.g. "--bind-to core"), PYTHON (default
+# /usr/bin/python3), SCALING_PARTS (default "strong weak flow").
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
-ringdem_install_packages
-ringdem_build native
 cd "$RINGDEM_ROOT"
+binary="${RINGDEM_BINARY:-}"
+if [ -z "$binary" ]; then
+  ringdem_install_packages
+  ringdem_build native
+  binary=build/native/ringdem
+fi
+mpirun_cmd="${MPIRUN:-mpirun}"
+read -r -a mpirun_flags <<<"${MPIRUN_FLAGS:-}"
+parts="${SCALING_PARTS:-strong weak flow}"
 cores=$(nproc)
 max_ranks="${1:-$cores}"
 grains_per_rank="${2:-0}"
-work=build/native/scaling
+work="${SCALING_WORK:-build/native/scaling}"
 mkdir -p "$work"
-py=/usr/bin/python3
+py="${PYTHON:-/usr/bin/python3}"
 
-run() {  # ranks case label
-  local ranks=$1 case=$2 label=$3
-  mpirun -np "$ranks" build/native/ringdem run "$case" -q -o "$work/$label" >/dev/null
-  $py - "$work/$label/summary.json" "$ranks" "$cores" "$label" <<'PY'
+report() {  # summary.json ranks label
+  "$py" - "$1" "$2" "$cores" "$3" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1])); ranks = int(sys.argv[2]); cores = int(sys.argv[3])
 rate = s["particle_steps_per_s"]
 note = " (oversubscribed)" if ranks > cores else ""
-print(f"{sys.argv[4]:<12} ranks {ranks:>2}  particles {s['particles']:>7}  "
-      f"{rate:10.4g} particle-steps/s  {rate / ranks:10.4g} per rank  "
-      f"{1e9 * ranks / rate:6.1f} ns/particle-step/rank{note}")
+peak = s.get("peak_memory_largest_rank_bytes", 0) / 2**20
+phases = s.get("time_per_phase_s", {})
+spread = "  ".join(f"{k} {v['mean']:.2f}/{v['max']:.2f}" for k, v in phases.items()
+                   if v["max"] > 0.005)
+print(f"{sys.argv[4]:<12} ranks {ranks:>2}  particles {s['particles']:>8}  "
+      f"{1e9 * ranks / rate:6.1f} ns/particle-step/rank  largest rank {peak:7.1f} MiB "
+      f"= {peak * 2**20 * ranks / s['particles']:5.0f} B/particle{note}")
+print(f"{'':<12} phases, mean/most over the ranks (s): {spread}")
 PY
 }
 
-$py scripts/bench/make_ring_grid.py --linked 20 10 "$work/strong.yaml"
-echo "strong scaling, linked net of 200 rings = 20 000 particles, 2.5k steps:"
-for ranks in $(seq 1 "$max_ranks"); do run "$ranks" "$work/strong.yaml" "strong_np$ranks"; done
+run() {  # ranks case label
+  local ranks=$1 case=$2 label=$3
+  "$mpirun_cmd" -np "$ranks" "${mpirun_flags[@]}" "$binary" run "$case" -q -o "$work/$label" \
+    --force-size >/dev/null
+  report "$work/$label/summary.json" "$ranks" "$label"
+}
 
-echo "weak scaling, 100 rings = 10 000 particles per rank:"
-for ranks in $(seq 1 "$max_ranks"); do
-  $py scripts/bench/make_ring_grid.py --linked 10 $((10 * ranks)) "$work/weak_np$ranks.yaml"
-  run "$ranks" "$work/weak_np$ranks.yaml" "weak_np$ranks"
-done
+if [[ " $parts " == *" strong "* ]]; then
+  $py scripts/bench/make_ring_grid.py --linked 20 10 "$work/strong.yaml"
+  echo "strong scaling, linked net of 200 rings = 20 000 particles, 2.5k steps:"
+  for ranks in $(seq 1 "$max_ranks"); do run "$ranks" "$work/strong.yaml" "strong_np$ranks"; done
+fi
 
-[ "$grains_per_rank" -gt 0 ] || exit 0
-echo "weak scaling, flowing packing of about $grains_per_rank grains per rank:"
-ranks=1
-while [ "$ranks" -le "$max_ranks" ]; do
-  case=$($py - "$work" "$((grains_per_rank * ranks))" <<'PY'
+if [[ " $parts " == *" weak "* ]]; then
+  echo "weak scaling, 100 rings = 10 000 particles per rank:"
+  for ranks in $(seq 1 "$max_ranks"); do
+    $py scripts/bench/make_ring_grid.py --linked 10 $((10 * ranks)) "$work/weak_np$ranks.yaml"
+    run "$ranks" "$work/weak_np$ranks.yaml" "weak_np$ranks"
+  done
+fi
+
+[ "$grains_per_rank" -gt 0 ] && [[ " $parts " == *" flow "* ]] || exit 0
+flow_case() {  # grains -> path of the case file
+  $py - "$work" "$1" <<'PY'
 import os, sys
 sys.path.insert(0, os.path.join(os.getcwd(), "scripts", "bench"))
 import peer_granular
 print(peer_granular.write_ringdem(sys.argv[1], "flow", int(sys.argv[2])))
 PY
-)
-  peak=$( { /usr/bin/time -f "%M" mpirun -np "$ranks" build/native/ringdem run "$case" -q \
-            -o "$work/flow_np$ranks" --force-size >/dev/null; } 2>&1 | tail -1)
-  $py - "$work/flow_np$ranks/summary.json" "$ranks" "$cores" "$peak" <<'PY'
-import json, sys
-s = json.load(open(sys.argv[1])); ranks = int(sys.argv[2]); cores = int(sys.argv[3])
-peak_mib = int(sys.argv[4]) / 1024
-note = " (oversubscribed)" if ranks > cores else ""
-per_rank = s["particles"] / ranks
-print(f"flow         ranks {ranks:>2}  grains {s['particles']:>8}  "
-      f"{1e9 * ranks / s['particle_steps_per_s']:6.1f} ns/particle-step/rank  "
-      f"largest rank {peak_mib:7.1f} MiB = {peak_mib * 2**20 / per_rank:5.0f} B/grain{note}")
-PY
+}
+echo "weak scaling, flowing packing of about $grains_per_rank grains per rank:"
+ranks=1
+while [ "$ranks" -le "$max_ranks" ]; do
+  run "$ranks" "$(flow_case $((grains_per_rank * ranks)))" "flow_np$ranks"
   ranks=$((ranks * 2))
+done
+echo "control: N independent 1-rank copies of the 1-rank flow at once (no MPI traffic):"
+one=$(flow_case "$grains_per_rank")
+copies=1
+while [ "$copies" -le "$max_ranks" ] && [ "$copies" -le "$cores" ]; do
+  pids=()
+  for i in $(seq 0 $((copies - 1))); do
+    # Each launcher would bind its one rank to the same first core: pin the copies instead.
+    pin=(); command -v taskset >/dev/null && pin=(taskset -c "$i")
+    "${pin[@]}" "$mpirun_cmd" -np 1 --bind-to none "$binary" run "$one" -q \
+      -o "$work/copy${copies}_$i" --force-size >/dev/null &
+    pids+=($!)
+  done
+  wait "${pids[@]}"
+  "$py" - "$work" "$copies" <<'PY'
+import json, sys
+w, n = sys.argv[1], int(sys.argv[2])
+ns = sorted(1e9 / json.load(open(f"{w}/copy{n}_{i}/summary.json"))["particle_steps_per_s"]
+            for i in range(n))
+print(f"copies {n:>2}  ns/particle-step: least {ns[0]:6.1f}  median {ns[len(ns) // 2]:6.1f}  "
+      f"most {ns[-1]:6.1f}")
+PY
+  copies=$((copies * 2))
 done
