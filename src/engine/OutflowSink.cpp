@@ -25,7 +25,23 @@ bool OutflowSink::leaving(const ParticleStore& p, std::size_t k) const {
 
 bool OutflowSink::any_leaving(const ParticleStore& p) const {
   if (boxes_.empty()) return false;
-  for (std::size_t k = 0; k < p.n_local(); ++k)
+  // Every step, and nearly always no: first a branch-free pass over the positions alone (a
+  // NaN compares false, never outside, as in leaving()). Only when some position is outside
+  // a box are the particle's motion, body and group read.
+  const Vec3* const x = p.position.data();
+  const std::size_t n = p.n_local();
+  bool some_outside = false;
+  for (const OutflowBox& b : boxes_) {
+    int outside = 0;
+#pragma omp simd reduction(| : outside)
+    for (std::size_t k = 0; k < n; ++k)
+      outside |= static_cast<int>(x[k].x < b.lo.x) | static_cast<int>(x[k].x > b.hi.x) |
+                 static_cast<int>(x[k].y < b.lo.y) | static_cast<int>(x[k].y > b.hi.y) |
+                 static_cast<int>(x[k].z < b.lo.z) | static_cast<int>(x[k].z > b.hi.z);
+    some_outside = some_outside || outside != 0;
+  }
+  if (!some_outside) return false;
+  for (std::size_t k = 0; k < n; ++k)
     if (leaving(p, k)) return true;
   return false;
 }
