@@ -158,26 +158,26 @@ std::vector<DomainDecomposition::CellLoad> DomainDecomposition::global_cells(
     if (mine.empty() || mine.back().key != keys[k]) mine.push_back({keys[k], 0, 0, comm_.rank()});
     ++mine.back().particles;
   }
-  // A row of a weighing store (a bond) counts in the cell of its first end, on the rank that
-  // counts it (an owned particle here: its cell is in `mine`).
-  keys.clear();
+  std::vector<std::uint64_t>().swap(keys);
+  // A row of a weighing store (a bond) counts its store's weight in the cell of its first end,
+  // on the rank that counts it (an owned particle here: its cell is in `mine`).
   for (const PairStore& handle : stores)
     visit_store(handle, [&](const auto& s) {
-      if (!std::remove_cvref_t<decltype(s)>::kWeighsBlocks) return;
-      for (std::size_t r = 0; r < s.size(); ++r) {
-        if (!counted_here(p, s, r)) continue;
-        const auto a = static_cast<std::size_t>(p.index_of(s.ends(r)[0]));
-        keys.push_back(cell_of(p.position[a]));
+      constexpr int weight = std::remove_cvref_t<decltype(s)>::kBlockWeight;
+      if constexpr (weight > 0) {
+        for (std::size_t r = 0; r < s.size(); ++r) {
+          if (!counted_here(p, s, r)) continue;
+          const auto a = static_cast<std::size_t>(p.index_of(s.ends(r)[0]));
+          const std::uint64_t key = cell_of(p.position[a]);
+          const auto it =
+              std::lower_bound(mine.begin(), mine.end(), key,
+                               [](const CellLoad& b, std::uint64_t k) { return b.key < k; });
+          if (it == mine.end() || it->key != key)
+            throw std::logic_error("a counted bond whose first end is in no occupied cell here");
+          it->rows += weight;
+        }
       }
     });
-  for (const std::uint64_t key : keys) {
-    const auto it = std::lower_bound(mine.begin(), mine.end(), key,
-                                     [](const CellLoad& b, std::uint64_t k) { return b.key < k; });
-    if (it == mine.end() || it->key != key)
-      throw std::logic_error("a counted bond whose first end is in no occupied cell here");
-    ++it->rows;
-  }
-  std::vector<std::uint64_t>().swap(keys);
   std::vector<CellLoad> all = comm_.size() > 1 ? comm_.allgather(mine) : std::move(mine);
   std::sort(all.begin(), all.end(), [](const CellLoad& a, const CellLoad& b) {
     return a.key < b.key || (a.key == b.key && a.rank < b.rank);

@@ -79,7 +79,7 @@ class DomainDecomposition {
   struct CellLoad {
     std::uint64_t key;
     std::int64_t particles;
-    std::int64_t rows;  ///< rows of the weighing pair stores (bonds) counted in the cell
+    std::int64_t rows;  ///< the weight of the pair-store rows (bonds) counted in the cell
     int rank;           ///< a rank with particles in the cell (the smallest, after merging)
   };
   /// Occupied cells of all ranks, merged and sorted by key (identical on every rank).

@@ -79,8 +79,12 @@ class BondStore {
 
   /// The particle gids bond k joins (the pair-store protocol, domain/PairStore.hpp).
   std::array<std::int64_t, 2> ends(std::size_t k) const { return {gid_a[k], gid_b[k]}; }
-  /// Bonds weigh the decomposition's blocks (they cost as much as particles to compute).
-  static constexpr bool kWeighsBlocks = true;
+  /// What a bond adds to its cell's weight in the decomposition, a particle counting 1. A
+  /// bond-step cost 53 ns against 42 ns for a grain's particle-step on the project's 2-core
+  /// machine, and 215 against about 104 ns on a 16-core node (the full debris case,
+  /// docs/scaling.md): two, so that a net with its bonds is not taken for twice as many grains
+  /// and left whole on one rank.
+  static constexpr int kBlockWeight = 2;
   /// n bonds; new rows are zero (the end indices too: they are resolved at the next rebuild).
   void resize(std::size_t n);
   /// Keeps the bonds k with keep[k] != 0, in order.

@@ -56,7 +56,7 @@ class ContactSpringStore {
     return {gid[k], partner_is_particle() ? partner[k] : std::int64_t{-1}};
   }
   /// Contact springs cost nothing a block weight should count.
-  static constexpr bool kWeighsBlocks = false;
+  static constexpr int kBlockWeight = 0;
   /// After migration appended rows: a row that came from both old owners is the same spring
   /// twice, and the terms look rows up by key, so neither duplicates nor order matter here.
   void settle_arrivals(std::size_t /*first*/) {}

@@ -19,7 +19,8 @@ namespace ringdem {
 ///   size(), for_each_field(f), ends(row) (the particle gids it joins; the second is -1 when
 ///   the partner is no particle), keep_rows(keep), resize(n), settle_arrivals(first) (after
 ///   migration appended rows [first, size()): drop duplicates, restore the store's order),
-///   and kWeighsBlocks (whether its rows count in the decomposition's block weights).
+///   and kBlockWeight (what a row adds to its cell's weight in the decomposition, a particle
+///   counting 1; 0: rows do not count).
 using PairStore = std::variant<BondStore*, ContactSpringStore*>;
 
 /// Calls f(store&) with the store behind the handle.

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "comm/DomainDecomposition.hpp"
+#include "domain/PairStore.hpp"
 #include "engine/TimoshenkoBondTerm.hpp"
 
 namespace ringdem {
@@ -324,6 +325,57 @@ TEST_F(Decomposition, FirstDistributionInRoundsGivesWhatOneRoundGives) {
   for (std::size_t k = 0; k < rounds_p.n_local(); ++k)
     gid_sum += rounds_p.gid[k];
   EXPECT_EQ(c.sum(gid_sum), n_total * (n_total - 1) / 2);
+}
+
+// The partition weighs a cell by its particles plus kBlockWeight per bond (plus 1): a strip of
+// 40 x 12 one-block cells whose left half is a bonded net (every particle bonded to its x
+// neighbour) and whose right half is loose grains. Each rank's particles plus weighted bonds are
+// the same to within METIS's tolerance; counted by particles alone, the net's rank would look
+// light.
+TEST_F(Decomposition, BondsWeighTheirCellsSoANetIsShared) {
+  const Communicator c(comm_);
+  ParticleStore p;
+  BondStore bonds;
+  constexpr int kNx = 40, kNy = 12;
+  std::int64_t bond_id = 0;
+  for (int j = 0; j < kNy; ++j)
+    for (int i = 0; i < kNx; ++i) {
+      const std::int64_t gid = j * kNx + i;
+      if (i + 1 < kNx / 2) {  // the net: bonded to the next particle along x
+        // Held with its first particle, as the ring sources emit them.
+        if (gid % c.size() == c.rank()) bonds.append(bond_id, gid, gid + 1, 0);
+        ++bond_id;
+      }
+      if (gid % c.size() != c.rank()) continue;
+      ParticleStore::NewParticle np;
+      np.gid = gid;
+      np.position = {kBlock * (i + 0.5), kBlock * (j + 0.5), 0.5 * kBlock};
+      np.radius = 0.002;
+      np.density = 1000;
+      p.add(np);
+    }
+  p.rebuild_index();
+  DomainDecomposition d(c, kBlock, /*imbalance_threshold=*/0.0, /*cell_blocks=*/1);
+  d.distribute_initial(p, {&bonds});
+  std::int64_t counted = 0;
+  for (std::size_t b = 0; b < bonds.size(); ++b)
+    counted += counted_here(p, bonds, b) ? 1 : 0;
+  // A cell's weight in the graph is its particles, its weighted bonds and 1 (no cell weighs
+  // nothing); with one particle a cell that 1 counts too.
+  const std::int64_t cells = d.report(p, bonds)[static_cast<std::size_t>(c.rank())].cells;
+  const std::int64_t weight =
+      static_cast<std::int64_t>(p.n_local()) + BondStore::kBlockWeight * counted + cells;
+  const double mean = static_cast<double>(c.sum(weight)) / c.size();
+  const double most = static_cast<double>(c.max(weight));
+  EXPECT_EQ(c.sum(counted), bond_id);
+  EXPECT_LE(most / mean, 1.08) << "rank " << c.rank() << ": " << p.n_local() << " particles, "
+                               << counted << " bonds";
+  if (c.size() > 1) {
+    // The net's share is heavier per particle: its rank holds fewer particles than the mean.
+    const double mean_particles = static_cast<double>(kNx * kNy) / c.size();
+    const double fewest = static_cast<double>(c.min(static_cast<std::int64_t>(p.n_local())));
+    EXPECT_LT(fewest, 0.9 * mean_particles);
+  }
 }
 
 TEST_F(Decomposition, FirstDistributionRefusesABondToAMissingParticle) {
