@@ -12,6 +12,7 @@
 #include "engine/LatticeSource.hpp"
 #include "engine/ModelTable.hpp"
 #include "engine/RingSource.hpp"
+#include "engine/SphereFileSource.hpp"
 #include "engine/SphereListSource.hpp"
 #include "io/GrainsInput.hpp"
 
@@ -74,8 +75,8 @@ RingSpec ring_spec(Model& model, const CaseConfig& c, const RingConfig& ring, in
 }
 
 /// The model without particles and bonds, plus the sources that create them, in case order:
-/// the `rings` entries, each net, the lattices, the grains, the listed spheres. Groups are numbered
-/// in the order the sources first name them.
+/// the `rings` entries, each net, the lattices, the grains, the listed spheres, the sphere files.
+/// Groups are numbered in the order the sources first name them.
 struct ModelPlan {
   Model model;
   std::vector<std::unique_ptr<ParticleSource>> sources;
@@ -241,6 +242,17 @@ ModelPlan plan_model(const CaseConfig& c) {
       spheres.push_back(np);
     }
     plan.sources.push_back(std::make_unique<SphereListSource>(std::move(spheres)));
+  }
+
+  for (const auto& f : c.sphere_files) {
+    ParticleStore::NewParticle prototype;
+    prototype.group = ensure_group(model, f.group);
+    prototype.material = material_index(model.materials, f.material);
+    prototype.velocity = f.velocity;
+    prototype.density = model.materials[static_cast<std::size_t>(prototype.material)].density;
+    prototype.damping = group_damping(c, f.group);
+    plan.sources.push_back(std::make_unique<SphereFileSource>(
+        SphereFile(SphereFile::resolve(f.path, c.source_path)), prototype));
   }
 
   for (const auto& src : plan.sources) {

@@ -176,6 +176,15 @@ struct SphereConfig {
   Motion motion = Motion::kFree;
 };
 
+/// Free spheres read from a CSV packing, x,y,z,radius a line (io/SphereFile.hpp).
+struct SphereFileConfig {
+  std::string path;  ///< as given; relative to the case file's folder
+  std::string group = "spheres";
+  std::string material;
+  Vec3 velocity;
+  std::int64_t count = 0;  ///< spheres in the file (validation reads it; not a case key)
+};
+
 enum class ShapeKind { kPlane, kCylinder, kSphere };
 
 struct RigidBodyConfig {
@@ -333,6 +342,7 @@ struct CaseConfig {
   std::vector<LatticeConfig> lattices;
   std::vector<GrainsConfig> grains;
   std::vector<SphereConfig> spheres;
+  std::vector<SphereFileConfig> sphere_files;
   std::vector<RigidBodyConfig> rigid_bodies;
   std::vector<OutflowConfig> outflow;
   std::vector<InflowConfig> inflow;

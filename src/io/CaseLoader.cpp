@@ -45,6 +45,7 @@ CaseConfig load_case_from_string(const std::string& yaml_text, const std::string
     }
     if (!root.IsDefined() || root.IsNull()) root.reset(YAML::Node(YAML::NodeType::Map));
     apply_overrides(root, overrides, ctx);
+    config.source_path = display_name;  // validation finds files named relative to the case
     case_schema().parse(config, root, root, "", ctx);
     cross_validate_case(config, ctx);
   } catch (const InputError&) {

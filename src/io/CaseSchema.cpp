@@ -397,6 +397,8 @@ const Table<CaseConfig>& particles_table() {
           schema::list("grains", &C::grains, grains_table(),
                        "Polydisperse grains filling boxes (debris)"),
           schema::list("spheres", &C::spheres, sphere_table(), "Single spheres"),
+          schema::list("sphere_files", &C::sphere_files, sphere_file_table(),
+                       "Spheres read from CSV files"),
       }};
   return table;
 }

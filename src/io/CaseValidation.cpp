@@ -29,6 +29,7 @@
 #include "io/CaseMagnitudes.hpp"
 #include "io/GrainsInput.hpp"
 #include "io/SizeEstimate.hpp"
+#include "io/SphereFile.hpp"
 
 namespace ringdem {
 
@@ -570,9 +571,24 @@ void cross_validate_case(CaseConfig& c, Context& ctx) {
     check_reference(s.material, materials, materials_ok, p + ".material", p, "material",
                     "materials", ctx);
   }
+  for (std::size_t i = 0; i < c.sphere_files.size(); ++i) {
+    SphereFileConfig& f = c.sphere_files[i];
+    const std::string p = schema::index_path("particles.sphere_files", i);
+    groups.insert(f.group);
+    check_reference(f.material, materials, materials_ok, p + ".material", p, "material",
+                    "materials", ctx);
+    if (ctx.failed(p + ".path")) continue;
+    try {  // reads the file through once: every row's fault is reported before a run starts
+      f.count = SphereFile(SphereFile::resolve(f.path, c.source_path)).count();
+      total_particles += f.count;
+    } catch (const std::runtime_error& e) {
+      ctx.error(ctx.where(p + ".path", p), p + ".path", e.what());
+    }
+  }
   if (total_particles == 0 && ctx.given("particles") && !ctx.failed("particles")) {
     ctx.error(ctx.where("particles"), "particles",
-              "no particles: add at least one entry to rings, nets, lattices, grains or spheres");
+              "no particles: add at least one entry to rings, nets, lattices, grains, spheres "
+              "or sphere_files");
   }
 
   for (const InflowConfig& in : c.inflow)

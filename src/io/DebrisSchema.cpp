@@ -84,6 +84,26 @@ const schema::Table<GrainsConfig>& grains_table() {
   return table;
 }
 
+const schema::Table<SphereFileConfig>& sphere_file_table() {
+  using F = SphereFileConfig;
+  static const Table<F> table{
+      "particles.sphere_files[]",
+      "Free spheres read from a CSV file: a header line `x,y,z,radius`, then one sphere a line "
+      "(m); empty lines and lines starting with `#` are skipped. Each rank reads only its share "
+      "of the lines, so a packing of millions of spheres (from another code, or a settled bed "
+      "of an earlier run) costs no rank the whole list.",
+      {
+          schema::text("path", &F::path, Type::kName,
+                       "The CSV file; a relative path is taken from the case file's folder")
+              .required(),
+          schema::text("group", &F::group, Type::kName, "Particle group (damping, output)"),
+          schema::text("material", &F::material, Type::kName, "Material (from `materials`)")
+              .required(),
+          schema::vec3("velocity", &F::velocity, "m/s", "Initial velocity of every sphere"),
+      }};
+  return table;
+}
+
 const schema::Table<OutflowConfig>& outflow_table() {
   using O = OutflowConfig;
   static const Table<O> table{

@@ -11,6 +11,7 @@ namespace ringdem {
 
 const schema::Table<GrainsConfig>& grains_table();
 const schema::Table<OutflowConfig>& outflow_table();
+const schema::Table<SphereFileConfig>& sphere_file_table();
 const schema::Table<InflowConfig>& inflow_table();
 const schema::Table<BarrierConfig>& barrier_table();
 

@@ -51,6 +51,8 @@ SizeEstimate estimate_size(const CaseConfig& c) {
   for (const GrainsConfig& g : c.grains)
     e.particles += static_cast<std::int64_t>(std::llround(expected_grain_count(g)));
   e.particles += static_cast<std::int64_t>(c.spheres.size());
+  for (const SphereFileConfig& f : c.sphere_files)
+    e.particles += f.count;
   e.writes_frames = c.output.frame_interval > 0.0 || c.output.frame_interval_steps > 0;
   return e;
 }
