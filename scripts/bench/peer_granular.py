@@ -10,8 +10,8 @@ the whole process from /usr/bin/time. Medians are printed.
 Variants (issue 12, docs/performance.md):
   bed   resting bed: spheres of 5 mm on a jittered 10.5 mm lattice above a floor plane
   poly  polydisperse bed: radii 5-25 mm (uniform), stacked in columns on a 50.5 mm grid, plus
-        one 0.4 m boulder on top (ringdem reads it as a sphere list: its peak memory includes
-        the parsed YAML; the polydisperse source of issue 13 will replace it)
+        one 0.4 m boulder on top (ringdem reads it from a CSV sphere file, a share of the
+        lines per rank; LAMMPS from a data file)
   flow  a dense block (10.1 mm lattice) moving at 1 m/s down a 35 degree incline (gravity
         tilted over the floor plane), so that contacts form, slide and break all the time
 Rock: E = 1 GPa, nu = 0.25, e = 0.3, mu = 0.5, 2600 kg/m^3, Hertz-Mindlin, dt = 1.31e-5 s.
@@ -93,10 +93,14 @@ def write_ringdem(work, variant, n):
         f"restitution: {REST}, friction: {MU}}}",
         "particles:"]
     if variant == "poly":
-        lines.append("  spheres:")
-        for x, y, z, r in poly_spheres(n):
-            lines.append(f"    - {{position: [{x:.6f}, {y:.6f}, {z:.6f}], radius: {r:.6f}, "
-                         "material: rock}")
+        # A sphere file beside the case: each rank reads its share of the lines.
+        spheres = os.path.join(work, f"{variant}_{n}.csv")
+        with open(spheres, "w") as f:
+            f.write("x,y,z,radius\n")
+            for x, y, z, r in poly_spheres(n):
+                f.write(f"{x:.6f},{y:.6f},{z:.6f},{r:.6f}\n")
+        lines += ["  sphere_files:",
+                  f"    - {{path: {os.path.basename(spheres)}, material: rock}}"]
     else:
         s = lattice_spec(variant, n)
         v = s["velocity"]
