@@ -133,8 +133,9 @@ void print_timing(const Simulation& sim, double loop_seconds, double particle_st
   double sum = 0;
   for (double s : phases.mean)
     sum += s;
-  fmt::print("time per phase over {} rank{}:  {:>9} {:>9} {:>9}  of mean\n", ranks,
-             ranks == 1 ? " " : "s", "min", "mean", "max");
+  const std::string title =
+      fmt::format("time per phase over {} rank{}:", ranks, ranks == 1 ? "" : "s");
+  fmt::print("{:<29} {:>9} {:>9} {:>9}  of mean\n", title, "min", "mean", "max");
   for (std::size_t ph = 0; ph < phases.names.size(); ++ph)
     fmt::print("  {:<27} {:8.2f}s {:8.2f}s {:8.2f}s  {:5.1f} %\n", phases.names[ph], phases.min[ph],
                phases.mean[ph], phases.max[ph], sum > 0 ? 100.0 * phases.mean[ph] / sum : 0.0);
