@@ -7,6 +7,7 @@
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_set>
 
 namespace ringdem {
@@ -206,6 +207,7 @@ void DomainDecomposition::partition(const ParticleStore& p, const std::vector<Pa
   }
   const std::vector<CellLoad> blocks = global_cells(p, stores);
   owner_.clear();
+  forget_halo_ranks();
   cells_held_ = static_cast<std::int64_t>(blocks.size());
   if (comm_.size() == 1) {
     // One rank owns every cell: a map of them would only say so.
@@ -259,11 +261,57 @@ void DomainDecomposition::partition(const ParticleStore& p, const std::vector<Pa
 
 void DomainDecomposition::assign_new_cells(const std::vector<CellLoad>& cells) {
   // A cell that became occupied goes to the smallest rank that has particles in it, which
-  // every rank can tell from the merged list.
+  // every rank can tell from the merged list; a cell that every particle left is forgotten,
+  // so that no rank keeps receiving ghosts around a cell it no longer has particles in.
   cells_held_ = static_cast<std::int64_t>(cells.size());
   if (comm_.size() == 1) return;
+  // A changed cell changes the halo ranks of the blocks around it only (the cache exists with
+  // cells of one block, where a cell is a block).
+  const auto forget_around = [&](std::uint64_t cell) {
+    if (!halo_ranks_.empty())
+      for_each_neighbour_block(cell, [&](std::uint64_t block) { halo_ranks_.erase(block); });
+  };
+  for (auto it = owner_.begin(); it != owner_.end();) {
+    const std::uint64_t key = it->first;
+    const auto at = std::lower_bound(cells.begin(), cells.end(), key,
+                                     [](const CellLoad& c, std::uint64_t k) { return c.key < k; });
+    if (at != cells.end() && at->key == key) {
+      ++it;
+      continue;
+    }
+    it = owner_.erase(it);
+    forget_around(key);
+  }
   for (const auto& c : cells)
-    owner_.try_emplace(c.key, c.rank);
+    if (owner_.try_emplace(c.key, c.rank).second) forget_around(c.key);
+}
+
+void DomainDecomposition::collect_halo_ranks(std::uint64_t block, std::vector<int>& ranks) const {
+  // The owners of the cells of the 27 blocks around this one (at most 8 cells when a cell is
+  // two blocks wide or more; one inside a cell).
+  const int me = comm_.rank();
+  const auto begin = static_cast<std::ptrdiff_t>(ranks.size());
+  for_each_cell_around_block(block, cell_blocks_, [&](std::uint64_t cell) {
+    const auto owner = owner_.find(cell);
+    if (owner != owner_.end() && owner->second != me) ranks.push_back(owner->second);
+  });
+  std::sort(ranks.begin() + begin, ranks.end());
+  ranks.erase(std::unique(ranks.begin() + begin, ranks.end()), ranks.end());
+}
+
+std::pair<const int*, const int*> DomainDecomposition::cached_halo_ranks(std::uint64_t block) {
+  auto it = halo_ranks_.find(block);
+  if (it == halo_ranks_.end()) {
+    // Entries erased for new cells leave their ranks in the pool: start afresh when most of
+    // it is such garbage.
+    if (halo_rank_pool_.size() > 1024 + 4 * halo_ranks_.size()) forget_halo_ranks();
+    const auto begin = static_cast<std::uint32_t>(halo_rank_pool_.size());
+    collect_halo_ranks(block, halo_rank_pool_);
+    const auto count = static_cast<std::uint32_t>(halo_rank_pool_.size()) - begin;
+    it = halo_ranks_.emplace(block, std::make_pair(begin, count)).first;
+  }
+  const int* const first = halo_rank_pool_.data() + it->second.first;
+  return {first, first + it->second.second};
 }
 
 std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
@@ -538,7 +586,8 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
     visit_store(stores[s], [&](auto& store) { store.settle_arrivals(first_arrival[s]); });
 
   // Owned particles in gid order, so the local layout is the same for any history of moves.
-  {
+  // Most rebuilds move no particle between ranks: the order then still holds.
+  if (!std::is_sorted(p.gid.begin(), p.gid.begin() + static_cast<std::ptrdiff_t>(p.n_local()))) {
     std::vector<std::size_t> order(p.n_local());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(),
@@ -549,26 +598,27 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
 }
 
 void DomainDecomposition::build_ghosts(ParticleStore& p) {
-  const int me = comm_.rank();
   const auto n_ranks = static_cast<std::size_t>(comm_.size());
   ghost_send_.assign(n_ranks, {});
   std::vector<std::vector<char>> send(n_ranks);
-  std::vector<int> targets;
   // With one rank every block is this rank's: nobody to send a ghost to.
   const std::size_t n_senders = n_ranks > 1 ? p.n_local() : 0;
+  std::vector<int> targets;
   for (std::size_t k = 0; k < n_senders; ++k) {
-    // The owners of the cells of the 27 blocks around this particle's (at most 8 cells when
-    // a cell is two blocks wide or more; one inside a cell).
-    targets.clear();
-    for_each_cell_around_block(block_of(p.position[k]), cell_blocks_, [&](std::uint64_t cell) {
-      const auto it = owner_.find(cell);
-      if (it != owner_.end() && it->second != me) targets.push_back(it->second);
-    });
-    std::sort(targets.begin(), targets.end());
-    targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
-    for (int r : targets) {
-      ghost_send_[static_cast<std::size_t>(r)].push_back(static_cast<std::uint32_t>(k));
-      pack_fields(p, k, kGhostFields, send[static_cast<std::size_t>(r)]);
+    const std::uint64_t block = block_of(p.position[k]);
+    const int* first = nullptr;
+    const int* last = nullptr;
+    if (cell_blocks_ == 1) {
+      std::tie(first, last) = cached_halo_ranks(block);
+    } else {
+      targets.clear();
+      collect_halo_ranks(block, targets);
+      first = targets.data();
+      last = first + targets.size();
+    }
+    for (const int* r = first; r != last; ++r) {
+      ghost_send_[static_cast<std::size_t>(*r)].push_back(static_cast<std::uint32_t>(k));
+      pack_fields(p, k, kGhostFields, send[static_cast<std::size_t>(*r)]);
     }
   }
   std::vector<int> counts;

@@ -116,6 +116,20 @@ class DomainDecomposition {
   int fixed_cell_blocks_ = 0;                     ///< 0: k is chosen at each partition
   int cell_blocks_ = 1;                           ///< k: blocks per cell edge
   std::unordered_map<std::uint64_t, int> owner_;  ///< cell -> rank; empty on one rank
+  /// Appends to `ranks` the ranks other than this one that need a particle of `block` as a
+  /// ghost: the owners of the cells of the 27 blocks around it, sorted, each once.
+  void collect_halo_ranks(std::uint64_t block, std::vector<int>& ranks) const;
+  /// With cells of one block, a particle's block has 27 distinct neighbour cells to look up, so
+  /// the result is cached per block (offset and count into halo_rank_pool_) while owner_ stays
+  /// as it is. Such partitions hold few blocks (few particles a rank, docs/parallel.md), so the
+  /// cache stays small; with larger cells a block has at most 8 cells to look up, uncached.
+  std::unordered_map<std::uint64_t, std::pair<std::uint32_t, std::uint32_t>> halo_ranks_;
+  std::vector<int> halo_rank_pool_;
+  std::pair<const int*, const int*> cached_halo_ranks(std::uint64_t block);
+  void forget_halo_ranks() {
+    halo_ranks_.clear();
+    halo_rank_pool_.clear();
+  }
   std::int64_t cells_held_ = 0;  ///< occupied cells at the last partition or migration
   std::vector<std::vector<std::uint32_t>> ghost_send_;  ///< per rank: local indices to send
   std::vector<int> ghost_recv_count_;                   ///< per rank: ghosts received

@@ -5,6 +5,7 @@
 #include <set>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 namespace ringdem {
 
@@ -53,23 +54,68 @@ void BondStore::keep_rows(const std::vector<char>& keep) {
 }
 
 void BondStore::settle_arrivals(std::size_t first) {
-  std::set<std::pair<std::int64_t, std::int64_t>> held;
-  std::vector<char> keep(size(), 1);
-  for (std::size_t k = 0; k < first; ++k)
-    held.emplace(gid_a[k], gid_b[k]);
-  for (std::size_t k = first; k < size(); ++k)
-    keep[k] = held.emplace(gid_a[k], gid_b[k]).second ? 1 : 0;
-  keep_rows(keep);
-  std::vector<std::size_t> order(size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-    return std::tie(gid_a[x], gid_b[x]) < std::tie(gid_a[y], gid_b[y]);
-  });
+  const auto key = [this](std::size_t k) { return std::make_pair(gid_a[k], gid_b[k]); };
+  // The rows held before are usually in canonical order already (the last settle left them so,
+  // and dropping rows keeps the order), and a rebuild brings few arrivals (the cut bonds, which
+  // each owner of an end sends again): then only the arrivals are sorted and merged in.
+  bool held_in_order = true;
+  for (std::size_t k = 1; k < first && held_in_order; ++k)
+    held_in_order = key(k - 1) < key(k);
+  std::vector<std::size_t> order;
+  if (held_in_order) {
+    std::vector<std::size_t> arrivals(size() - first);
+    std::iota(arrivals.begin(), arrivals.end(), first);
+    // Stable: of equal arrivals the first is kept, as below.
+    std::stable_sort(arrivals.begin(), arrivals.end(),
+                     [&](std::size_t x, std::size_t y) { return key(x) < key(y); });
+    std::vector<std::size_t> fresh;
+    for (const std::size_t k : arrivals) {
+      if (!fresh.empty() && key(fresh.back()) == key(k)) continue;
+      std::size_t lo = 0, hi = first;  // is it held already? binary search of [0, first)
+      while (lo < hi) {
+        const std::size_t mid = lo + (hi - lo) / 2;
+        if (key(mid) < key(k))
+          lo = mid + 1;
+        else
+          hi = mid;
+      }
+      if (lo < first && key(lo) == key(k)) continue;
+      fresh.push_back(k);
+    }
+    if (fresh.empty()) {
+      resize(first);
+      return;
+    }
+    order.reserve(first + fresh.size());
+    std::size_t h = 0;
+    for (const std::size_t k : fresh) {
+      while (h < first && key(h) < key(k))
+        order.push_back(h++);
+      order.push_back(k);
+    }
+    while (h < first)
+      order.push_back(h++);
+  } else {
+    std::set<std::pair<std::int64_t, std::int64_t>> held;
+    std::vector<char> keep(size(), 1);
+    for (std::size_t k = 0; k < first; ++k)
+      held.emplace(gid_a[k], gid_b[k]);
+    for (std::size_t k = first; k < size(); ++k)
+      keep[k] = held.emplace(gid_a[k], gid_b[k]).second ? 1 : 0;
+    keep_rows(keep);
+    order.resize(size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t x, std::size_t y) { return key(x) < key(y); });
+  }
   for_each_field([&](const FieldInfo&, auto& v) {
     auto old = v;
+    v.resize(order.size());
     for (std::size_t m = 0; m < order.size(); ++m)
       v[m] = old[order[m]];
   });
+  index_a.assign(order.size(), 0);
+  index_b.assign(order.size(), 0);
 }
 
 std::size_t BondStore::count_broken() const {

@@ -31,14 +31,20 @@ struct FieldInfo {
 /// its registry, and returns how many there are; the caller resizes the store to that.
 template <class Store>
 std::size_t compact_rows(Store& s, const std::vector<char>& keep) {
+  // Rows before the first dropped one stay where they are: a rebuild that moves nothing (the
+  // usual case) copies nothing.
+  std::size_t first_gap = 0;
+  while (first_gap < keep.size() && keep[first_gap])
+    ++first_gap;
+  if (first_gap == keep.size()) return keep.size();
   std::vector<std::size_t> order;
-  for (std::size_t k = 0; k < keep.size(); ++k)
+  for (std::size_t k = first_gap; k < keep.size(); ++k)
     if (keep[k]) order.push_back(k);
   s.for_each_field([&](const FieldInfo&, auto& v) {
     for (std::size_t m = 0; m < order.size(); ++m)
-      v[m] = v[order[m]];
+      v[first_gap + m] = v[order[m]];
   });
-  return order.size();
+  return first_gap + order.size();
 }
 
 /// Structure-of-arrays particle store: owned particles at [0, n_local), ghosts at

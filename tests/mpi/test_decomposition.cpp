@@ -236,6 +236,33 @@ TEST_F(Decomposition, CellsOfSeveralBlocksKeepTheGhostLayerOneBlockThick) {
   }
 }
 
+// Cells of one block, no repartition: a lattice that creeps along x by a third of a block per
+// rebuild keeps occupying new cells, which go to a rank without a new partition. Each rebuild's
+// ghost layer must still be the whole one-block neighbourhood (the halo ranks a rank keeps per
+// block must follow each new cell), and a refresh must bring the owners' values.
+TEST_F(Decomposition, GhostLayerFollowsNewCellsWithoutARepartition) {
+  const Communicator c(comm_);
+  ParticleStore p;
+  BondStore bonds;
+  make_lattice(p, bonds, c.rank(), c.size());
+  const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
+  DomainDecomposition d(c, kBlock, /*imbalance_threshold=*/100.0, /*cell_blocks=*/1);
+  d.distribute_initial(p, {&bonds});
+  const std::int64_t partitions = d.repartitions();
+  Vec3 shift{};
+  for (int move = 0; move < 9; ++move) {
+    const Vec3 step{kBlock / 3.0, move % 2 == 0 ? kBlock / 4.0 : -kBlock / 4.0, 0.0};
+    shift += step;
+    for (std::size_t k = 0; k < p.n_total(); ++k)
+      p.position[k] += step;
+    d.redistribute(p, {&bonds});
+    const auto owner = owners(c, p, n_total);
+    expect_one_block_ghost_layer(p, shift);
+    expect_rank_encoded_refresh(c, p, d, owner);
+  }
+  EXPECT_EQ(d.repartitions(), partitions) << "the cells were to be assigned, not partitioned";
+}
+
 TEST_F(Decomposition, FirstDistributionSendsBondsAndSpringsHeldAnywhereToTheirParticles) {
   const Communicator c(comm_);
   ParticleStore p;

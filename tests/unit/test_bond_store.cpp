@@ -4,6 +4,12 @@
 // the one counting rule.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
+#include <random>
+#include <utility>
+#include <vector>
+
 #include "domain/BondStore.hpp"
 #include "domain/PairStore.hpp"
 
@@ -71,6 +77,53 @@ TEST(BondStore, SettlingArrivalsDropsDuplicatesAndRestoresTheCanonicalOrder) {
   // The kept rows win over their duplicate arrivals: (2, 5) keeps id 100, (7, 9) id 101.
   EXPECT_EQ(b.id[2], 100);
   EXPECT_EQ(b.id[3], 101);
+}
+
+// Settling against an independent reference (a map of gid pairs, first row wins, in key order)
+// on random rounds: held rows in canonical order (a rebuild's usual case, settled by merging
+// the sorted arrivals in) and held rows out of order (after a checkpoint is read back), with
+// arrivals that repeat each other and the held rows, and rounds with no arrivals at all.
+TEST(BondStore, SettlingMatchesAFirstRowWinsReferenceInOrderOrNot) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<std::int64_t> gid(0, 40);
+  for (int round = 0; round < 200; ++round) {
+    const bool held_sorted = round % 2 == 0;
+    const std::size_t n_arrivals = round % 5 == 0 ? 0 : static_cast<std::size_t>(round % 13);
+    std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t> held;
+    while (held.size() < static_cast<std::size_t>(round % 17)) {
+      const std::int64_t a = gid(rng), b = gid(rng);
+      if (a < b) held.emplace(std::make_pair(a, b), static_cast<std::int64_t>(held.size()));
+    }
+    std::vector<std::pair<std::int64_t, std::int64_t>> rows;
+    for (const auto& [key, unused] : held)
+      rows.push_back(key);
+    if (!held_sorted) std::shuffle(rows.begin(), rows.end(), rng);
+    const std::size_t first = rows.size();
+    while (rows.size() < first + n_arrivals) {
+      const std::int64_t a = gid(rng), b = gid(rng);
+      if (a < b) rows.emplace_back(a, b);
+    }
+    BondStore store;
+    store.declare_model_columns({{"state", field_flag::kMigrate}});
+    std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t> reference;  // key -> id
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const auto id = static_cast<std::int64_t>(1000 * round + static_cast<int>(k));
+      const std::size_t row = store.append(id, rows[k].first, rows[k].second, 0);
+      store.model_column(0)[row] = 0.5 * static_cast<double>(id);
+      reference.emplace(rows[k], id);
+    }
+    store.settle_arrivals(first);
+    ASSERT_EQ(store.size(), reference.size()) << "round " << round;
+    std::size_t k = 0;
+    for (const auto& [key, id] : reference) {
+      EXPECT_EQ(store.gid_a[k], key.first) << "round " << round << " row " << k;
+      EXPECT_EQ(store.gid_b[k], key.second) << "round " << round << " row " << k;
+      EXPECT_EQ(store.id[k], id) << "round " << round << " row " << k;
+      EXPECT_EQ(store.model_column(0)[k], 0.5 * static_cast<double>(id));
+      ++k;
+    }
+    EXPECT_EQ(store.index_a.size(), store.size());
+  }
 }
 
 // A row counts on the rank that owns its first end: not where that end is a ghost or absent,
