@@ -436,9 +436,15 @@ void DomainDecomposition::redistribute(ParticleStore& p, const std::vector<PairS
   }
   // New owner of every particle this rank holds (owned and ghost): an intact bond or a
   // contact has both its particles here, owned or as ghosts.
+  // A ghost in a cell no rank owns any more is the copy of a particle its owner took out since
+  // (an outflow): it has no owner, like a particle this rank does not hold.
   std::vector<int> owner(p.n_total());
-  for (std::size_t k = 0; k < p.n_total(); ++k)
+  for (std::size_t k = 0; k < p.n_local(); ++k)
     owner[k] = owner_of(p.position[k]);
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k) {
+    const auto it = owner_.find(cell_of(p.position[k]));
+    owner[k] = it == owner_.end() ? -1 : it->second;
+  }
   // -1 for a particle this rank does not hold (only the far end of a broken bond).
   auto owner_of_gid = [&](std::int64_t gid) {
     const std::int64_t k = p.index_of(gid);
