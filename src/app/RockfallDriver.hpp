@@ -63,6 +63,9 @@ class RockfallDriver : public ScenarioDriver {
   void resettled(Simulation& sim);
   /// The Cundall coefficient of the net in the current phase, where the case sets one.
   std::optional<double> net_damping() const;
+  /// Steps of sag_dt while the net sags or re-settles (where the case sets one), of the case's
+  /// time step from a release on; idempotent, so a restart in any phase gets its step.
+  void apply_phase_time_step(Simulation& sim) const;
   bool impact_over(const Simulation& sim) const;
   /// One row of series.csv (means of the boulder load since the last row) and the peaks.
   void record(Simulation& sim);

@@ -115,7 +115,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   momentum_.book_initial_momentum(p);
   // After the distribution: every intact bond then has both ends on the ranks that hold it.
   init_limits();
-  dt_ = settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
+  dt_ = case_time_step();
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("cannot choose a time step: give simulation.dt explicitly");
   rebuild();

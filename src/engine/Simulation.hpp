@@ -109,6 +109,11 @@ class Simulation {
   /// From now on steps of `dt` (a restart that applies a changed time step). The energy
   /// ledger's trapezoid weights are carried over, so its tallies go on without a jump.
   void change_time_step(double dt);
+  /// The time step the case asks for: simulation.dt, or dt_safety times the smallest
+  /// stability limit when it is left out. A scenario may step otherwise for a while.
+  double case_time_step() const {
+    return settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
+  }
   /// The step at which the time reaches `end_time` (within 1e-9 of a step), counted from the
   /// step the current dt began at (0, or the restart that changed it).
   std::int64_t steps_until(double end_time) const;

@@ -258,9 +258,10 @@ struct RockfallConfig {
   std::string frame_group = "shackles";  ///< particles whose contact load is the frame force
   double sag_max_time = 2.0;             ///< give up waiting for rest (error) after this
   double sag_min_time = 0.05;
-  double sag_kinetic_energy = 0.05;      ///< J: at rest below this and half its peak
-  double sag_check_interval = 1e-3;      ///< simulated seconds between rest checks
-  std::optional<double> sag_damping;     ///< Cundall coefficient of the net while it sags
+  double sag_kinetic_energy = 0.05;   ///< J: at rest below this and half its peak
+  double sag_check_interval = 1e-3;   ///< simulated seconds between rest checks
+  std::optional<double> sag_damping;  ///< Cundall coefficient of the net while it sags
+  std::optional<double> sag_dt;       ///< time step while the net sags or re-settles (default: dt)
   std::optional<double> impact_damping;  ///< of the net from the release on (default: as set)
   bool integrate_free_fall = false;  ///< false: the fall is advanced analytically to release_gap
   double release_gap = 0.005;        ///< boulder bottom above the net top when stepping resumes

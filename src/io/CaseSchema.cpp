@@ -516,6 +516,12 @@ const Table<RockfallConfig>& rockfall_table() {
           schema::optional_number("sag_damping", &R::sag_damping, interval(0, true, 1, false), "",
                                   "Cundall coefficient of the net group while it sags")
               .default_text("as the damping section sets it"),
+          schema::optional_number("sag_dt", &R::sag_dt, above(0), "s",
+                                  "Time step while the net sags and re-settles (no boulder in "
+                                  "play); the release goes back to simulation.dt. At most the "
+                                  "smallest stability limit (the run refuses more); the settled "
+                                  "state is the same within the rest test (docs/rockfall.md)")
+              .default_text("simulation.dt"),
           schema::optional_number("impact_damping", &R::impact_damping, interval(0, true, 1, false),
                                   "", "Cundall coefficient of the net group from the release on")
               .default_text("as the damping section sets it"),

@@ -75,6 +75,8 @@ const std::vector<RestartKeyRule>& restart_key_rules() {
       {"scenario.rockfall.impact_damping", K::kApplied, E::kNone,
        "the net's damping after the release, from the restart on"},
       {"scenario.rockfall.sag_max_time", K::kApplied, E::kNone, kRestTest},
+      {"scenario.rockfall.sag_dt", K::kApplied, E::kNone,
+       "the time step while the net sags or re-settles, from the restart on"},
       {"scenario.rockfall.sag_min_time", K::kApplied, E::kNone, kRestTest},
       {"scenario.rockfall.sag_kinetic_energy", K::kApplied, E::kNone, kRestTest},
       {"scenario.rockfall.sag_check_interval", K::kApplied, E::kNone, kRestTest},

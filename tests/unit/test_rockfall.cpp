@@ -325,8 +325,13 @@ TEST(RockfallRepeated, SecondBoulderFallsDropHeightOntoTheResettledNet) {
 // A restart from a checkpoint taken while the net re-settles after the first impact ends
 // exactly as the run never interrupted: series.csv, resettle.csv and summary.json (timings
 // aside) are the same bytes and values, numbers written with 17 digits.
-TEST(RockfallRepeated, RestartWhileTheNetResettlesIsBitForBit) {
-  const std::vector<std::string> twice{"scenario.rockfall.impacts=2"};
+// The same with sag_dt: the re-settle steps at sag_dt, the release goes back to dt, and the
+// restart must find its step from the phase it lands in.
+class RockfallRestart : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(RockfallRestart, RestartWhileTheNetResettlesIsBitForBit) {
+  std::vector<std::string> twice{"scenario.rockfall.impacts=2"};
+  if (*GetParam() != '\0') twice.emplace_back(GetParam());
   const CaseConfig plain = load_case_from_string(kTinyRockfall, "tiny.yaml", twice);
   std::vector<std::string> with_checkpoints = twice;
   with_checkpoints.push_back("output.checkpoint_interval=0.01");
@@ -373,6 +378,85 @@ TEST(RockfallRepeated, RestartWhileTheNetResettlesIsBitForBit) {
   for (const char* file : {"series.csv", "sag.csv", "resettle.csv"})
     EXPECT_TRUE(file_text(restarted / file) == file_text(dir / "straight" / file)) << file;
   EXPECT_EQ(summary_without_timings(restarted / "summary.json").dump(1), s.dump(1));
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(RockfallRepeated, RockfallRestart,
+                         ::testing::Values("", "scenario.rockfall.sag_dt=2.4e-6"));
+
+// sag_dt (issue 12: a sag that reaches rest sooner without changing the settled state): the
+// tiny case's net, twice, with dt = 2 us throughout and with the sag and re-settle at 2.4 us
+// (0.49 of its smallest stability limit). The sagged net must be the same within 1 % of its
+// sag (measured: 5e-5), the impacts the same within 1 % of their deflection (4e-5), and the
+// impacts must step at dt again: every row of series.csv after a release lies a whole number
+// of 2 us steps after it (not of 2.4 us ones). A sag_dt above the limit is refused.
+TEST(Rockfall, SagDtSettlesTheSameNetInFewerSteps) {
+  const std::vector<std::string> twice{"scenario.rockfall.impacts=2"};
+  std::vector<std::string> faster = twice;
+  faster.emplace_back("scenario.rockfall.sag_dt=2.4e-6");
+  const fs::path dir = fs::temp_directory_path() / ("ringdem_sag_dt_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  ScenarioRunOptions run;
+  run.verbose = false;
+  for (const auto& [folder, keys] : {std::pair{"plain", &twice}, {"sag_dt", &faster}}) {
+    run.output_dir = (dir / folder).string();
+    std::unique_ptr<ScenarioDriver> driver =
+        make_scenario_driver(load_case_from_string(kTinyRockfall, "tiny.yaml", *keys));
+    ASSERT_EQ(run_scenario(*driver, run, testing::self_comm()), 0);
+  }
+  const nlohmann::json plain = nlohmann::json::parse(file_text(dir / "plain/summary.json"));
+  const nlohmann::json fast = nlohmann::json::parse(file_text(dir / "sag_dt/summary.json"));
+  const double sag = plain["net_sag_m"].get<double>();
+  ASSERT_GT(sag, 1e-3);
+  EXPECT_NEAR(fast["net_sag_m"].get<double>(), sag, 0.01 * sag);
+  ASSERT_EQ(fast["impacts"].size(), 2u);
+  // The re-settle ends at the first check (every 5 ms) at which the net's kinetic energy is
+  // below 0.05 J: its 3 rings (1.94 kg) may then still move at sqrt(2 * 0.05 / 1.94) m/s, so
+  // the rest test itself defines the re-settled net only to that speed times the check interval
+  // (1.1 mm; measured difference 0.09 mm). The first sag starts from the same state in both
+  // runs and is held to 1 % of the sag.
+  const double resettle_resolution = std::sqrt(2.0 * 0.05 / (3 * 0.647)) * 0.005;
+  for (std::size_t i = 0; i < 2; ++i) {
+    const double top = plain["impacts"][i]["release_net_top_m"].get<double>();
+    EXPECT_NEAR(fast["impacts"][i]["release_net_top_m"].get<double>(), top,
+                i == 0 ? 0.01 * sag : resettle_resolution)
+        << i;
+    const double deflection = plain["impacts"][i]["max_deflection_m"].get<double>();
+    EXPECT_NEAR(fast["impacts"][i]["max_deflection_m"].get<double>(), deflection, 0.01 * deflection)
+        << i;
+  }
+  EXPECT_EQ(fast["dt_s"].get<double>(), 2e-6);
+  EXPECT_EQ(fast["sag_dt_s"].get<double>(), 2.4e-6);
+  EXPECT_EQ(plain["sag_dt_s"].get<double>(), 2e-6);
+  EXPECT_LT(fast["steps"].get<double>(), 0.9 * plain["steps"].get<double>());
+
+  std::vector<std::string> header;
+  const auto rows = read_csv((dir / "sag_dt/series.csv").string(), header);
+  const std::size_t t = column(header, "time_s"), impact = column(header, "impact");
+  std::size_t checked = 0;
+  for (std::size_t i = 0; i < 2; ++i) {
+    const double released = fast["impacts"][i]["release_time_s"].get<double>();
+    for (const auto& row : rows) {
+      if (row[impact] != static_cast<double>(i + 1) || row[t] <= released) continue;
+      const double steps = (row[t] - released) / 2e-6;
+      EXPECT_NEAR(steps, std::round(steps), 1e-3) << "impact " << i + 1 << " at " << row[t];
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 4u);
+
+  run.output_dir = (dir / "too_large").string();
+  std::unique_ptr<ScenarioDriver> driver = make_scenario_driver(
+      load_case_from_string(kTinyRockfall, "tiny.yaml", {"scenario.rockfall.sag_dt=1e-5"}));
+  try {
+    run_scenario(*driver, run, testing::self_comm());
+    ADD_FAILURE() << "a sag_dt twice the stability limit was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("scenario.rockfall.sag_dt 1e-05 s is 2.06 times the "
+                                         "smallest stability limit"),
+              std::string::npos)
+        << e.what();
+  }
   fs::remove_all(dir);
 }
 
