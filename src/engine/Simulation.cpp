@@ -533,6 +533,10 @@ void Simulation::compute_forces(bool loads_started) {
     PhaseTimer t(phase_seconds_[kContacts]);
     for (std::size_t k = 1; k < terms_.size(); ++k)
       terms_[k]->compute(ctx);
+  }
+  {
+    // An all-reduce: it waits for the slowest rank, which is the comm phase's to show.
+    PhaseTimer t(phase_seconds_[kComm]);
     reduce_body_loads();
   }
   {
