@@ -381,6 +381,41 @@ TEST_P(RockfallRestart, RestartWhileTheNetResettlesIsBitForBit) {
   fs::remove_all(dir);
 }
 
+// A sag that does not reach rest in sag_max_time says which half of the rest test failed: the
+// kinetic energy above the threshold, or below it while the net still gathers speed (an earlier
+// message claimed "3.5 J > 6 J" for the latter).
+TEST(Rockfall, SagTimeoutSaysWhichHalfOfTheRestTestFailed) {
+  const auto message = [](const std::vector<std::string>& keys) {
+    ScenarioRunOptions run;
+    run.verbose = false;
+    run.output_dir = (fs::temp_directory_path() /
+                      ("ringdem_sag_timeout_" + std::to_string(getpid()) + "_" + keys[0]))
+                         .string();
+    std::unique_ptr<ScenarioDriver> driver =
+        make_scenario_driver(load_case_from_string(kTinyRockfall, "tiny.yaml", keys));
+    std::string what;
+    try {
+      run_scenario(*driver, run, testing::self_comm());
+    } catch (const std::exception& e) {
+      what = e.what();
+    }
+    fs::remove_all(run.output_dir);
+    return what;
+  };
+  // The tiny net holds far more than 1e-9 J while it falls.
+  const std::string above =
+      message({"scenario.rockfall.sag_kinetic_energy=1e-9", "scenario.rockfall.sag_max_time=0.02"});
+  EXPECT_NE(above.find("not below scenario.rockfall.sag_kinetic_energy 1e-09 J"), std::string::npos)
+      << above;
+  // Below a huge threshold from the start, but 20 ms into the fall it is still speeding up.
+  const std::string falling =
+      message({"scenario.rockfall.sag_kinetic_energy=1e9", "scenario.rockfall.sag_max_time=0.02"});
+  EXPECT_NE(falling.find("below sag_kinetic_energy 1e+09 J but not yet half its peak"),
+            std::string::npos)
+      << falling;
+  EXPECT_NE(falling.find("the net is still falling"), std::string::npos) << falling;
+}
+
 INSTANTIATE_TEST_SUITE_P(RockfallRepeated, RockfallRestart,
                          ::testing::Values("", "scenario.rockfall.sag_dt=2.4e-6"));
 
