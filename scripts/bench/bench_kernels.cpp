@@ -3,6 +3,7 @@
 #include <benchmark/benchmark.h>
 #include <mpi.h>
 
+#include <memory>
 #include <random>
 
 #include "../../tests/support/TestCases.hpp"
@@ -109,74 +110,66 @@ void BM_ContactKernel(benchmark::State& state) {
 }
 BENCHMARK(BM_ContactKernel);
 
-// Whole steps of n_rings separate paper rings (100 particles each) falling and swinging
-// under gravity with the paper's global damping, calibrated bonds, dt of the paper.
-void BM_StepRings(benchmark::State& state) {
-  const int n_rings = static_cast<int>(state.range(0));
+// n_rings separate paper rings (100 particles each) on a square grid, falling and swinging
+// under gravity with global damping `damping`, calibrated bonds, dt of the paper, stepped 100
+// times (loads, velocities and spins of moving, bending rings).
+std::unique_ptr<Simulation> moving_rings(int n_rings, double damping, const Communicator& comm) {
   CaseConfig c = testing::base_case();
   c.simulation.gravity = {0, 0, -9.81};
   c.bonds[0].youngs_modulus = 292e9;
   c.bonds[0].radius_multiplier = 0.43;
-  c.damping.global = 0.95;
+  c.damping.global = damping;
   const int side = static_cast<int>(std::ceil(std::sqrt(n_rings)));
   for (int r = 0; r < n_rings; ++r) {
     auto ring = testing::paper_ring({0.4 * (r % side), 0.4 * (r / side), 0.0});
     ring.velocity = {0.01 * (r % 3), 0.0, 0.05};
     c.rings.push_back(ring);
   }
-  Communicator comm(MPI_COMM_SELF);
   SimulationSettings s;
   s.dt = 7.87e-7;
   s.gravity = c.simulation.gravity;
-  Simulation sim(build_model(c, comm), comm, s);
-  sim.run_steps(100);  // warm up
-  for (auto _ : state)
-    sim.step();
-  const auto particles = static_cast<double>(sim.model().particles.n_local());
+  auto sim = std::make_unique<Simulation>(build_model(c, comm), comm, s);
+  sim->run_steps(100);
+  return sim;
+}
+
+void count_particle_steps(benchmark::State& state, double particles) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * particles));
   state.counters["time_per_particle_step"] =
       benchmark::Counter(particles * static_cast<double>(state.iterations()),
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
+
+// Whole steps of the moving rings with the paper's global damping.
+void BM_StepRings(benchmark::State& state) {
+  const Communicator comm(MPI_COMM_SELF);
+  const auto sim = moving_rings(static_cast<int>(state.range(0)), 0.95, comm);
+  for (auto _ : state)
+    sim->step();
+  count_particle_steps(state, static_cast<double>(sim->model().particles.n_local()));
+}
 BENCHMARK(BM_StepRings)->Arg(1)->Arg(100)->Unit(benchmark::kMicrosecond);
 
 // The integrator's two passes alone (drift with orientations, damped second half kick) over
-// n_rings damped paper rings (100 particles each), loads as a step leaves them: the part of
+// the moving rings with the net's impact damping, loads as a step leaves them: the part of
 // the net's step that issue 12 bounds at 10 ns per particle-step.
 void BM_IntegrateRings(benchmark::State& state) {
-  const int n_rings = static_cast<int>(state.range(0));
-  CaseConfig c = testing::base_case();
-  c.simulation.gravity = {0, 0, -9.81};
-  c.bonds[0].youngs_modulus = 292e9;
-  c.bonds[0].radius_multiplier = 0.43;
-  c.damping.global = 0.2;
-  const int side = static_cast<int>(std::ceil(std::sqrt(n_rings)));
-  for (int r = 0; r < n_rings; ++r) {
-    auto ring = testing::paper_ring({0.4 * (r % side), 0.4 * (r / side), 0.0});
-    ring.velocity = {0.01 * (r % 3), 0.0, 0.05};
-    c.rings.push_back(ring);
-  }
-  Communicator comm(MPI_COMM_SELF);
-  SimulationSettings s;
-  s.dt = 7.87e-7;
-  s.gravity = c.simulation.gravity;
-  Simulation sim(build_model(c, comm), comm, s);
-  sim.run_steps(100);  // loads, velocities and spins of a moving, bending ring
-  ParticleStore p = sim.model().particles;
+  const Communicator comm(MPI_COMM_SELF);
+  const auto sim = moving_rings(static_cast<int>(state.range(0)), 0.2, comm);
+  ParticleStore p = sim->model().particles;
+  const double dt = sim->dt();
+  const Vec3 gravity = sim->settings().gravity;
   const std::vector<Vec3> force = p.force, torque = p.torque;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(Integrator::first_half(p, s.dt, s.gravity, 1e-4, 0.1, true));
+    benchmark::DoNotOptimize(Integrator::first_half(p, dt, gravity, 1e-4, 0.1, true));
     // The bond loads a step would add, so that the kick and the damping see real loads.
     for (std::size_t k = 0; k < p.n_local(); ++k) {
       p.force[k] += force[k];
       p.torque[k] += torque[k];
     }
-    Integrator::second_half(p, s.dt);
+    Integrator::second_half(p, dt);
   }
-  const auto particles = static_cast<double>(p.n_local());
-  state.counters["time_per_particle_step"] =
-      benchmark::Counter(particles * static_cast<double>(state.iterations()),
-                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  count_particle_steps(state, static_cast<double>(p.n_local()));
 }
 BENCHMARK(BM_IntegrateRings)->Arg(100)->Unit(benchmark::kMicrosecond);
 
