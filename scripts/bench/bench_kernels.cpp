@@ -159,7 +159,7 @@ void BM_IntegrateRings(benchmark::State& state) {
   ParticleStore p = sim->model().particles;
   const double dt = sim->dt();
   const Vec3 gravity = sim->settings().gravity;
-  const std::vector<Vec3> force = p.force.rows(), torque = p.torque.rows();
+  const std::vector<Vec3> force = p.force, torque = p.torque;
   for (auto _ : state) {
     benchmark::DoNotOptimize(Integrator::first_half(p, dt, gravity, 1e-4, 0.1, true));
     // The bond loads a step would add, so that the kick and the damping see real loads.

@@ -74,9 +74,8 @@ template <class Store>
 void pack_fields(Store& s, std::size_t i, unsigned flags, std::vector<char>& buf) {
   s.for_each_field([&](const FieldInfo& f, auto& v) {
     if (!(f.flags & flags)) return;
-    const typename std::decay_t<decltype(v)>::value_type value = v[i];
-    const char* src = reinterpret_cast<const char*>(&value);
-    buf.insert(buf.end(), src, src + sizeof(value));
+    const char* src = reinterpret_cast<const char*>(&v[i]);
+    buf.insert(buf.end(), src, src + sizeof(v[i]));
   });
 }
 
@@ -85,10 +84,8 @@ template <class Store>
 char* pack_fields_at(Store& s, std::size_t i, unsigned flags, char* out) {
   s.for_each_field([&](const FieldInfo& f, auto& v) {
     if (!(f.flags & flags)) return;
-    // By value: a Vec3Column's row is three components apart.
-    const typename std::decay_t<decltype(v)>::value_type value = v[i];
-    std::memcpy(out, static_cast<const void*>(&value), sizeof(value));
-    out += sizeof(value);
+    std::memcpy(out, static_cast<const void*>(&v[i]), sizeof(v[i]));
+    out += sizeof(v[i]);
   });
   return out;
 }
@@ -97,10 +94,8 @@ template <class Store>
 const char* unpack_fields(Store& s, std::size_t i, unsigned flags, const char* data) {
   s.for_each_field([&](const FieldInfo& f, auto& v) {
     if (!(f.flags & flags)) return;
-    typename std::decay_t<decltype(v)>::value_type value;
-    std::memcpy(static_cast<void*>(&value), data, sizeof(value));
-    v[i] = value;
-    data += sizeof(value);
+    std::memcpy(static_cast<void*>(&v[i]), data, sizeof(v[i]));
+    data += sizeof(v[i]);
   });
   return data;
 }

@@ -7,7 +7,6 @@
 #include "core/Motion.hpp"
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
-#include "core/Vec3Column.hpp"
 #include "domain/GidIndex.hpp"
 
 namespace ringdem {
@@ -55,14 +54,13 @@ class ParticleStore {
   // --- fields (declared here, registered in for_each_field) ---
   std::vector<std::int64_t> gid;
   std::vector<Vec3> position;
-  // The loads and velocities are Vec3Columns (x, y and z apart): the integrator streams them.
-  Vec3Column velocity;
-  Vec3Column omega;  ///< angular velocity, world frame
+  std::vector<Vec3> velocity;
+  std::vector<Vec3> omega;  ///< angular velocity, world frame
   /// Only while tracks_orientation(): bonds are all that read it; a model without bonds keeps
   /// this column empty.
   std::vector<Quat> orientation;
-  Vec3Column force;
-  Vec3Column torque;
+  std::vector<Vec3> force;
+  std::vector<Vec3> torque;
   std::vector<double> radius;
   std::vector<double> mass;
   std::vector<double> damping;  ///< Cundall global damping coefficient of this particle

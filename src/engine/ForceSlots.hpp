@@ -4,7 +4,6 @@
 #include <vector>
 
 #include "core/Vec3.hpp"
-#include "core/Vec3Column.hpp"
 
 namespace ringdem {
 
@@ -45,15 +44,10 @@ struct ForceSlots {
 /// and before the slots are gathered, which is the gather order when its partners sort before
 /// every other term's (particle pairs: bonded pairs get no contact).
 struct ParticleLoads {
-  Vec3Column* force = nullptr;
-  Vec3Column* torque = nullptr;
+  Vec3* force = nullptr;
+  Vec3* torque = nullptr;
   std::size_t n_owned = 0;
   bool owned(std::size_t k) const { return k < n_owned; }
-  /// Adds a force and a torque to owned particle k.
-  void add(std::size_t k, const Vec3& f, const Vec3& t) const {
-    (*force)[k] += f;
-    (*torque)[k] += t;
-  }
 };
 
 /// Hands out slot ranges to the force terms at a rebuild, in term order; the total sizes the

@@ -43,16 +43,17 @@ void GatherMap::finish(const ParticleStore& p) {
 void GatherMap::initialise_loads(ParticleStore& p, const Vec3& gravity) {
   const std::size_t n_local = p.n_local();
   const double* const mass = p.mass.data();
-  double *const fx = p.force.x(), *const fy = p.force.y(), *const fz = p.force.z();
-  double *const tx = p.torque.x(), *const ty = p.torque.y(), *const tz = p.torque.z();
+  Vec3* const force = p.force.data();
+  Vec3* const torque = p.torque.data();
+  // Component by component (no Vec3 copies), so that the loop vectorises.
 #pragma omp simd
   for (std::size_t k = 0; k < n_local; ++k) {
-    fx[k] = gravity.x * mass[k];
-    fy[k] = gravity.y * mass[k];
-    fz[k] = gravity.z * mass[k];
-    tx[k] = 0.0;
-    ty[k] = 0.0;
-    tz[k] = 0.0;
+    force[k].x = gravity.x * mass[k];
+    force[k].y = gravity.y * mass[k];
+    force[k].z = gravity.z * mass[k];
+    torque[k].x = 0.0;
+    torque[k].y = 0.0;
+    torque[k].z = 0.0;
   }
 }
 
@@ -72,38 +73,35 @@ void GatherMap::apply_point_loads(ParticleStore& p, const std::vector<PointLoad>
 
 void GatherMap::gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity) {
   const std::size_t n_local = p.n_local();
+  // Raw pointers, read once (nothing in the loop can move them).
+  Vec3* const force = p.force.data();
+  Vec3* const torque = p.torque.data();
   const std::uint32_t* const offset = gather_offset_.data();
   const std::uint32_t* const slot = gather_slot_.data();
-  // The forces, then the torques: each pass streams three columns and three slot arrays
-  // (the particle columns are x, y and z apart, and twelve streams at once ran slower).
-  // Each component is summed in slot order either way.
-  const auto gather_loads = [&](Vec3Column& column, const std::vector<double>& slot_x,
-                                const std::vector<double>& slot_y,
-                                const std::vector<double>& slot_z) {
-    double *const cx = column.x(), *const cy = column.y(), *const cz = column.z();
-    const double *const sx = slot_x.data(), *const sy = slot_y.data(), *const sz = slot_z.data();
-    for (std::size_t k = 0; k < n_local; ++k) {
-      if (offset[k] == offset[k + 1]) continue;
-      double x = cx[k], y = cy[k], z = cz[k];
-      for (std::uint32_t e = offset[k]; e < offset[k + 1]; ++e) {
-        const std::uint32_t s = slot[e];
-        x += sx[s];
-        y += sy[s];
-        z += sz[s];
-      }
-      cx[k] = x, cy[k] = y, cz[k] = z;
+  const double *const fx = slots.fx.data(), *const fy = slots.fy.data(),
+                      *const fz = slots.fz.data();
+  const double *const tx = slots.tx.data(), *const ty = slots.ty.data(),
+                      *const tz = slots.tz.data();
+  for (std::size_t k = 0; k < n_local; ++k) {
+    if (offset[k] == offset[k + 1]) continue;
+    Vec3 f = force[k];
+    Vec3 t = torque[k];
+    for (std::uint32_t e = offset[k]; e < offset[k + 1]; ++e) {
+      const std::uint32_t s = slot[e];
+      f += Vec3{fx[s], fy[s], fz[s]};
+      t += Vec3{tx[s], ty[s], tz[s]};
     }
-  };
-  gather_loads(p.force, slots.fx, slots.fy, slots.fz);
-  gather_loads(p.torque, slots.tx, slots.ty, slots.tz);
+    force[k] = f;
+    torque[k] = t;
+  }
   // Energy ledger: whatever a driven particle's interactions push against, the driver supplies.
   driven_.clear();
   for (const std::uint32_t k : driven_particle_) {
     Vec3 applied;
     for (const auto& [particle, load] : applied_)
       if (particle == k) applied += load;
-    const Vec3 interaction = p.force[k] - gravity * p.mass[k] - applied;
-    driven_.push_back({k, dot(interaction, p.velocity[k]) + dot(p.torque[k], p.omega[k])});
+    const Vec3 interaction = force[k] - gravity * p.mass[k] - applied;
+    driven_.push_back({k, dot(interaction, p.velocity[k]) + dot(torque[k], p.omega[k])});
   }
 }
 

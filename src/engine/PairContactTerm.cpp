@@ -144,7 +144,8 @@ void PairContactTerm::compute(ComputeContext& ctx) {
     // Each end's loads, and for the ledger its viscous and spring loads and moments
     // (ContactMoments) with half of the pair's tangential and elastic energy.
     if (loads.owned(a)) {
-      loads.add(a, r.force_i, cross(lever_a, r.force_i) + r.rolling_torque_i);
+      loads.force[a] += r.force_i;
+      loads.torque[a] += cross(lever_a, r.force_i) + r.rolling_torque_i;
       ContactMoments& c = ledger.moments(a);
       c.damping += r.damping_force_i;
       c.damping_moment += cross(lever_a, r.damping_force_i);
@@ -154,7 +155,8 @@ void PairContactTerm::compute(ComputeContext& ctx) {
       c.elastic_energy += 0.5 * r.elastic_energy;
     }
     if (loads.owned(b)) {
-      loads.add(b, -r.force_i, cross(n * arm_b, r.force_i) + r.rolling_torque_j);
+      loads.force[b] += -r.force_i;
+      loads.torque[b] += cross(n * arm_b, r.force_i) + r.rolling_torque_j;
       ContactMoments& c = ledger.moments(b);
       c.damping += -r.damping_force_i;
       c.damping_moment += cross(lever_b, -r.damping_force_i);

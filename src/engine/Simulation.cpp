@@ -524,7 +524,7 @@ void Simulation::compute_forces(bool loads_started) {
                      ledger_,
                      time_,
                      dt_,
-                     ParticleLoads{&p.force, &p.torque, p.n_local()}};
+                     ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
   {
     PhaseTimer t(phase_seconds_[kBonds]);
     bond_term_->compute(ctx);

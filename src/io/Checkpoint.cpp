@@ -319,7 +319,7 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     const RowBlocks particle_rows(comm, gids);
     p.for_each_field([&](const FieldInfo& info, const auto& v) {
       if (info.has(field_flag::kCheckpoint))
-        write_field(f, comm, particle_rows, "/particles/" + std::string(info.name), as_rows(v));
+        write_field(f, comm, particle_rows, "/particles/" + std::string(info.name), v);
     });
 
     // Term stores (domain/PairStore.hpp), each through its registry: the bonds in bond-id
@@ -489,7 +489,7 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
     auto rows = read_verified_block<T>(f, comm, "/particles/" + std::string(field.name),
                                        info.particles, p_first, p_end);
-    assign_rows(v, rows);
+    std::copy(rows.begin(), rows.end(), v.begin());
   });
   // Rows in strictly increasing gid order, across the blocks too.
   bool ordered = std::is_sorted(p.gid.begin(), p.gid.end()) &&

@@ -411,7 +411,7 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
     p.for_each_field([&](const FieldInfo& info, const auto& v) {
       if (!info.has(field_flag::kOutput)) return;
       f.write_rows("/particles/" + std::string(info.name), frame, particle_rows.first_row(),
-                   particle_rows.to_blocks(as_rows(v)));
+                   particle_rows.to_blocks(v));
     });
     const std::vector<std::int32_t> rank(n_local, comm_.rank());
     f.write_rows("/particles/rank", frame, particle_rows.first_row(),

@@ -65,12 +65,10 @@ DriftMaxima drift_pass(ParticleStore& p, double dt, const Vec3& gravity, double 
   const Motion* const motion = p.motion.data();
   const double* const mass = p.mass.data();
   const double* const radius = p.radius.data();
-  // Component by component (the columns are x, y and z apart), so that the loop vectorises
-  // without permutes.
-  double *const fx = p.force.x(), *const fy = p.force.y(), *const fz = p.force.z();
-  double *const tx = p.torque.x(), *const ty = p.torque.y(), *const tz = p.torque.z();
-  double *const vx = p.velocity.x(), *const vy = p.velocity.y(), *const vz = p.velocity.z();
-  double *const wx = p.omega.x(), *const wy = p.omega.y(), *const wz = p.omega.z();
+  Vec3* const force = p.force.data();
+  Vec3* const torque = p.torque.data();
+  Vec3* const v = p.velocity.data();
+  Vec3* const w = p.omega.data();
   Vec3* const x = p.position.data();
   Quat* const q = p.orientation.data();
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -79,30 +77,21 @@ DriftMaxima drift_pass(ParticleStore& p, double dt, const Vec3& gravity, double 
   for (std::size_t k = 0; k < n; ++k) {
     const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
     const double moving = motion[k] == Motion::kFixed ? 0.0 : 1.0;
-    const double kick = free * half / mass[k];
-    const double turn = free * half / ParticleStore::sphere_inertia(mass[k], radius[k]);
-    vx[k] += fx[k] * kick;
-    vy[k] += fy[k] * kick;
-    vz[k] += fz[k] * kick;
-    wx[k] += tx[k] * turn;
-    wy[k] += ty[k] * turn;
-    wz[k] += tz[k] * turn;
-    const double move = moving * dt;
-    x[k].x += vx[k] * move;
-    x[k].y += vy[k] * move;
-    x[k].z += vz[k] * move;
-    if constexpr (kTurn) q[k] = rotated(q[k], Vec3{wx[k], wy[k], wz[k]} * moving, dt);
-    // The next step's initial load (GatherMap::initialise_loads).
-    fx[k] = gravity.x * mass[k];
-    fy[k] = gravity.y * mass[k];
-    fz[k] = gravity.z * mass[k];
-    tx[k] = 0.0;
-    ty[k] = 0.0;
-    tz[k] = 0.0;
+    v[k] += force[k] * (free * half / mass[k]);
+    w[k] += torque[k] * (free * half / ParticleStore::sphere_inertia(mass[k], radius[k]));
+    x[k] += v[k] * (moving * dt);
+    if constexpr (kTurn) q[k] = rotated(q[k], w[k] * moving, dt);
+    // The next step's initial load (GatherMap::initialise_loads), component by component so
+    // that the loop vectorises.
+    force[k].x = gravity.x * mass[k];
+    force[k].y = gravity.y * mass[k];
+    force[k].z = gravity.z * mass[k];
+    torque[k].x = 0.0;
+    torque[k].y = 0.0;
+    torque[k].z = 0.0;
     // The largest squared speeds, scaled after the loop: scaling by a positive constant keeps
     // the order, so max(scaled) is the scaled max. NaN compares false: it counts as infinite.
-    const double v2 = vx[k] * vx[k] + vy[k] * vy[k] + vz[k] * vz[k];
-    const double w2 = wx[k] * wx[k] + wy[k] * wy[k] + wz[k] * wz[k];
+    const double v2 = norm2(v[k]), w2 = norm2(w[k]);
     max_v2 = v2 <= max_v2 ? max_v2 : (v2 == v2 ? v2 : kInfinity);
     max_w2 = w2 <= max_w2 ? max_w2 : (w2 == w2 ? w2 : kInfinity);
   }
@@ -116,8 +105,8 @@ DriftMaxima drift_pass(ParticleStore& p, double dt, const Vec3& gravity, double 
 Integrator::Drift Integrator::first_half(ParticleStore& p, double dt, const Vec3& gravity,
                                          double max_step, double max_turn, bool orientations) {
   const std::size_t n = p.n_local();
-  const Vec3Column& v = p.velocity;
-  const Vec3Column& w = p.omega;
+  const Vec3* const v = p.velocity.data();
+  const Vec3* const w = p.omega.data();
   const double step_scale = dt * dt / (max_step * max_step);
   const double turn_scale = dt * dt / (max_turn * max_turn);
   const DriftMaxima m = orientations ? drift_pass<true>(p, dt, gravity, step_scale, turn_scale)
@@ -145,11 +134,10 @@ void Integrator::second_half(ParticleStore& p, double dt) {
   const double* const mass = p.mass.data();
   const double* const radius = p.radius.data();
   const double* const alpha = p.damping.data();
-  double *const force_x = p.force.x(), *const force_y = p.force.y(), *const force_z = p.force.z();
-  double *const torque_x = p.torque.x(), *const torque_y = p.torque.y(),
-                *const torque_z = p.torque.z();
-  double *const vx = p.velocity.x(), *const vy = p.velocity.y(), *const vz = p.velocity.z();
-  double *const wx = p.omega.x(), *const wy = p.omega.y(), *const wz = p.omega.z();
+  Vec3* const force = p.force.data();
+  Vec3* const torque = p.torque.data();
+  Vec3* const v = p.velocity.data();
+  Vec3* const w = p.omega.data();
   double* const dissipated = p.dissipated_global.data();
   double* const power = p.power_global.data();
   // Chunks of particles, each through one of two branch-free loops that vectorise: without
@@ -167,14 +155,8 @@ void Integrator::second_half(ParticleStore& p, double dt) {
 #pragma omp simd
       for (std::size_t k = begin; k < end; ++k) {
         const double free = motion[k] == Motion::kFree ? 1.0 : 0.0;
-        const double kick = free * half / mass[k];
-        const double turn = free * half / ParticleStore::sphere_inertia(mass[k], radius[k]);
-        vx[k] += force_x[k] * kick;
-        vy[k] += force_y[k] * kick;
-        vz[k] += force_z[k] * kick;
-        wx[k] += torque_x[k] * turn;
-        wy[k] += torque_y[k] * turn;
-        wz[k] += torque_z[k] * turn;
+        v[k] += force[k] * (free * half / mass[k]);
+        w[k] += torque[k] * (free * half / ParticleStore::sphere_inertia(mass[k], radius[k]));
         // Only a coefficient that just went to 0 leaves a last power to clear.
         power[k] = power[k] != 0.0 ? 0.0 : power[k];
       }
@@ -187,33 +169,33 @@ void Integrator::second_half(ParticleStore& p, double dt) {
       const bool on = a != 0.0;
       // Component by component, with selects, so that the compiler blends them: the Cundall
       // load of each component (damping_component) comes off only where the particle is damped.
-      const double fx = force_x[k], fy = force_y[k], fz = force_z[k];
-      const double tx = torque_x[k], ty = torque_y[k], tz = torque_z[k];
-      const double dfx = damping_component(fx, vx[k], a), dfy = damping_component(fy, vy[k], a),
-                   dfz = damping_component(fz, vz[k], a);
-      const double dtx = damping_component(tx, wx[k], a), dty = damping_component(ty, wy[k], a),
-                   dtz = damping_component(tz, wz[k], a);
+      const double fx = force[k].x, fy = force[k].y, fz = force[k].z;
+      const double tx = torque[k].x, ty = torque[k].y, tz = torque[k].z;
+      const double dfx = damping_component(fx, v[k].x, a), dfy = damping_component(fy, v[k].y, a),
+                   dfz = damping_component(fz, v[k].z, a);
+      const double dtx = damping_component(tx, w[k].x, a), dty = damping_component(ty, w[k].y, a),
+                   dtz = damping_component(tz, w[k].z, a);
       const double gx = on ? fx - dfx : fx, gy = on ? fy - dfy : fy, gz = on ? fz - dfz : fz;
       const double hx = on ? tx - dtx : tx, hy = on ? ty - dty : ty, hz = on ? tz - dtz : tz;
-      force_x[k] = gx;
-      force_y[k] = gy;
-      force_z[k] = gz;
-      torque_x[k] = hx;
-      torque_y[k] = hy;
-      torque_z[k] = hz;
+      force[k].x = gx;
+      force[k].y = gy;
+      force[k].z = gz;
+      torque[k].x = hx;
+      torque[k].y = hy;
+      torque[k].z = hz;
       const double kick = free * half / mass[k],
                    turn = free * half / ParticleStore::sphere_inertia(mass[k], radius[k]);
-      const double ux = vx[k] + gx * kick, uy = vy[k] + gy * kick, uz = vz[k] + gz * kick;
-      const double sx = wx[k] + hx * turn, sy = wy[k] + hy * turn, sz = wz[k] + hz * turn;
-      vx[k] = ux;
-      vy[k] = uy;
-      vz[k] = uz;
-      wx[k] = sx;
-      wy[k] = sy;
-      wz[k] = sz;
+      const double vx = v[k].x + gx * kick, vy = v[k].y + gy * kick, vz = v[k].z + gz * kick;
+      const double wx = w[k].x + hx * turn, wy = w[k].y + hy * turn, wz = w[k].z + hz * turn;
+      v[k].x = vx;
+      v[k].y = vy;
+      v[k].z = vz;
+      w[k].x = wx;
+      w[k].y = wy;
+      w[k].z = wz;
       // Energy ledger: the power the Cundall loads take out, at the synchronised velocity
       // v^{n+1} just computed (docs/physics.md "Energy ledger").
-      const double q = free * ((dfx * ux + dfy * uy + dfz * uz) + (dtx * sx + dty * sy + dtz * sz));
+      const double q = free * ((dfx * vx + dfy * vy + dfz * vz) + (dtx * wx + dty * wy + dtz * wz));
       dissipated[k] = on ? dissipated[k] + q * dt : dissipated[k];
       power[k] = on ? q : (power[k] != 0.0 ? 0.0 : power[k]);
     }

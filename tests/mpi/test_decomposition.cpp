@@ -315,9 +315,8 @@ TEST_F(Decomposition, FirstDistributionSendsBondsAndSpringsHeldAnywhereToTheirPa
 std::map<std::string, std::vector<char>> field_bytes(ParticleStore& p) {
   std::map<std::string, std::vector<char>> out;
   p.for_each_field([&](const FieldInfo& f, auto& v) {
-    const auto& rows = as_rows(v);
-    const char* data = reinterpret_cast<const char*>(rows.data());
-    out[std::string(f.name)].assign(data, data + rows.size() * sizeof(rows[0]));
+    const char* data = reinterpret_cast<const char*>(v.data());
+    out[std::string(f.name)].assign(data, data + v.size() * sizeof(v[0]));
   });
   return out;
 }

@@ -80,7 +80,7 @@ TEST(PairContactTerm, EachParticleGetsItsContactsInAscendingPartnerGid) {
   ledger.begin_step(p.n_local());
   ComputeContext ctx{
       p,      bodies, materials, slots,
-      ledger, 0.0,    dt,        ParticleLoads{&p.force, &p.torque, p.n_local()}};
+      ledger, 0.0,    dt,        ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
   term.compute(ctx);
 
   // Reference: every partner of k (owned or ghost) in ascending gid, each contact evaluated
@@ -161,7 +161,7 @@ TEST(PairContactTerm, RebuildGivesEveryPairItsCarriedSpring) {
   ledger.begin_step(p.n_local());
   ComputeContext ctx{
       p,      bodies, materials, slots,
-      ledger, 0.0,    1e-6,      ParticleLoads{&p.force, &p.torque, p.n_local()}};
+      ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
   term.compute(ctx);
   const ContactSpringStore touching = term.touching_springs(p);
   std::map<std::pair<std::int64_t, std::int64_t>, Vec3> before;
@@ -218,11 +218,11 @@ TEST(PairContactTerm, AnOpenedContactForgetsItsSpring) {
     ledger.begin_step(p.n_local());
     ComputeContext ctx{
         p,      bodies, materials, slots,
-        ledger, 0.0,    1e-6,      ParticleLoads{&p.force, &p.torque, p.n_local()}};
+        ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
     term.compute(ctx);
   };
   compute();
-  const std::vector<Vec3> first_force = p.force.rows(), first_torque = p.torque.rows();
+  const std::vector<Vec3> first_force = p.force, first_torque = p.torque;
   ASSERT_GT(term.touching_springs(p).size(), 100u);
   const std::vector<Vec3> together = p.position;
   for (std::size_t k = 0; k < p.n_total(); ++k)  // in a row 10 cm apart: nothing touches
