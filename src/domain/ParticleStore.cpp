@@ -9,6 +9,10 @@ void ParticleStore::resize_all(std::size_t n) {
   for_each_field([n](const FieldInfo&, auto& v) { v.resize(n); });
 }
 
+void ParticleStore::reserve(std::size_t n) {
+  for_each_field([n](const FieldInfo&, auto& v) { v.reserve(n); });
+}
+
 std::size_t ParticleStore::add(const NewParticle& p) {
   if (n_ghost_ != 0) throw std::logic_error("ParticleStore::add with ghosts present");
   if (!(p.radius > 0.0)) throw std::invalid_argument("particle radius must be positive");

@@ -173,6 +173,8 @@ class ParticleStore {
   /// Appends an owned particle (only while there are no ghosts). Returns its index.
   std::size_t add(const NewParticle& p);
 
+  /// Makes room for n particles in every column, so that adding up to n allocates nothing.
+  void reserve(std::size_t n);
   /// Resizes the owned range; drops all ghosts.
   void resize_local(std::size_t n);
   /// Takes out the owned particles k with keep_owned[k] == 0 (one entry per owned particle);
