@@ -14,14 +14,18 @@ void GatherMap::finish(const ParticleStore& p) {
   std::sort(entries_.begin(), entries_.end(), [](const Entry& x, const Entry& y) {
     return std::tie(x.particle, x.key, x.term) < std::tie(y.particle, y.key, y.term);
   });
-  gather_offset_.assign(n_local_ + 1, 0);
+  gather_particle_.clear();
+  gather_offset_.assign(1, 0);
   gather_slot_.resize(entries_.size());
   for (std::size_t e = 0; e < entries_.size(); ++e) {
-    ++gather_offset_[entries_[e].particle + 1];
+    const std::uint32_t k = entries_[e].particle;
+    if (gather_particle_.empty() || gather_particle_.back() != k) {
+      gather_particle_.push_back(k);
+      gather_offset_.push_back(gather_offset_.back());
+    }
+    ++gather_offset_.back();
     gather_slot_[e] = entries_[e].slot;
   }
-  for (std::size_t k = 0; k < n_local_; ++k)
-    gather_offset_[k + 1] += gather_offset_[k];
 
   // Energy ledger: the owned particles with ledger slots (in gather order), and driven ones.
   ledger_particle_.clear();
@@ -72,7 +76,6 @@ void GatherMap::apply_point_loads(ParticleStore& p, const std::vector<PointLoad>
 }
 
 void GatherMap::gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity) {
-  const std::size_t n_local = p.n_local();
   // Raw pointers, read once (nothing in the loop can move them).
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
@@ -82,11 +85,11 @@ void GatherMap::gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gr
                       *const fz = slots.fz.data();
   const double *const tx = slots.tx.data(), *const ty = slots.ty.data(),
                       *const tz = slots.tz.data();
-  for (std::size_t k = 0; k < n_local; ++k) {
-    if (offset[k] == offset[k + 1]) continue;
+  for (std::size_t i = 0; i < gather_particle_.size(); ++i) {
+    const std::uint32_t k = gather_particle_[i];
     Vec3 f = force[k];
     Vec3 t = torque[k];
-    for (std::uint32_t e = offset[k]; e < offset[k + 1]; ++e) {
+    for (std::uint32_t e = offset[i]; e < offset[i + 1]; ++e) {
       const std::uint32_t s = slot[e];
       f += Vec3{fx[s], fy[s], fz[s]};
       t += Vec3{tx[s], ty[s], tz[s]};
