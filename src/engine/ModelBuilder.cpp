@@ -392,7 +392,7 @@ Model build_model(const CaseConfig& config, int rank, int ranks) {
   ModelPlan plan = plan_model(config);
   // Room for this rank's particles before the first is added (each source's count in
   // proportion to its slice of gids, a few more for sparse ones): a store grown one particle
-  // at a time frees a trail of smaller columns that the heap keeps resident (about 65 MiB at
+  // at a time frees a trail of smaller columns that the heap keeps resident (about 60 MiB at
   // 10^6 grains; docs/performance.md, seventh round).
   std::int64_t expected = 0;
   for (const auto& src : plan.sources) {

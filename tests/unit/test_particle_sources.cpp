@@ -183,7 +183,7 @@ TEST(ParticleSources, OnlyModelsWithBondsKeepOrientations) {
 
 // A rank sizes its store once, for its share of every source, before the first particle is
 // added: grown one particle at a time, the columns' discarded smaller copies stayed resident
-// (about 65 MiB at 10^6 grains). Dense sources give each rank an exact count, so the columns
+// (about 60 MiB at 10^6 grains). Dense sources give each rank an exact count, so the columns
 // hold no slack; so does a sparse one (packing cells) on one rank. On several, its share is
 // estimated from its average (5 % over): a rank whose cells are fuller grows once.
 TEST(ParticleSources, EachRankSizesItsStoreOnceForItsShare) {
