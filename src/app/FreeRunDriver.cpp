@@ -170,6 +170,12 @@ void FreeRunDriver::record_barrier(const Simulation& sim, const MomentumBalance&
     row.push_back(v);
 }
 
+std::int64_t FreeRunDriver::steps_to_advance(const Simulation& sim) const {
+  // after_steps() records once the time is within 1e-12 s of next_record_.
+  return std::max<std::int64_t>(
+      1, std::min(total_steps_ - sim.steps(), sim.steps_short_of(next_record_, 1e-12)));
+}
+
 bool FreeRunDriver::after_steps(Simulation& sim) {
   if (sim.time() + 1e-12 >= next_record_ || sim.steps() == total_steps_) {
     record(sim);

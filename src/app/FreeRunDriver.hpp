@@ -21,7 +21,8 @@ class FreeRunDriver : public ScenarioDriver {
   const CaseConfig& config() const override { return config_; }
   std::int64_t planned_steps(const Simulation& sim) const override;
   bool start(Simulation& sim, const ScenarioContext& context) override;
-  std::int64_t steps_to_advance(const Simulation&) const override { return 1; }
+  /// To the next series row or the end, whichever comes first.
+  std::int64_t steps_to_advance(const Simulation& sim) const override;
   bool after_steps(Simulation& sim) override;
   DriverState state() const override;
   std::string progress(const Simulation& sim, double steps_per_second) const override;

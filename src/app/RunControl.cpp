@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <system_error>
 
 #include "engine/ModelBuilder.hpp"
@@ -270,6 +272,21 @@ std::string RunControl::write_checkpoint(Simulation& sim,
       checkpoints_.write(sim.comm(), sim.model(), sim.restart_state(), state, segment_, config_);
   last_checkpoint_wall_ = std::chrono::steady_clock::now();
   return path;
+}
+
+std::int64_t RunControl::steps_until_due(const Simulation& sim) const {
+  std::int64_t n = std::numeric_limits<std::int64_t>::max();
+  if (!writes_files()) return n;
+  const OutputConfig& out = config_.output;
+  // The same schedules and tolerances as after_step().
+  if (out.frame_interval > 0.0)
+    n = std::min(n, sim.steps_short_of(next_frame_time_, 0.01 * sim.dt()));
+  if (out.frame_interval_steps > 0)
+    n = std::min(n, std::max<std::int64_t>(1, next_frame_step_ - sim.steps()));
+  if (out.checkpoint_interval > 0.0)
+    n = std::min(n, sim.steps_short_of(next_checkpoint_time_, 0.01 * sim.dt()));
+  if (out.checkpoint_wall_interval > 0.0) n = std::min(n, 1000 - sim.steps() % 1000);
+  return n;
 }
 
 bool RunControl::after_step(Simulation& sim, const std::function<DriverState()>& driver) {

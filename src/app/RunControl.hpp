@@ -70,6 +70,9 @@ class RunControl {
   /// After each step: frames and checkpoints that are due. Returns true when all ranks agreed to
   /// stop; a checkpoint has then been written. `driver` supplies the driver's state to save.
   bool after_step(Simulation& sim, const std::function<DriverState()>& driver);
+  /// Steps (at least 1) the loop may run before after_step() can have a frame or checkpoint
+  /// to write: no schedule is passed within them.
+  std::int64_t steps_until_due(const Simulation& sim) const;
   /// A frame now, whatever the schedule (first and last state), when the case writes frames;
   /// `for_inspection` writes one even then (the state a diverged run ended in). Collective.
   void write_frame(Simulation& sim, bool for_inspection = false);

@@ -21,9 +21,56 @@ void EnergyLedger::begin_step(std::size_t n_local) {
   entry_of_.resize(n_local, kNoEntry);
 }
 
+namespace {
+
+/// A particle with no power booked last step and no contact energy: nothing of it changes
+/// unless a load books something now.
+bool idle(const ParticleStore& p, std::size_t k) {
+  return p.power_damping[k] == 0.0 && p.power_friction[k] == 0.0 && p.power_boundary[k] == 0.0 &&
+         p.tangential_energy[k] == 0.0 && p.contact_energy[k] == 0.0;
+}
+
+}  // namespace
+
 void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bodies,
                               const ForceSlots& slots, const GatherMap& gather, double dt,
                               bool initial) {
+  start_accumulation(p, gather);
+  accumulate_below(p.n_local(), p, bodies, slots, gather, dt, initial);
+  finish_accumulation(p, gather, dt, initial);
+}
+
+void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& gather) {
+  const std::size_t n_local = p.n_local();
+  const bool have_moments = entry_of_.size() == n_local;  // begin_step() ran on this store
+  // A particle with no load to book now and nothing booked last step keeps its tallies bit
+  // for bit, so only the particles with contacts or records now, the driven ones, and those
+  // that had a nonzero power or energy after the last step (the active list) are visited.
+  // After a rebuild (indices changed) and whenever that union is not small, every owned
+  // particle is, in index order; accumulate_below() then skips the idle ones.
+  const auto& particles = gather.ledger_particles();
+  const auto& driven = gather.driven_powers();
+  visit_.clear();
+  const std::size_t listed =
+      (have_moments ? touched_list_.size() : 0) + particles.size() + driven.size() + active_.size();
+  scan_all_ = !active_valid_ || active_n_local_ != n_local || 4 * listed > n_local;
+  if (!scan_all_) {
+    if (have_moments) visit_.insert(visit_.end(), touched_list_.begin(), touched_list_.end());
+    visit_.insert(visit_.end(), particles.begin(), particles.end());
+    for (const auto& x : driven)
+      visit_.push_back(x.particle);
+    visit_.insert(visit_.end(), active_.begin(), active_.end());
+    std::sort(visit_.begin(), visit_.end());
+    visit_.erase(std::unique(visit_.begin(), visit_.end()), visit_.end());
+  }
+  active_.clear();
+  n_visit_ = scan_all_ ? n_local : visit_.size();
+  next_visit_ = next_records_ = next_driven_ = 0;
+}
+
+void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
+                                    const std::vector<RigidBody>& bodies, const ForceSlots& slots,
+                                    const GatherMap& gather, double dt, bool initial) {
   // The tallies (docs/physics.md "Energy ledger"; physics.md §3 for the contact loads, §4
   // for the integrator). Velocity Verlet applies a load F^n, computed at t_n, in two half
   // kicks v^{n-1/2} -> v^n -> v^{n+1/2}; the kinetic energy they change is exactly
@@ -45,38 +92,15 @@ void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bo
                       : accumulated + dt * power;
     last_power = power;
   };
-  const std::size_t n_local = p.n_local();
-  const bool have_moments = entry_of_.size() == n_local;  // begin_step() ran on this store
-  // A particle with no load to book now and nothing booked last step keeps its tallies bit
-  // for bit, so only the particles with contacts or records now, the driven ones, and those
-  // that had a nonzero power or energy after the last step (the active list) are visited.
-  // After a rebuild (indices changed) and whenever that union is not small, every owned
-  // particle is, in index order; the test below then skips the idle ones.
-  const auto idle = [&p](std::size_t k) {
-    return p.power_damping[k] == 0.0 && p.power_friction[k] == 0.0 && p.power_boundary[k] == 0.0 &&
-           p.tangential_energy[k] == 0.0 && p.contact_energy[k] == 0.0;
-  };
-  visit_.clear();
-  const std::size_t listed =
-      (have_moments ? touched_list_.size() : 0) + particles.size() + driven.size() + active_.size();
-  const bool scan_all = !active_valid_ || active_n_local_ != n_local || 4 * listed > n_local;
-  if (!scan_all) {
-    if (have_moments) visit_.insert(visit_.end(), touched_list_.begin(), touched_list_.end());
-    visit_.insert(visit_.end(), particles.begin(), particles.end());
-    for (const auto& x : driven)
-      visit_.push_back(x.particle);
-    visit_.insert(visit_.end(), active_.begin(), active_.end());
-    std::sort(visit_.begin(), visit_.end());
-    visit_.erase(std::unique(visit_.begin(), visit_.end()), visit_.end());
-  }
-  active_.clear();
-  const std::size_t n_visit = scan_all ? n_local : visit_.size();
-  for (std::size_t i = 0, d = 0, v_index = 0; v_index < n_visit; ++v_index) {
-    const std::size_t k = scan_all ? v_index : visit_[v_index];
+  const bool have_moments = entry_of_.size() == p.n_local();
+  std::size_t i = next_records_, d = next_driven_, v_index = next_visit_;
+  for (; v_index < n_visit_; ++v_index) {
+    const std::size_t k = scan_all_ ? v_index : visit_[v_index];
+    if (k >= end) break;
     const bool has_moments = have_moments && entry_of_[k] != kNoEntry;
     const bool has_records = i < particles.size() && particles[i] == k;
     const bool is_driven = d < driven.size() && driven[d].particle == k;
-    if (!has_moments && !has_records && !is_driven && idle(k)) continue;
+    if (!has_moments && !has_records && !is_driven && idle(p, k)) continue;
     const Vec3 v = p.velocity[k];
     const Vec3 w = p.omega[k];
     double damping = 0.0, friction = 0.0, boundary = 0.0, tangential = 0.0, elastic = 0.0;
@@ -124,10 +148,17 @@ void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bo
     if (!initial) p.dissipated_friction[k] -= tangential - p.tangential_energy[k];
     p.tangential_energy[k] = tangential;
     p.contact_energy[k] = elastic;  // summed in a fixed order: the same bits on any rank count
-    if (!idle(k)) active_.push_back(static_cast<std::uint32_t>(k));
+    if (!idle(p, k)) active_.push_back(static_cast<std::uint32_t>(k));
   }
+  next_visit_ = v_index;
+  next_records_ = i;
+  next_driven_ = d;
+}
+
+void EnergyLedger::finish_accumulation(ParticleStore& p, const GatherMap& gather, double dt,
+                                       bool initial) {
   active_valid_ = true;
-  active_n_local_ = n_local;
+  active_n_local_ = p.n_local();
   // External forces: F_ext . (x^{n+1} - x^n), exact for a constant force.
   if (!initial)
     for (const auto& x : gather.external_powers())

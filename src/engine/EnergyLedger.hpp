@@ -70,6 +70,18 @@ class EnergyLedger {
   void accumulate(ParticleStore& p, const std::vector<RigidBody>& bodies, const ForceSlots& slots,
                   const GatherMap& gather, double dt, bool initial = false);
 
+  /// accumulate() in three parts, so that the integrator can book each particle between its
+  /// two half kicks while the particle is in cache (Integrator::second_then_first_half): the
+  /// same operations on each particle, so the same bits. start_accumulation() lists the
+  /// particles to visit; accumulate_below(end) books the listed ones with index below `end`
+  /// (called with growing ends); finish_accumulation() books the external loads.
+  void start_accumulation(const ParticleStore& p, const GatherMap& gather);
+  void accumulate_below(std::size_t end, ParticleStore& p, const std::vector<RigidBody>& bodies,
+                        const ForceSlots& slots, const GatherMap& gather, double dt,
+                        bool initial = false);
+  void finish_accumulation(ParticleStore& p, const GatherMap& gather, double dt,
+                           bool initial = false);
+
  private:
   std::vector<DissipationRecord> records_;
   std::vector<std::uint32_t> record_of_slot_;
@@ -83,6 +95,10 @@ class EnergyLedger {
   bool active_valid_ = false;
   std::size_t active_n_local_ = 0;
   std::vector<std::uint32_t> visit_;  ///< scratch: the particles accumulate() visits
+  /// Where accumulate_below() stands: every owned particle or visit_, the next of them, the
+  /// next particle with records (GatherMap::ledger_particles) and the next driven one.
+  bool scan_all_ = false;
+  std::size_t n_visit_ = 0, next_visit_ = 0, next_records_ = 0, next_driven_ = 0;
 };
 
 }  // namespace ringdem

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "engine/DivergenceError.hpp"
@@ -241,6 +242,14 @@ void Simulation::change_time_step(double dt) {
 std::int64_t Simulation::steps_until(double end_time) const {
   return dt_origin_step_ +
          static_cast<std::int64_t>(std::ceil((end_time - dt_origin_time_) / dt_ - 1e-9));
+}
+
+std::int64_t Simulation::steps_short_of(double event_time, double tolerance) const {
+  // The event is due after about x steps; times are sums of steps, so one step short of
+  // ceil(x) is never past it whatever the rounding.
+  const double x = (event_time - time_ - tolerance) / dt_;
+  if (!(x < 1e15)) return std::numeric_limits<std::int64_t>::max();
+  return std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(x)) - 1);
 }
 
 OverlapReport Simulation::overlaps(double fraction, std::size_t listed) const {
@@ -560,6 +569,12 @@ void Simulation::reduce_body_loads() {
 }
 
 void Simulation::step() {
+  start_step();
+  evaluate_step();
+  finish_step();
+}
+
+void Simulation::start_step() {
   ParticleStore& p = model_.particles;
   if (outflow_pending_ || !inflow_.empty()) {
     bool changed = false;
@@ -581,6 +596,10 @@ void Simulation::step() {
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);
   }
   time_ += dt_;
+}
+
+void Simulation::evaluate_step() {
+  ParticleStore& p = model_.particles;
   bool rebuild_now = false;
   {
     PhaseTimer t(phase_seconds_[kComm]);
@@ -593,6 +612,10 @@ void Simulation::step() {
   }
   compute_forces(/*loads_started=*/true);
   book_momentum(/*initial=*/false);
+}
+
+void Simulation::finish_step() {
+  ParticleStore& p = model_.particles;
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     Integrator::second_half(p, dt_);
@@ -600,6 +623,52 @@ void Simulation::step() {
     ledger_.accumulate(p, model_.bodies, slots_, gather_, dt_);  // needs both at v^{n+1}
   }
   ++steps_;
+}
+
+bool Simulation::can_fuse_with_next_step() const {
+  // The next step's start_step() would take grains out or put a batch in before its drift.
+  if (outflow_pending_) return false;
+  for (std::size_t i = 0; i < inflow_.size(); ++i)
+    if (inflow_.due(i, time_)) return false;
+  return true;
+}
+
+void Simulation::finish_step_and_start_next() {
+  // finish_step() and the next start_step() (which takes no grains in or out: see
+  // can_fuse_with_next_step()) as one pass over the particles: the ledger books each chunk of
+  // particles at its end-of-step velocities, before the chunk drifts. The rigid bodies' halves
+  // and the momentum ledger's booking are independent of the particles' pass.
+  ParticleStore& p = model_.particles;
+  {
+    PhaseTimer t(phase_seconds_[kIntegrate]);
+    Integrator::second_half(model_.bodies, dt_, settings_.gravity);
+    ledger_.start_accumulation(p, gather_);
+    drift_ = Integrator::second_then_first_half(
+        p, dt_, settings_.gravity, kMaxStepFraction * settings_.skin, kMaxTurn, track_orientations_,
+        [this, &p](std::size_t end) {
+          ledger_.accumulate_below(end, p, model_.bodies, slots_, gather_, dt_);
+        });
+    ledger_.finish_accumulation(p, gather_, dt_);
+    momentum_.book_first_half();
+    Integrator::first_half(model_.bodies, dt_, settings_.gravity);
+  }
+  ++steps_;
+  time_ += dt_;
+}
+
+void Simulation::run_steps(std::int64_t n, const std::function<void()>& before_each) {
+  bool started = false;  // the next step's first half is done
+  for (std::int64_t k = 0; k < n; ++k) {
+    if (before_each) before_each();
+    if (!started) start_step();
+    evaluate_step();
+    started = k + 1 < n && !stop_agreed_ && can_fuse_with_next_step();
+    if (started)
+      finish_step_and_start_next();
+    else
+      finish_step();
+    if (stop_agreed_) break;
+  }
 }
 
 bool Simulation::exchange_grains() {
@@ -630,11 +699,6 @@ bool Simulation::exchange_grains() {
     momentum_.book_arrivals(p, first_new, p.n_local(), 0.5 * dt_);
   }
   return changed;
-}
-
-void Simulation::run_steps(std::int64_t n) {
-  for (std::int64_t k = 0; k < n; ++k)
-    step();
 }
 
 void Simulation::place_body(std::size_t index, const Vec3& position, const Vec3& velocity,

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "domain/ParticleStore.hpp"
@@ -36,6 +38,22 @@ struct Integrator {
   /// Adds the energy the damping took out (its power at the new velocities, times dt) to the
   /// particles' dissipated_global ledger.
   static void second_half(ParticleStore& p, double dt);
+  /// second_half() of this step, then `between(end)`, then first_half() of the next step,
+  /// block by block of kBlock particles: between(end) is called once the particles below `end`
+  /// have their end-of-step velocities and before any of them drifts, with growing ends up to
+  /// the number of owned particles. The same bits as the three in turn, in one pass from
+  /// memory over the particles instead of three (a million grains' columns do not stay in cache).
+  static Drift second_then_first_half(ParticleStore& p, double dt, const Vec3& gravity,
+                                      double max_step, double max_turn, bool orientations,
+                                      const std::function<void(std::size_t end)>& between);
+  /// Particles a chunk of the passes: their columns fit the first-level cache.
+  static constexpr std::size_t kChunk = 64;
+  /// Particles a block of second_then_first_half(): each of its three parts runs over a block
+  /// before the next starts, so a block's columns (about 4 MB) come back from the last-level
+  /// cache. Measured on 10^6 grains (BM_IntegrateGrains): 11.5-11.8 ns a particle-step against
+  /// 12.5-13 ns for blocks of 4 096 or 65 536 particles and 15 ns for chunks of 64 alone, which
+  /// break the memory streams too often.
+  static constexpr std::size_t kBlock = 256 * kChunk;
 
   /// Rigid bodies: prescribed ones move with their velocity; free ones are integrated from
   /// their contact load plus gravity.
