@@ -126,87 +126,20 @@ void TimoshenkoBondTerm::compute(ComputeContext& ctx) {
   // loop vectorises: bond data in contiguous arrays, particle data gathered by index, no
   // branches (broken or failing bonds are masked to zero force). Output quantities are
   // recomputed on demand by update_diagnostics().
-  const Vec3* const pos = p.position.data();
-  const Quat* const rot = p.orientation.data();
-  const std::uint32_t* const ia = bonds.index_a.data();
-  const std::uint32_t* const ib = bonds.index_b.data();
-  const std::uint8_t* const broken = bonds.broken.data();
   std::uint8_t* __restrict__ const failed = failed_.data();
-  ForceSlots& slots = ctx.slots;
-  double* __restrict__ const fxa = slots.fx.data() + slots_a_.begin;
-  double* __restrict__ const fya = slots.fy.data() + slots_a_.begin;
-  double* __restrict__ const fza = slots.fz.data() + slots_a_.begin;
-  double* __restrict__ const txa = slots.tx.data() + slots_a_.begin;
-  double* __restrict__ const tya = slots.ty.data() + slots_a_.begin;
-  double* __restrict__ const tza = slots.tz.data() + slots_a_.begin;
-  double* __restrict__ const fxb = slots.fx.data() + slots_b_.begin;
-  double* __restrict__ const fyb = slots.fy.data() + slots_b_.begin;
-  double* __restrict__ const fzb = slots.fz.data() + slots_b_.begin;
-  double* __restrict__ const txb = slots.tx.data() + slots_b_.begin;
-  double* __restrict__ const tyb = slots.ty.data() + slots_b_.begin;
-  double* __restrict__ const tzb = slots.tz.data() + slots_b_.begin;
-  // Raw pointers, read once: the vectoriser needs loop-invariant bases it can prove.
-  const double* const l0 = bonds.length0.data();
-  const double* const k_ax = bonds.k_axial.data();
-  const double* const k_tor = bonds.k_torsion.data();
-  const double* const k_self = bonds.k_bend_self.data();
-  const double* const k_cross = bonds.k_bend_cross.data();
-  const double* const inv_area = bonds.inv_area.data();
-  const double* const bend_factor = bonds.bend_factor.data();
-  const Quat* const frame_a = bonds.frame_a.data();
-  const Quat* const frame_b = bonds.frame_b.data();
-  const double* const sigma_t = bonds.tensile_strength.data();
-  const double* const sigma_c = bonds.compressive_strength.data();
-  const double* const tau = bonds.shear_strength.data();
-  Scratch& g = scratch_;
-  // Bonds in chunks: a scalar pass copies the end particles' positions and orientations
-  // into contiguous scratch arrays, so the vector loop that follows loads everything
-  // contiguously instead of gathering it element by element.
-  for_each_chunk(IndexRange{0, nb}, kChunk, [&](IndexRange chunk) {
-    const std::size_t start = chunk.begin;
-    for (std::size_t c = 0; c < chunk.size(); ++c) {
-      const Vec3& xa = pos[ia[start + c]];
-      const Vec3& xb = pos[ib[start + c]];
-      const Quat& qa = rot[ia[start + c]];
-      const Quat& qb = rot[ib[start + c]];
-      g.xa[0][c] = xa.x, g.xa[1][c] = xa.y, g.xa[2][c] = xa.z;
-      g.xb[0][c] = xb.x, g.xb[1][c] = xb.y, g.xb[2][c] = xb.z;
-      g.qa[0][c] = qa.w, g.qa[1][c] = qa.x, g.qa[2][c] = qa.y, g.qa[3][c] = qa.z;
-      g.qb[0][c] = qb.w, g.qb[1][c] = qb.x, g.qb[2][c] = qb.y, g.qb[3][c] = qb.z;
-    }
+  const BeamColumns col(bonds);
+  BeamSlots out(ctx.slots, slots_a_, slots_b_);
+  BeamChunk& g = scratch_;
+  for_each_chunk(IndexRange{0, nb}, BeamChunk::kSize, [&](IndexRange chunk) {
+    g.load(p, bonds, chunk);
     for_each(chunk, [&](std::size_t k) {
-      const std::size_t c = k - start;
-      BondTimoshenko::Section sec;
-      sec.length0 = l0[k];
-      sec.k_axial = k_ax[k];
-      sec.k_torsion = k_tor[k];
-      sec.k_bend_self = k_self[k];
-      sec.k_bend_cross = k_cross[k];
-      sec.inv_area = inv_area[k];
-      sec.bend_factor = bend_factor[k];
-      const BondTimoshenko::Reference ref{frame_a[k], frame_b[k]};
-      const auto r = BondTimoshenko::compute(sec, ref, Vec3{g.xa[0][c], g.xa[1][c], g.xa[2][c]},
-                                             Quat{g.qa[0][c], g.qa[1][c], g.qa[2][c], g.qa[3][c]},
-                                             Vec3{g.xb[0][c], g.xb[1][c], g.xb[2][c]},
-                                             Quat{g.qb[0][c], g.qb[1][c], g.qb[2][c], g.qb[3][c]});
-      const auto st = BondTimoshenko::stresses(sec, r);
-      const int fails =
-          (st.tensile > sigma_t[k]) | (st.compressive > sigma_c[k]) | (st.shear > tau[k]);
-      failed[k] = static_cast<std::uint8_t>(fails & (broken[k] == 0));
-      // A select, not a product: a broken bond's state may be NaN (ends far apart or borrowed).
-      const bool keep = !(fails | broken[k]);
-      fxa[k] = keep ? r.force_a.x : 0.0;
-      fya[k] = keep ? r.force_a.y : 0.0;
-      fza[k] = keep ? r.force_a.z : 0.0;
-      txa[k] = keep ? r.torque_a.x : 0.0;
-      tya[k] = keep ? r.torque_a.y : 0.0;
-      tza[k] = keep ? r.torque_a.z : 0.0;
-      fxb[k] = keep ? r.force_b.x : 0.0;
-      fyb[k] = keep ? r.force_b.y : 0.0;
-      fzb[k] = keep ? r.force_b.z : 0.0;
-      txb[k] = keep ? r.torque_b.x : 0.0;
-      tyb[k] = keep ? r.torque_b.y : 0.0;
-      tzb[k] = keep ? r.torque_b.z : 0.0;
+      const std::size_t c = k - chunk.begin;
+      const auto sec = col.section(k);
+      const auto r =
+          BondTimoshenko::compute(sec, col.reference(k), g.x_a(c), g.q_a(c), g.x_b(c), g.q_b(c));
+      const int fails = col.fails(k, sec, r);
+      failed[k] = static_cast<std::uint8_t>(fails & (col.broken[k] == 0));
+      out.write(k, !(fails | col.broken[k]), r);
     });
   });
   if (std::find(failed_.begin(), failed_.end(), 1) != failed_.end())

@@ -5,9 +5,139 @@
 
 #include "domain/BondStore.hpp"
 #include "engine/BondTerm.hpp"
+#include "engine/ForceSlots.hpp"
+#include "engine/Loop.hpp"
 #include "physics/BondTimoshenko.hpp"
 
 namespace ringdem {
+
+/// The beam terms' vector loops run over bonds in chunks: a scalar pass copies the chunk's end
+/// positions and orientations (gathered by particle index) into these contiguous arrays, by
+/// component, so that the vector loop after it loads everything contiguously.
+struct BeamChunk {
+  static constexpr std::size_t kSize = 256;
+  double xa[3][kSize], xb[3][kSize], qa[4][kSize], qb[4][kSize];
+
+  /// Copies the ends of bonds [chunk.begin, chunk.end) to entries 0, 1, ...
+  void load(const ParticleStore& p, const BondStore& bonds, IndexRange chunk) {
+    const Vec3* const pos = p.position.data();
+    const Quat* const rot = p.orientation.data();
+    for (std::size_t c = 0; c < chunk.size(); ++c) {
+      const std::uint32_t a = bonds.index_a[chunk.begin + c], b = bonds.index_b[chunk.begin + c];
+      xa[0][c] = pos[a].x, xa[1][c] = pos[a].y, xa[2][c] = pos[a].z;
+      xb[0][c] = pos[b].x, xb[1][c] = pos[b].y, xb[2][c] = pos[b].z;
+      qa[0][c] = rot[a].w, qa[1][c] = rot[a].x, qa[2][c] = rot[a].y, qa[3][c] = rot[a].z;
+      qb[0][c] = rot[b].w, qb[1][c] = rot[b].x, qb[2][c] = rot[b].y, qb[3][c] = rot[b].z;
+    }
+  }
+  Vec3 x_a(std::size_t c) const { return {xa[0][c], xa[1][c], xa[2][c]}; }
+  Vec3 x_b(std::size_t c) const { return {xb[0][c], xb[1][c], xb[2][c]}; }
+  Quat q_a(std::size_t c) const { return {qa[0][c], qa[1][c], qa[2][c], qa[3][c]}; }
+  Quat q_b(std::size_t c) const { return {qb[0][c], qb[1][c], qb[2][c], qb[3][c]}; }
+};
+
+/// A beam store's per-bond columns as raw pointers, read once (the vectoriser needs
+/// loop-invariant bases it can prove), with the kernel's view of bond k.
+struct BeamColumns {
+  const double* length0;
+  const double* k_axial;
+  const double* k_torsion;
+  const double* k_bend_self;
+  const double* k_bend_cross;
+  const double* inv_area;
+  const double* bend_factor;
+  const Quat* frame_a;
+  const Quat* frame_b;
+  const double* tensile_strength;
+  const double* compressive_strength;
+  const double* shear_strength;
+  const std::uint8_t* broken;
+
+  explicit BeamColumns(const BondStore& b)
+      : length0(b.length0.data()),
+        k_axial(b.k_axial.data()),
+        k_torsion(b.k_torsion.data()),
+        k_bend_self(b.k_bend_self.data()),
+        k_bend_cross(b.k_bend_cross.data()),
+        inv_area(b.inv_area.data()),
+        bend_factor(b.bend_factor.data()),
+        frame_a(b.frame_a.data()),
+        frame_b(b.frame_b.data()),
+        tensile_strength(b.tensile_strength.data()),
+        compressive_strength(b.compressive_strength.data()),
+        shear_strength(b.shear_strength.data()),
+        broken(b.broken.data()) {}
+
+  [[gnu::always_inline]] BondTimoshenko::Section section(std::size_t k) const {
+    BondTimoshenko::Section s;
+    s.length0 = length0[k];
+    s.k_axial = k_axial[k];
+    s.k_torsion = k_torsion[k];
+    s.k_bend_self = k_bend_self[k];
+    s.k_bend_cross = k_bend_cross[k];
+    s.inv_area = inv_area[k];
+    s.bend_factor = bend_factor[k];
+    return s;
+  }
+  [[gnu::always_inline]] BondTimoshenko::Reference reference(std::size_t k) const {
+    return {frame_a[k], frame_b[k]};
+  }
+  /// Whether Eq. 3–5 break bond k in state r (0 or 1, branch-free).
+  [[gnu::always_inline]] int fails(std::size_t k, const BondTimoshenko::Section& s,
+                                   const BondTimoshenko::Result& r) const {
+    const auto st = BondTimoshenko::stresses(s, r);
+    return (st.tensile > tensile_strength[k]) | (st.compressive > compressive_strength[k]) |
+           (st.shear > shear_strength[k]);
+  }
+};
+
+/// The slots of a beam term's two ends (one range per end, bond k at begin + k), as raw
+/// component pointers read once: the vector loop needs loop-invariant bases it can prove.
+struct BeamSlots {
+  double* __restrict__ fxa;
+  double* __restrict__ fya;
+  double* __restrict__ fza;
+  double* __restrict__ txa;
+  double* __restrict__ tya;
+  double* __restrict__ tza;
+  double* __restrict__ fxb;
+  double* __restrict__ fyb;
+  double* __restrict__ fzb;
+  double* __restrict__ txb;
+  double* __restrict__ tyb;
+  double* __restrict__ tzb;
+
+  BeamSlots(ForceSlots& s, SlotRange a, SlotRange b)
+      : fxa(s.fx.data() + a.begin),
+        fya(s.fy.data() + a.begin),
+        fza(s.fz.data() + a.begin),
+        txa(s.tx.data() + a.begin),
+        tya(s.ty.data() + a.begin),
+        tza(s.tz.data() + a.begin),
+        fxb(s.fx.data() + b.begin),
+        fyb(s.fy.data() + b.begin),
+        fzb(s.fz.data() + b.begin),
+        txb(s.tx.data() + b.begin),
+        tyb(s.ty.data() + b.begin),
+        tzb(s.tz.data() + b.begin) {}
+
+  /// Bond k's end loads, or zeros where !keep. A select, not a product: a broken bond's
+  /// result may be NaN (ends far apart or borrowed).
+  [[gnu::always_inline]] void write(std::size_t k, bool keep, const BondTimoshenko::Result& r) {
+    fxa[k] = keep ? r.force_a.x : 0.0;
+    fya[k] = keep ? r.force_a.y : 0.0;
+    fza[k] = keep ? r.force_a.z : 0.0;
+    txa[k] = keep ? r.torque_a.x : 0.0;
+    tya[k] = keep ? r.torque_a.y : 0.0;
+    tza[k] = keep ? r.torque_a.z : 0.0;
+    fxb[k] = keep ? r.force_b.x : 0.0;
+    fyb[k] = keep ? r.force_b.y : 0.0;
+    fzb[k] = keep ? r.force_b.z : 0.0;
+    txb[k] = keep ? r.torque_b.x : 0.0;
+    tyb[k] = keep ? r.torque_b.y : 0.0;
+    tzb[k] = keep ? r.torque_b.z : 0.0;
+  }
+};
 
 /// Bonds of the co-rotational Timoshenko beam law (model "timoshenko", physics.md §1,
 /// Eq. 1–5): elastic, brittle. The bond store is the model's (frames and checkpoints read it);
@@ -66,12 +196,7 @@ class TimoshenkoBondTerm final : public BondTerm {
   SlotRange slots_a_, slots_b_;
   std::vector<std::uint8_t> failed_;  ///< scratch: bonds that failed in this step
   bool broke_ = false;
-  /// Scratch of the bond loop: end positions and orientations of one chunk, by component.
-  static constexpr std::size_t kChunk = 256;
-  struct Scratch {
-    double xa[3][kChunk], xb[3][kChunk], qa[4][kChunk], qb[4][kChunk];
-  };
-  Scratch scratch_;
+  BeamChunk scratch_;
 };
 
 }  // namespace ringdem

@@ -15,8 +15,10 @@ using Plastic = BondTimoshenkoPlastic;
 using Beam = TimoshenkoBondTerm;  // the beam's columns and store helpers
 
 // The State members the term reads besides the deformations: their model column numbers.
+constexpr std::size_t kElongationColumn = 0;
 constexpr std::size_t kStrainColumn = 1;
 constexpr std::size_t kWorkColumn = 2;
+static_assert(Plastic::State::kNames[kElongationColumn] == "plastic_elongation");
 static_assert(Plastic::State::kNames[kStrainColumn] == "plastic_strain");
 static_assert(Plastic::State::kNames[kWorkColumn] == "plastic_work");
 
@@ -77,36 +79,75 @@ void TimoshenkoPlasticBondTerm::compute(ComputeContext& ctx) {
   BondStore& bonds = bonds_;
   const std::size_t nb = bonds.size();
   failed_.resize(nb);
-  ForceSlots& slots = ctx.slots;
-  // One scalar pass (correctness first): bonds that stay elastic take the elastic kernel plus
-  // one yield test; a bond that fails keeps its state of the step's start, and
-  // book_failures() redoes its step from it (the same bits) for the bookkeeping.
-  for_each(IndexRange{0, nb}, [&](std::size_t k) {
-    Vec3 fa, ta, fb, tb;  // zero: broken or failing
-    failed_[k] = 0;
-    if (!bonds.broken[k]) {
-      const std::uint32_t a = bonds.index_a[k], b = bonds.index_b[k];
-      const auto sec = Beam::section(bonds, k);
-      const Plastic::Params& pp = params(k);
-      State st = state(k);
-      auto ref = Beam::reference(bonds, k);  // a hinge that forms re-bases its end frame
-      const auto r = Plastic::compute(sec, pp, ref, p.position[a], p.orientation[a], p.position[b],
-                                      p.orientation[b], st);
-      if (Plastic::check_failure(sec, pp, Beam::strength(bonds, k), r, st).broken()) {
-        failed_[k] = 1;
-      } else {
-        store_state(k, st);
-        bonds.frame_a[k] = ref.frame_a;
-        bonds.frame_b[k] = ref.frame_b;
-        fa = r.force_a;
-        ta = r.torque_a;
-        fb = r.force_b;
-        tb = r.torque_b;
-      }
+  yielding_.resize(nb);
+  // Two passes. The first, a vector loop like the elastic term's, runs the elastic predictor
+  // of every bond (its measured deformation less its plastic elongation; the hinges are in its
+  // frames), the yield test and, where no end is beyond yield, the failure test: for such a
+  // bond that is the whole step, since BondTimoshenkoPlastic::compute() returns these very
+  // bits and changes neither its state nor its frames. Most bonds, most steps, are such. The
+  // second pass runs the full step, return mapping included, for the others one at a time.
+  {
+    const BeamColumns col(bonds);
+    BeamSlots out(ctx.slots, slots_a_, slots_b_);
+    const double* const elongation = bonds.model_column(kElongationColumn).data();
+    const double* const strain = bonds.model_column(kStrainColumn).data();
+    std::uint8_t* __restrict__ const failed = failed_.data();
+    std::uint8_t* __restrict__ const yielding = yielding_.data();
+    BeamChunk& g = scratch_;
+    ChunkLimits& lim = limits_;
+    for_each_chunk(IndexRange{0, nb}, BeamChunk::kSize, [&](IndexRange chunk) {
+      g.load(p, bonds, chunk);
+      for (std::size_t c = 0; c < chunk.size(); ++c)
+        lim.load(c, params(chunk.begin + c));
+      for_each(chunk, [&](std::size_t k) {
+        const std::size_t c = k - chunk.begin;
+        const Plastic::Params pp = lim[c];
+        const auto sec = col.section(k);
+        const double delta_p = elongation[k];
+        const auto r = BondTimoshenko::compute(
+            sec, col.reference(k), g.x_a(c), g.q_a(c), g.x_b(c), g.q_b(c),
+            [delta_p](const BondTimoshenko::Deformation& q, const BondTimoshenko::ChordFrame&) {
+              return Plastic::elastic_part(q, State{delta_p});
+            });
+        const int intact = col.broken[k] == 0;
+        const int beyond =
+            Plastic::beyond_yield(pp, strain[k], r.axial_force, r.bending_a, r.bending_b);
+        // Plastic::check_failure() with the state unchanged: Eq. 3–5, or the strain limit.
+        const int fails =
+            col.fails(k, sec, r) | ((pp.failure_strain > 0.0) & (strain[k] >= pp.failure_strain));
+        yielding[k] = static_cast<std::uint8_t>(beyond & intact);
+        failed[k] = static_cast<std::uint8_t>(fails & intact & !beyond);
+        out.write(k, intact & !beyond & !fails, r);
+      });
+    });
+  }
+  // The bonds beyond yield: one backward-Euler step each. One that fails keeps its state of
+  // the step's start, and book_failures() redoes its step from it (the same bits) for the
+  // bookkeeping.
+  for (std::size_t k = 0; k < nb; ++k) {
+    if (!yielding_[k]) continue;
+    const std::uint32_t a = bonds.index_a[k], b = bonds.index_b[k];
+    const auto sec = Beam::section(bonds, k);
+    const Plastic::Params& pp = params(k);
+    State st = state(k);
+    auto ref = Beam::reference(bonds, k);  // a hinge that forms re-bases its end frame
+    const auto r = Plastic::compute(sec, pp, ref, p.position[a], p.orientation[a], p.position[b],
+                                    p.orientation[b], st);
+    Vec3 fa, ta, fb, tb;  // zero: failing
+    if (Plastic::check_failure(sec, pp, Beam::strength(bonds, k), r, st).broken()) {
+      failed_[k] = 1;
+    } else {
+      store_state(k, st);
+      bonds.frame_a[k] = ref.frame_a;
+      bonds.frame_b[k] = ref.frame_b;
+      fa = r.force_a;
+      ta = r.torque_a;
+      fb = r.force_b;
+      tb = r.torque_b;
     }
-    slots.set(slots_a_.begin + k, fa, ta);
-    slots.set(slots_b_.begin + k, fb, tb);
-  });
+    ctx.slots.set(slots_a_.begin + k, fa, ta);
+    ctx.slots.set(slots_b_.begin + k, fb, tb);
+  }
   if (std::find(failed_.begin(), failed_.end(), 1) != failed_.end())
     book_failures(p, ctx.time, ctx.dt);
 }

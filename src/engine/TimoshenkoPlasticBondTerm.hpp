@@ -5,6 +5,7 @@
 
 #include "domain/BondStore.hpp"
 #include "engine/BondTerm.hpp"
+#include "engine/TimoshenkoBondTerm.hpp"
 #include "physics/BondTimoshenko.hpp"
 #include "physics/BondTimoshenkoPlastic.hpp"
 
@@ -64,8 +65,30 @@ class TimoshenkoPlasticBondTerm final : public BondTerm {
 
   std::vector<BondTimoshenkoPlastic::Params> plastic_;
   SlotRange slots_a_, slots_b_;
-  std::vector<std::uint8_t> failed_;  ///< scratch: bonds that failed in this step
+  std::vector<std::uint8_t> failed_;    ///< scratch: bonds that failed in this step
+  std::vector<std::uint8_t> yielding_;  ///< scratch: bonds beyond yield at the predictor
   bool broke_ = false;
+  /// Scratch of the vector pass: the chunk's ends, and its bonds' plastic limits (by type).
+  BeamChunk scratch_;
+  struct ChunkLimits {  // by component: an array of Params does not vectorise
+    double axial_yield[BeamChunk::kSize], plastic_moment[BeamChunk::kSize],
+        hardening[BeamChunk::kSize], failure_strain[BeamChunk::kSize];
+    void load(std::size_t c, const BondTimoshenkoPlastic::Params& p) {
+      axial_yield[c] = p.axial_yield;
+      plastic_moment[c] = p.plastic_moment;
+      hardening[c] = p.hardening;
+      failure_strain[c] = p.failure_strain;
+    }
+    BondTimoshenkoPlastic::Params operator[](std::size_t c) const {
+      BondTimoshenkoPlastic::Params p;
+      p.axial_yield = axial_yield[c];
+      p.plastic_moment = plastic_moment[c];
+      p.hardening = hardening[c];
+      p.failure_strain = failure_strain[c];
+      return p;
+    }
+  };
+  ChunkLimits limits_;
 };
 
 }  // namespace ringdem

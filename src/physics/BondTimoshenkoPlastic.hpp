@@ -168,11 +168,19 @@ struct BondTimoshenkoPlastic {
   /// Yield test of the elastic predictor f (end loads of elastic_part()): whether an end is
   /// beyond Y (1 + kYieldTolerance). t(n, m) <= Y is n^2 + Y m <= Y^2, no square root of t.
   static bool beyond_yield(const Params& p, const EndLoads& f, const State& st) {
-    const double n = f.fx_b / p.axial_yield;
-    const double ma = std::sqrt(f.my_a * f.my_a + f.mz_a * f.mz_a) / p.plastic_moment;
-    const double mb = std::sqrt(f.my_b * f.my_b + f.mz_b * f.mz_b) / p.plastic_moment;
-    const double y = yield_factor(p, st) * (1.0 + kYieldTolerance);
-    return !(n * n + y * ma <= y * y && n * n + y * mb <= y * y);
+    return beyond_yield(p, st.strain, f.fx_b, std::sqrt(f.my_a * f.my_a + f.mz_a * f.mz_a),
+                        std::sqrt(f.my_b * f.my_b + f.mz_b * f.mz_b));
+  }
+  /// The same test on the resultants of an elastic result (BondTimoshenko::Result's
+  /// axial_force, bending_a and bending_b, which are these very values): the same bits, for a
+  /// vector loop that has run the elastic kernel on elastic_part(). Branch-free.
+  [[gnu::always_inline]] static bool beyond_yield(const Params& p, double strain, double axial,
+                                                  double bending_a, double bending_b) {
+    const double n = axial / p.axial_yield;
+    const double ma = bending_a / p.plastic_moment;
+    const double mb = bending_b / p.plastic_moment;
+    const double y = (1.0 + p.hardening * strain) * (1.0 + kYieldTolerance);  // yield_factor
+    return !((n * n + y * ma <= y * y) & (n * n + y * mb <= y * y));
   }
 
   /// Gauge of the interaction n^2 + m = 1 (m >= 0): the t > 0 with (n/t)^2 + m/t = 1.

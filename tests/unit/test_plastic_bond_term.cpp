@@ -8,9 +8,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <random>
 #include <vector>
 
 #include "TestCases.hpp"
+#include "engine/EnergyLedger.hpp"
+#include "engine/GatherMap.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 #include "engine/TimoshenkoBondTerm.hpp"
@@ -267,6 +270,147 @@ TEST(PlasticBondTerm, AWhippedHingeRingsWithoutGainingEnergy) {
   EXPECT_LT(whip_error, 2e-3 * kinetic);
   EXPECT_LT(ringing_error, 1.5e-3 * kinetic);
   EXPECT_LT(e.plastic_work - whipped.plastic_work, 1e-3 * whipped.plastic_work);
+}
+
+// The term's step (a vector pass of the elastic predictor with the yield and failure tests,
+// then the full step of the bonds beyond yield) against BondTimoshenkoPlastic::compute() and
+// check_failure() called bond by bond on copies of the state: the same loads, states, frames
+// and failures to the bit. A chain of 700 bonds (chunks of 256, the last partial) with random
+// end turns and shifts of mixed size and random plastic states, so that both passes and
+// every failure path are taken: some bonds already broken, some weak in tension (Eq. 4), some
+// at their plastic strain limit.
+TEST(PlasticBondTerm, TheVectorPassGivesTheBondByBondStepsBits) {
+  constexpr std::size_t kBonds = 700;
+  const double l0 = 0.0097, radius = 0.0045;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), size(0.0, 1.0);
+  ParticleStore p;
+  for (std::size_t k = 0; k <= kBonds; ++k) {
+    ParticleStore::NewParticle np;
+    np.gid = static_cast<std::int64_t>(k);
+    np.position = {l0 * static_cast<double>(k), 0.0, 0.0};
+    np.radius = radius;
+    np.density = 7800.0;
+    p.add(np);
+  }
+  p.rebuild_index();
+  BondTimoshenko::Params beam;
+  beam.youngs_modulus = 288.4e9;
+  beam.radius_multiplier = 0.43;
+  beam.tensile_strength = beam.compressive_strength = 41e9;
+  beam.shear_strength = 12e9;
+  const Plastic::Params limits =
+      Plastic::Params::from_wire_bundle(kWindings, kWire, kYieldStress, kHardeningRatio, kSteel,
+                                        /*failure_strain=*/0.035);
+  BondStore bonds;
+  bonds.declare_model_columns(TimoshenkoPlasticBondTerm::state_columns());
+  for (std::size_t k = 0; k < kBonds; ++k) {
+    const BondEnd a{static_cast<std::int64_t>(k), p.position[k], p.orientation[k], radius};
+    const BondEnd b{static_cast<std::int64_t>(k + 1), p.position[k + 1], p.orientation[k + 1],
+                    radius};
+    TimoshenkoBondTerm::create(bonds, beam, 0, static_cast<std::int64_t>(k), a, b, 1);
+  }
+  TimoshenkoPlasticBondTerm term(bonds, {limits});
+  for (std::size_t k = 0; k < kBonds; ++k) {
+    Plastic::State st;
+    if (k % 3 != 0) {  // an earlier plastic history
+      st.elongation = 2e-4 * unit(rng);
+      st.strain = 0.02 * size(rng);
+      st.work = 10.0 * size(rng);
+    }
+    if (k % 41 == 5) st.strain = limits.failure_strain;
+    term.store_state(k, st);
+    if (k % 53 == 7) bonds.broken[k] = 1;
+    if (k % 37 == 11) bonds.tensile_strength[k] = 1e6;
+  }
+  // Turns of up to 0.25 rad and shifts of up to 1 mm, scaled per particle by s^3 (s uniform
+  // in [0, 1]): the yield rotation is about 0.06 rad, so some bonds stay elastic and some flow.
+  for (std::size_t k = 0; k <= kBonds; ++k) {
+    const double s = size(rng), scale = s * s * s;
+    p.position[k] += Vec3{unit(rng), unit(rng), unit(rng)} * (1e-3 * scale);
+    p.orientation[k] =
+        quat_from_rotation_vector(Vec3{unit(rng), unit(rng), unit(rng)} * (0.25 * scale));
+  }
+
+  // Before: the bond-by-bond reference, on copies.
+  struct Expected {
+    Vec3 fa, ta, fb, tb;
+    Plastic::State state;
+    Quat frame_a, frame_b;
+    bool broken = false;
+  };
+  std::vector<Expected> expected(kBonds);
+  std::size_t flowing = 0, elastic = 0, failing = 0;
+  for (std::size_t k = 0; k < kBonds; ++k) {
+    Expected& e = expected[k];
+    const Plastic::State before = term.state(k);
+    e.state = before;
+    e.frame_a = bonds.frame_a[k];
+    e.frame_b = bonds.frame_b[k];
+    e.broken = bonds.broken[k] != 0;
+    if (e.broken) continue;
+    const auto sec = TimoshenkoBondTerm::section(bonds, k);
+    auto ref = TimoshenkoBondTerm::reference(bonds, k);
+    Plastic::State st = before;
+    const auto r = Plastic::compute(sec, limits, ref, p.position[k], p.orientation[k],
+                                    p.position[k + 1], p.orientation[k + 1], st);
+    (r.plastic_work > 0.0 ? flowing : elastic) += 1;
+    if (Plastic::check_failure(sec, limits, TimoshenkoBondTerm::strength(bonds, k), r, st)
+            .broken()) {
+      ++failing;
+      e.broken = true;  // no loads; the state of the step with half its plastic work
+      e.state = st;
+      e.state.work = before.work + 0.5 * (st.work - before.work);
+      continue;
+    }
+    e.fa = r.force_a;
+    e.ta = r.torque_a;
+    e.fb = r.force_b;
+    e.tb = r.torque_b;
+    e.state = st;
+    e.frame_a = ref.frame_a;
+    e.frame_b = ref.frame_b;
+  }
+  ASSERT_GT(flowing, 100u);
+  ASSERT_GT(elastic, 100u);
+  ASSERT_GT(failing, 20u);
+
+  std::vector<ExcludedPair> excluded;
+  SlotAllocator allocator;
+  GatherMap gather;
+  gather.begin(p.n_local());
+  std::vector<RigidBody> bodies;
+  RebuildContext rebuild{p, bodies, 0.001, excluded, allocator, gather, 0};
+  term.rebuild(rebuild);
+  ASSERT_EQ(allocator.size(), 2 * kBonds);  // end a's slots, then end b's
+  ForceSlots slots;
+  slots.assign(allocator.size());
+  EnergyLedger ledger;
+  const MaterialTable materials({Material{"steel", 7800.0, 200e9, 0.3, 0.5, 0.3, 0.0}}, {});
+  ComputeContext ctx{
+      p,      bodies, materials, slots,
+      ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
+  term.compute(ctx);
+
+  const auto same = [](const Vec3& a, const Vec3& b) {
+    return a.x == b.x && a.y == b.y && a.z == b.z;
+  };
+  const auto same_quat = [](const Quat& a, const Quat& b) {
+    return a.w == b.w && a.x == b.x && a.y == b.y && a.z == b.z;
+  };
+  std::size_t differ = 0;
+  for (std::size_t k = 0; k < kBonds; ++k) {
+    const Expected& e = expected[k];
+    const Plastic::State st = term.state(k);
+    const bool ok = same(slots.force(k), e.fa) && same(slots.torque(k), e.ta) &&
+                    same(slots.force(kBonds + k), e.fb) && same(slots.torque(kBonds + k), e.tb) &&
+                    st.elongation == e.state.elongation && st.strain == e.state.strain &&
+                    st.work == e.state.work && same_quat(bonds.frame_a[k], e.frame_a) &&
+                    same_quat(bonds.frame_b[k], e.frame_b) && (bonds.broken[k] != 0) == e.broken;
+    if (!ok && ++differ <= 5) ADD_FAILURE() << "bond " << k << " differs";
+  }
+  EXPECT_EQ(differ, 0u) << "of " << kBonds << " bonds (" << flowing << " flowing, " << elastic
+                        << " elastic, " << failing << " failing)";
 }
 
 // The case's plastic section, with the wire bundle from derive_from, sets the limits of
