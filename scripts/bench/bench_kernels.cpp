@@ -11,6 +11,7 @@
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 #include "engine/TimoshenkoBondTerm.hpp"
+#include "engine/TimoshenkoPlasticBondTerm.hpp"
 #include "physics/BondTimoshenko.hpp"
 #include "physics/HertzMindlin.hpp"
 #include "physics/Integrator.hpp"
@@ -53,21 +54,24 @@ void BM_BondKernel(benchmark::State& state) {
 }
 BENCHMARK(BM_BondKernel);
 
-// The bond loop as the step runs it (vectorised over bonds): 100 rings, 10 000 bonds.
-void BM_BondLoop(benchmark::State& state) {
+// The bond loop as the step runs it (vectorised over bonds): 100 rings, 10 000 bonds, each
+// ring bent a little so that no bond is at its reference state. `Term` is the bond model's
+// force term, `configure` sets the case's bond model.
+template <class Term, class Configure, class MakeTerm>
+void bond_loop(benchmark::State& state, Configure&& configure, MakeTerm&& make_term) {
   CaseConfig c = testing::base_case();
   c.bonds[0].youngs_modulus = 292e9;
   c.bonds[0].radius_multiplier = 0.43;
+  configure(c.bonds[0]);
   for (int r = 0; r < 100; ++r)
     c.rings.push_back(testing::paper_ring({0.4 * (r % 10), 0.4 * (r / 10), 0}));
   Model model = build_model(c);
-  // Bend every ring a little so that no bond is at its reference state.
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1e-5, 1e-5);
   for (auto& x : model.particles.position)
     x += Vec3{u(rng), u(rng), u(rng)};
   model.particles.rebuild_index();
-  TimoshenkoBondTerm bonds(model.bonds, model.bond_types);
+  Term bonds = make_term(model);
   std::vector<ExcludedPair> excluded;
   SlotAllocator allocator;
   GatherMap gather;
@@ -82,7 +86,32 @@ void BM_BondLoop(benchmark::State& state) {
     bonds.compute(ctx);
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * model.bonds.size()));
 }
+
+void BM_BondLoop(benchmark::State& state) {
+  bond_loop<TimoshenkoBondTerm>(
+      state, [](BondConfig&) {},
+      [](Model& m) { return TimoshenkoBondTerm(m.bonds, m.bond_types); });
+}
 BENCHMARK(BM_BondLoop)->Unit(benchmark::kMicrosecond);
+
+// The same with the elastoplastic bond of inputs/rockfall/r12_plastic.yaml, every bond inside
+// its yield surface (as most are, most steps): the vector pass alone.
+void BM_PlasticBondLoop(benchmark::State& state) {
+  bond_loop<TimoshenkoPlasticBondTerm>(
+      state,
+      [](BondConfig& b) {
+        b.model = "timoshenko_plastic";
+        BondPlasticConfig plastic;
+        plastic.yield_stress = 1504.5e6;
+        plastic.hardening_ratio = 0.036543;
+        plastic.failure_strain = 0.035;
+        plastic.windings = 12;
+        plastic.wire_diameter = 0.003;
+        b.plastic = plastic;
+      },
+      [](Model& m) { return TimoshenkoPlasticBondTerm(m.bonds, m.plastic_bond_types); });
+}
+BENCHMARK(BM_PlasticBondLoop)->Unit(benchmark::kMicrosecond);
 
 // One Hertz–Mindlin contact evaluation with tangential history.
 void BM_ContactKernel(benchmark::State& state) {

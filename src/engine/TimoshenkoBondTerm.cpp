@@ -126,7 +126,7 @@ void TimoshenkoBondTerm::compute(ComputeContext& ctx) {
   // loop vectorises: bond data in contiguous arrays, particle data gathered by index, no
   // branches (broken or failing bonds are masked to zero force). Output quantities are
   // recomputed on demand by update_diagnostics().
-  std::uint8_t* __restrict__ const failed = failed_.data();
+  std::int64_t* __restrict__ const failed = failed_.data();
   const BeamColumns col(bonds);
   BeamSlots out(ctx.slots, slots_a_, slots_b_);
   BeamChunk& g = scratch_;
@@ -137,9 +137,9 @@ void TimoshenkoBondTerm::compute(ComputeContext& ctx) {
       const auto sec = col.section(k);
       const auto r =
           BondTimoshenko::compute(sec, col.reference(k), g.x_a(c), g.q_a(c), g.x_b(c), g.q_b(c));
-      const int fails = col.fails(k, sec, r);
-      failed[k] = static_cast<std::uint8_t>(fails & (col.broken[k] == 0));
-      out.write(k, !(fails | col.broken[k]), r);
+      const std::int64_t fails = col.fails(k, sec, r);
+      failed[k] = fails & (g.broken[c] == 0);
+      out.write(k, !(fails | g.broken[c]), r);
     });
   });
   if (std::find(failed_.begin(), failed_.end(), 1) != failed_.end())

@@ -13,16 +13,21 @@ namespace ringdem {
 
 /// The beam terms' vector loops run over bonds in chunks: a scalar pass copies the chunk's end
 /// positions and orientations (gathered by particle index) into these contiguous arrays, by
-/// component, so that the vector loop after it loads everything contiguously.
+/// component, so that the vector loop after it loads everything contiguously; and the bonds'
+/// broken flags as 64-bit integers. The vectoriser sizes its vectors by a loop's narrowest type:
+/// one byte column in the loop makes it run 64 bonds at a time, eight registers a double,
+/// and the kernel then spends a third of its instructions spilling them.
 struct BeamChunk {
   static constexpr std::size_t kSize = 256;
   double xa[3][kSize], xb[3][kSize], qa[4][kSize], qb[4][kSize];
+  std::int64_t broken[kSize];
 
   /// Copies the ends of bonds [chunk.begin, chunk.end) to entries 0, 1, ...
   void load(const ParticleStore& p, const BondStore& bonds, IndexRange chunk) {
     const Vec3* const pos = p.position.data();
     const Quat* const rot = p.orientation.data();
     for (std::size_t c = 0; c < chunk.size(); ++c) {
+      broken[c] = bonds.broken[chunk.begin + c];
       const std::uint32_t a = bonds.index_a[chunk.begin + c], b = bonds.index_b[chunk.begin + c];
       xa[0][c] = pos[a].x, xa[1][c] = pos[a].y, xa[2][c] = pos[a].z;
       xb[0][c] = pos[b].x, xb[1][c] = pos[b].y, xb[2][c] = pos[b].z;
@@ -51,7 +56,6 @@ struct BeamColumns {
   const double* tensile_strength;
   const double* compressive_strength;
   const double* shear_strength;
-  const std::uint8_t* broken;
 
   explicit BeamColumns(const BondStore& b)
       : length0(b.length0.data()),
@@ -65,8 +69,7 @@ struct BeamColumns {
         frame_b(b.frame_b.data()),
         tensile_strength(b.tensile_strength.data()),
         compressive_strength(b.compressive_strength.data()),
-        shear_strength(b.shear_strength.data()),
-        broken(b.broken.data()) {}
+        shear_strength(b.shear_strength.data()) {}
 
   [[gnu::always_inline]] BondTimoshenko::Section section(std::size_t k) const {
     BondTimoshenko::Section s;
@@ -83,8 +86,8 @@ struct BeamColumns {
     return {frame_a[k], frame_b[k]};
   }
   /// Whether Eq. 3–5 break bond k in state r (0 or 1, branch-free).
-  [[gnu::always_inline]] int fails(std::size_t k, const BondTimoshenko::Section& s,
-                                   const BondTimoshenko::Result& r) const {
+  [[gnu::always_inline]] std::int64_t fails(std::size_t k, const BondTimoshenko::Section& s,
+                                            const BondTimoshenko::Result& r) const {
     const auto st = BondTimoshenko::stresses(s, r);
     return (st.tensile > tensile_strength[k]) | (st.compressive > compressive_strength[k]) |
            (st.shear > shear_strength[k]);
@@ -194,7 +197,7 @@ class TimoshenkoBondTerm final : public BondTerm {
 
   std::vector<BondTimoshenko::Params> types_;
   SlotRange slots_a_, slots_b_;
-  std::vector<std::uint8_t> failed_;  ///< scratch: bonds that failed in this step
+  std::vector<std::int64_t> failed_;  ///< scratch: bonds that failed in this step (BeamChunk)
   bool broke_ = false;
   BeamChunk scratch_;
 };

@@ -91,8 +91,8 @@ void TimoshenkoPlasticBondTerm::compute(ComputeContext& ctx) {
     BeamSlots out(ctx.slots, slots_a_, slots_b_);
     const double* const elongation = bonds.model_column(kElongationColumn).data();
     const double* const strain = bonds.model_column(kStrainColumn).data();
-    std::uint8_t* __restrict__ const failed = failed_.data();
-    std::uint8_t* __restrict__ const yielding = yielding_.data();
+    std::int64_t* __restrict__ const failed = failed_.data();
+    std::int64_t* __restrict__ const yielding = yielding_.data();
     BeamChunk& g = scratch_;
     ChunkLimits& lim = limits_;
     for_each_chunk(IndexRange{0, nb}, BeamChunk::kSize, [&](IndexRange chunk) {
@@ -109,14 +109,14 @@ void TimoshenkoPlasticBondTerm::compute(ComputeContext& ctx) {
             [delta_p](const BondTimoshenko::Deformation& q, const BondTimoshenko::ChordFrame&) {
               return Plastic::elastic_part(q, State{delta_p});
             });
-        const int intact = col.broken[k] == 0;
-        const int beyond =
+        const std::int64_t intact = g.broken[c] == 0;
+        const std::int64_t beyond =
             Plastic::beyond_yield(pp, strain[k], r.axial_force, r.bending_a, r.bending_b);
         // Plastic::check_failure() with the state unchanged: Eq. 3–5, or the strain limit.
         const int fails =
             col.fails(k, sec, r) | ((pp.failure_strain > 0.0) & (strain[k] >= pp.failure_strain));
-        yielding[k] = static_cast<std::uint8_t>(beyond & intact);
-        failed[k] = static_cast<std::uint8_t>(fails & intact & !beyond);
+        yielding[k] = beyond & intact;
+        failed[k] = fails & intact & !beyond;
         out.write(k, intact & !beyond & !fails, r);
       });
     });

@@ -65,8 +65,9 @@ class TimoshenkoPlasticBondTerm final : public BondTerm {
 
   std::vector<BondTimoshenkoPlastic::Params> plastic_;
   SlotRange slots_a_, slots_b_;
-  std::vector<std::uint8_t> failed_;    ///< scratch: bonds that failed in this step
-  std::vector<std::uint8_t> yielding_;  ///< scratch: bonds beyond yield at the predictor
+  // 64-bit flags: a byte column in the vector loop would size its vectors by bytes (BeamChunk).
+  std::vector<std::int64_t> failed_;    ///< scratch: bonds that failed in this step
+  std::vector<std::int64_t> yielding_;  ///< scratch: bonds beyond yield at the predictor
   bool broke_ = false;
   /// Scratch of the vector pass: the chunk's ends, and its bonds' plastic limits (by type).
   BeamChunk scratch_;
