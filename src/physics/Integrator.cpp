@@ -11,8 +11,9 @@ namespace {
 
 /// The Cundall damping load alpha |f| sign(v) of one component, taken off f.
 inline double damping_component(double f, double v, double alpha) {
-  // sign(0) = 0: a particle at rest is not pushed.
-  const double s = (v > 0.0) - (v < 0.0);
+  // sign(0) = 0: a particle at rest is not pushed. In doubles: an int here would make the
+  // vectoriser size the damped kick's vectors by 32-bit lanes (see kick_factors()).
+  const double s = static_cast<double>(v > 0.0) - static_cast<double>(v < 0.0);
   return alpha * std::abs(f) * s;
 }
 
@@ -99,6 +100,27 @@ inline void add_scaled(double* __restrict a, const double* __restrict b, const d
     a[j] += b[j] * s[j];
 }
 
+/// The half-kick factors of particles [begin, begin + n), n <= Integrator::kChunk: free[i] (1
+/// for a free particle, else 0), kick[i] = free dt/2m and turn[i] = free dt/2I. The motion
+/// kinds are read in a loop of their own: GCC sizes a loop's vectors by its narrowest type, so
+/// a byte column among doubles makes it run 64 particles at a time, eight registers a double,
+/// and spill them.
+inline void kick_factors(const ParticleStore& p, std::size_t begin, std::size_t n, double half,
+                         double* __restrict free, double* __restrict kick,
+                         double* __restrict turn) {
+  const Motion* const motion = p.motion.data() + begin;
+  const double* const mass = p.mass.data() + begin;
+  const double* const radius = p.radius.data() + begin;
+#pragma omp simd
+  for (std::size_t i = 0; i < n; ++i)
+    free[i] = is_free(motion[i]);
+#pragma omp simd
+  for (std::size_t i = 0; i < n; ++i) {
+    kick[i] = free[i] * half / mass[i];
+    turn[i] = free[i] * half / ParticleStore::sphere_inertia(mass[i], radius[i]);
+  }
+}
+
 /// The drift loop over owned particles [begin, end), chunk by chunk, with the orientation
 /// update compiled in or out; raises `m` to the largest squared speeds it saw.
 template <bool kTurn>
@@ -108,7 +130,6 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
   const double half = 0.5 * dt;
   const Motion* const motion = p.motion.data();
   const double* const mass = p.mass.data();
-  const double* const radius = p.radius.data();
   Vec3* const v = p.velocity.data();
   Vec3* const w = p.omega.data();
   Quat* const q = p.orientation.data();
@@ -120,20 +141,18 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
     gravity_run[j + 1] = gravity.y;
     gravity_run[j + 2] = gravity.z;
   }
-  double kick[kChunk], turn[kChunk], step[kChunk], moving[kChunk];
+  double free[kChunk], kick[kChunk], turn[kChunk], step[kChunk], moving[kChunk];
   double kick_run[3 * kChunk], turn_run[3 * kChunk], step_run[3 * kChunk], mass_run[3 * kChunk];
   double max_v2 = m.max_v2, max_w2 = m.max_w2;
   for (std::size_t c = begin; c < end; c += kChunk) {
     const std::size_t n = std::min(end - c, kChunk), n3 = 3 * n;
+    kick_factors(p, c, n, half, free, kick, turn);
 #pragma omp simd
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t k = c + i;
-      const double free = is_free(motion[k]);
-      moving[i] = is_moving(motion[k]);
-      kick[i] = free * half / mass[k];
-      turn[i] = free * half / ParticleStore::sphere_inertia(mass[k], radius[k]);
+    for (std::size_t i = 0; i < n; ++i)
+      moving[i] = is_moving(motion[c + i]);  // a loop of its own, as in kick_factors()
+#pragma omp simd
+    for (std::size_t i = 0; i < n; ++i)
       step[i] = moving[i] * dt;
-    }
     spread3(kick, n, kick_run);
     spread3(turn, n, turn_run);
     spread3(step, n, step_run);
@@ -212,9 +231,6 @@ namespace {
 /// The second half kick of owned particles [begin, end), one chunk of Integrator::kChunk.
 void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, double dt) {
   const double half = 0.5 * dt;
-  const Motion* const motion = p.motion.data();
-  const double* const mass = p.mass.data();
-  const double* const radius = p.radius.data();
   const double* const alpha = p.damping.data();
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
@@ -230,19 +246,15 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
   bool damped = false;
   for (std::size_t k = begin; k < end; ++k)
     damped = damped || alpha[k] != 0.0;
+  constexpr std::size_t kChunk = Integrator::kChunk;
+  const std::size_t n = end - begin, n3 = 3 * n;
+  double free[kChunk], kick[kChunk], turn[kChunk], kick_run[3 * kChunk], turn_run[3 * kChunk];
+  kick_factors(p, begin, n, half, free, kick, turn);
   if (!damped) {
-    constexpr std::size_t kChunk = Integrator::kChunk;
-    double kick[kChunk], turn[kChunk], kick_run[3 * kChunk], turn_run[3 * kChunk];
-    const std::size_t n = end - begin;
+    // Only a coefficient that just went to 0 leaves a last power to clear.
 #pragma omp simd
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t k = begin + i;
-      const double free = is_free(motion[k]);
-      kick[i] = free * half / mass[k];
-      turn[i] = free * half / ParticleStore::sphere_inertia(mass[k], radius[k]);
-      // Only a coefficient that just went to 0 leaves a last power to clear.
+    for (std::size_t k = begin; k < end; ++k)
       power[k] = power[k] != 0.0 ? 0.0 : power[k];
-    }
     spread3(kick, n, kick_run);
     spread3(turn, n, turn_run);
     add_scaled(run_of(v + begin), run_of(force + begin), kick_run, 3 * n);   // v += F dt/2m
@@ -251,17 +263,7 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
   }
   // Damped: the Cundall load of each component (damping_component) comes off only where the
   // particle is damped, with selects so that the loop stays branch-free.
-  constexpr std::size_t kChunk = Integrator::kChunk;
-  double kick[kChunk], turn[kChunk], kick_run[3 * kChunk], turn_run[3 * kChunk];
   double alpha_run[3 * kChunk], force_power[3 * kChunk], torque_power[3 * kChunk];
-  const std::size_t n = end - begin, n3 = 3 * n;
-#pragma omp simd
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t k = begin + i;
-    const double free = is_free(motion[k]);
-    kick[i] = free * half / mass[k];
-    turn[i] = free * half / ParticleStore::sphere_inertia(mass[k], radius[k]);
-  }
   spread3(kick, n, kick_run);
   spread3(turn, n, turn_run);
   spread3(alpha + begin, n, alpha_run);
@@ -287,13 +289,12 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
 #pragma omp simd
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t k = begin + i;
-    const double free = is_free(motion[k]);
     const bool on = alpha[k] != 0.0;
     // Energy ledger: the power the Cundall loads take out, at the synchronised velocity
     // v^{n+1} just computed (docs/physics.md "Energy ledger").
     const double* const fp = force_power + 3 * i;
     const double* const tp = torque_power + 3 * i;
-    const double q = free * ((fp[0] + fp[1] + fp[2]) + (tp[0] + tp[1] + tp[2]));
+    const double q = free[i] * ((fp[0] + fp[1] + fp[2]) + (tp[0] + tp[1] + tp[2]));
     dissipated[k] = on ? dissipated[k] + q * dt : dissipated[k];
     power[k] = on ? q : (power[k] != 0.0 ? 0.0 : power[k]);
   }
