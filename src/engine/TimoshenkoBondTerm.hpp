@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/Select.hpp"
 #include "domain/BondStore.hpp"
 #include "engine/BondTerm.hpp"
 #include "engine/ForceSlots.hpp"
@@ -124,21 +125,22 @@ struct BeamSlots {
         tyb(s.ty.data() + b.begin),
         tzb(s.tz.data() + b.begin) {}
 
-  /// Bond k's end loads, or zeros where !keep. A select, not a product: a broken bond's
-  /// result may be NaN (ends far apart or borrowed).
+  /// Bond k's end loads, or zeros where !keep: a select (select_bits, which AVX2 vectorises
+  /// too), not a product: a broken bond's result may be NaN (ends far apart or borrowed).
   [[gnu::always_inline]] void write(std::size_t k, bool keep, const BondTimoshenko::Result& r) {
-    fxa[k] = keep ? r.force_a.x : 0.0;
-    fya[k] = keep ? r.force_a.y : 0.0;
-    fza[k] = keep ? r.force_a.z : 0.0;
-    txa[k] = keep ? r.torque_a.x : 0.0;
-    tya[k] = keep ? r.torque_a.y : 0.0;
-    tza[k] = keep ? r.torque_a.z : 0.0;
-    fxb[k] = keep ? r.force_b.x : 0.0;
-    fyb[k] = keep ? r.force_b.y : 0.0;
-    fzb[k] = keep ? r.force_b.z : 0.0;
-    txb[k] = keep ? r.torque_b.x : 0.0;
-    tyb[k] = keep ? r.torque_b.y : 0.0;
-    tzb[k] = keep ? r.torque_b.z : 0.0;
+    const auto pick = [keep](double x) { return select_bits(keep, x, 0.0); };
+    fxa[k] = pick(r.force_a.x);
+    fya[k] = pick(r.force_a.y);
+    fza[k] = pick(r.force_a.z);
+    txa[k] = pick(r.torque_a.x);
+    tya[k] = pick(r.torque_a.y);
+    tza[k] = pick(r.torque_a.z);
+    fxb[k] = pick(r.force_b.x);
+    fyb[k] = pick(r.force_b.y);
+    fzb[k] = pick(r.force_b.z);
+    txb[k] = pick(r.torque_b.x);
+    tyb[k] = pick(r.torque_b.y);
+    tzb[k] = pick(r.torque_b.z);
   }
 };
 

@@ -5,15 +5,18 @@
 #include <cstdlib>
 #include <limits>
 
+#include "core/Select.hpp"
+
 namespace ringdem {
 
 namespace {
 
 /// The Cundall damping load alpha |f| sign(v) of one component, taken off f.
 inline double damping_component(double f, double v, double alpha) {
-  // sign(0) = 0: a particle at rest is not pushed. In doubles: an int here would make the
-  // vectoriser size the damped kick's vectors by 32-bit lanes (see kick_factors()).
-  const double s = static_cast<double>(v > 0.0) - static_cast<double>(v < 0.0);
+  // sign(0) = 0: a particle at rest is not pushed. In doubles (an int here would make the
+  // vectoriser size the damped kick's vectors by 32-bit lanes, see kick_factors()) and by
+  // select_bits (AVX2).
+  const double s = select_bits(v > 0.0, 1.0, 0.0) - select_bits(v < 0.0, 1.0, 0.0);
   return alpha * std::abs(f) * s;
 }
 
@@ -254,7 +257,7 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
     // Only a coefficient that just went to 0 leaves a last power to clear.
 #pragma omp simd
     for (std::size_t k = begin; k < end; ++k)
-      power[k] = power[k] != 0.0 ? 0.0 : power[k];
+      power[k] = select_bits(power[k] != 0.0, 0.0, power[k]);
     spread3(kick, n, kick_run);
     spread3(turn, n, turn_run);
     add_scaled(run_of(v + begin), run_of(force + begin), kick_run, 3 * n);   // v += F dt/2m
@@ -262,7 +265,7 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
     return;
   }
   // Damped: the Cundall load of each component (damping_component) comes off only where the
-  // particle is damped, with selects so that the loop stays branch-free.
+  // particle is damped, with selects (select_bits) so that the loop stays branch-free.
   double alpha_run[3 * kChunk], force_power[3 * kChunk], torque_power[3 * kChunk];
   spread3(kick, n, kick_run);
   spread3(turn, n, turn_run);
@@ -277,7 +280,7 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
       const double a = alpha_run[j];
       const double f = load[j];
       const double df = damping_component(f, vel[j], a);
-      const double g = a != 0.0 ? f - df : f;
+      const double g = select_bits(a != 0.0, f - df, f);
       load[j] = g;
       const double v_new = vel[j] + g * factor[j];
       vel[j] = v_new;
@@ -295,8 +298,8 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
     const double* const fp = force_power + 3 * i;
     const double* const tp = torque_power + 3 * i;
     const double q = free[i] * ((fp[0] + fp[1] + fp[2]) + (tp[0] + tp[1] + tp[2]));
-    dissipated[k] = on ? dissipated[k] + q * dt : dissipated[k];
-    power[k] = on ? q : (power[k] != 0.0 ? 0.0 : power[k]);
+    dissipated[k] = select_bits(on, dissipated[k] + q * dt, dissipated[k]);
+    power[k] = select_bits(on, q, select_bits(power[k] != 0.0, 0.0, power[k]));
   }
 }
 
