@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -212,6 +213,34 @@ TEST(NeighbourLists, NoTouchingContactIsMissedBetweenRebuilds) {
 
 // A sphere resting on a fixed plane under gravity: the plane carries exactly its weight
 // once at rest (balance of forces, 1e-6 relative after damping has removed the bounce).
+// A particle whose Cundall coefficient goes to 0 (the rockfall's phases switch the net's) must
+// not keep its last damping power: the ledger reports accumulated - dt/2 power
+// (ParticleStore::ledger_value), so a stale power would shift the tally for good. After one
+// undamped step every power is zero, and the tally stands still from then on.
+TEST(Simulation, SwitchingGlobalDampingOffLeavesNoDampingPowerBehind) {
+  const CaseConfig c = testing::ring_patch_hit_by_sphere(-0.005, 60.0, 0.5);
+  const Communicator self = testing::self_comm();
+  Simulation sim(build_model(c, self), self, settings_from_case(c));
+  sim.run_steps(100);
+  const ParticleStore& p = sim.model().particles;
+  const auto largest_power = [&] {
+    double largest = 0.0;
+    for (std::size_t k = 0; k < p.n_local(); ++k)
+      largest = std::max(largest, std::abs(p.power_global[k]));
+    return largest;
+  };
+  ASSERT_GT(largest_power(), 0.0);
+  sim.set_group_damping(0, 0.0);
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    ASSERT_EQ(p.damping[k], 0.0) << "the rings are group 0";
+  sim.step();
+  EXPECT_EQ(largest_power(), 0.0);
+  const double tally = sim.energies().global_damping;
+  EXPECT_GT(tally, 0.0);
+  sim.run_steps(50);
+  EXPECT_EQ(sim.energies().global_damping, tally);
+}
+
 TEST(RigidBodies, PlaneCarriesWeightOfRestingSphere) {
   CaseConfig c = testing::base_case();
   c.simulation.gravity = {0, 0, -9.81};
