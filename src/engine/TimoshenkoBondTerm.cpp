@@ -53,16 +53,7 @@ void TimoshenkoBondTerm::store(BondStore& bonds, std::size_t k, const BondTimosh
 }
 
 BondTimoshenko::Section TimoshenkoBondTerm::section(const BondStore& bonds, std::size_t k) {
-  BondTimoshenko::Section s;
-  s.length0 = bonds.length0[k];
-  s.k_axial = bonds.k_axial[k];
-  s.k_torsion = bonds.k_torsion[k];
-  s.k_shear = bonds.k_shear[k];
-  s.k_bend_self = bonds.k_bend_self[k];
-  s.k_bend_cross = bonds.k_bend_cross[k];
-  s.inv_area = bonds.inv_area[k];
-  s.bend_factor = bonds.bend_factor[k];
-  return s;
+  return BeamColumns(bonds).section(k);
 }
 
 double TimoshenkoBondTerm::ghost_width(const ParticleStore&) const {

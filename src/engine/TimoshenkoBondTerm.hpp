@@ -48,6 +48,7 @@ struct BeamColumns {
   const double* length0;
   const double* k_axial;
   const double* k_torsion;
+  const double* k_shear;
   const double* k_bend_self;
   const double* k_bend_cross;
   const double* inv_area;
@@ -62,6 +63,7 @@ struct BeamColumns {
       : length0(b.length0.data()),
         k_axial(b.k_axial.data()),
         k_torsion(b.k_torsion.data()),
+        k_shear(b.k_shear.data()),
         k_bend_self(b.k_bend_self.data()),
         k_bend_cross(b.k_bend_cross.data()),
         inv_area(b.inv_area.data()),
@@ -77,6 +79,7 @@ struct BeamColumns {
     s.length0 = length0[k];
     s.k_axial = k_axial[k];
     s.k_torsion = k_torsion[k];
+    s.k_shear = k_shear[k];
     s.k_bend_self = k_bend_self[k];
     s.k_bend_cross = k_bend_cross[k];
     s.inv_area = inv_area[k];

@@ -113,7 +113,7 @@ void TimoshenkoPlasticBondTerm::compute(ComputeContext& ctx) {
         const std::int64_t beyond =
             Plastic::beyond_yield(pp, strain[k], r.axial_force, r.bending_a, r.bending_b);
         // Plastic::check_failure() with the state unchanged: Eq. 3–5, or the strain limit.
-        const int fails =
+        const std::int64_t fails =
             col.fails(k, sec, r) | ((pp.failure_strain > 0.0) & (strain[k] >= pp.failure_strain));
         yielding[k] = beyond & intact;
         failed[k] = fails & intact & !beyond;
