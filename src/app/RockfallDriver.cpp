@@ -462,32 +462,50 @@ bool RockfallDriver::between_steps(Simulation& sim) {
   return false;
 }
 
+std::int64_t RockfallDriver::steps_to_advance(const Simulation& sim) const {
+  if (std::isfinite(ledger_before_removal_)) return 1;  // after_steps() books the removal
+  // between_steps() tests each time t against an event time T as t + dt/2 >= T.
+  const double half = 0.5 * sim.dt();
+  const auto short_of = [&sim, half](double event) {
+    return sim.steps_short_of(event - half, 0.0);
+  };
+  std::int64_t n = short_of(config_.simulation.end_time);
+  if (phase_ == kSag || phase_ == kResettle) return std::min(n, short_of(next_sag_check_));
+  n = std::min(n, short_of(next_record_));
+  // Before the first contact, impact_over() cannot come within this batch: it is a whole
+  // duration after the contact, and a batch ends at the next row.
+  if (contact_time_ >= 0.0) n = std::min(n, short_of(contact_time_ + rf_.duration));
+  return n;
+}
+
+void RockfallDriver::observe_step(const std::vector<RigidBody>& bodies, double time) {
+  if (phase_ != kImpact) return;
+  const RigidBody& b = bodies[boulder_];
+  sum_force_ += b.force;
+  sum_steps_ += 1.0;
+  if (contact_time_ < 0.0) {
+    if (norm2(b.force) > 0.0) {
+      contact_time_ = time;
+      contact_z_ = b.position.z;
+      if (print_)
+        fmt::print("first contact at t = {:.5f} s, boulder speed {:.4g} m/s\n", contact_time_,
+                   norm(b.velocity));
+    } else if (time > no_contact_limit_) {
+      throw std::runtime_error("the boulder never touched the net: check drop_point");
+    }
+  } else {
+    peak_instant_ = std::max(peak_instant_, norm(b.force) / rf_.boulder_mass);
+    if (b.position.z < lowest_z_) lowest_z_ = b.position.z;
+    if (stopping_time_ < 0.0 && b.velocity.z >= 0.0) stopping_time_ = time - contact_time_;
+    rebound_speed_ = std::max(rebound_speed_, b.velocity.z);
+  }
+}
+
 bool RockfallDriver::after_steps(Simulation& sim) {
   if (std::isfinite(ledger_before_removal_)) {
     // The step after the removal: what left the ledger with the boulder.
     energy_added_ += sim.energies().ledger() - ledger_before_removal_;
     ledger_before_removal_ = -std::numeric_limits<double>::infinity();
-  }
-  if (phase_ == kImpact) {
-    const RigidBody& b = sim.model().bodies[boulder_];
-    sum_force_ += b.force;
-    sum_steps_ += 1.0;
-    if (contact_time_ < 0.0) {
-      if (norm2(b.force) > 0.0) {
-        contact_time_ = sim.time();
-        contact_z_ = b.position.z;
-        if (print_)
-          fmt::print("first contact at t = {:.5f} s, boulder speed {:.4g} m/s\n", contact_time_,
-                     norm(b.velocity));
-      } else if (sim.time() > no_contact_limit_) {
-        throw std::runtime_error("the boulder never touched the net: check drop_point");
-      }
-    } else {
-      peak_instant_ = std::max(peak_instant_, norm(b.force) / rf_.boulder_mass);
-      if (b.position.z < lowest_z_) lowest_z_ = b.position.z;
-      if (stopping_time_ < 0.0 && b.velocity.z >= 0.0) stopping_time_ = sim.time() - contact_time_;
-      rebound_speed_ = std::max(rebound_speed_, b.velocity.z);
-    }
   }
   return between_steps(sim);
 }

@@ -37,7 +37,13 @@ class RockfallDriver : public ScenarioDriver {
   const CaseConfig& config() const override { return config_; }
   std::int64_t planned_steps(const Simulation&) const override { return 0; }
   bool start(Simulation& sim, const ScenarioContext& context) override;
-  std::int64_t steps_to_advance(const Simulation&) const override { return 1; }
+  /// Steps up to the next thing between_steps() has to do (a rest check, a series row, the end
+  /// of the impact or of the run); one step after the boulder's removal.
+  std::int64_t steps_to_advance(const Simulation& sim) const override;
+  bool observes_steps() const override { return true; }
+  /// During an impact: the boulder's load for the row means, the first contact, its largest
+  /// single-step deceleration, lowest point, stop and rebound speed.
+  void observe_step(const std::vector<RigidBody>& bodies, double time) override;
   bool after_steps(Simulation& sim) override;
   DriverState state() const override;
   std::string progress(const Simulation& sim, double steps_per_second) const override;

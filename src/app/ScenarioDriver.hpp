@@ -4,8 +4,9 @@
 /// the case by make_scenario_driver (the one table that maps scenario.type to a driver) and run
 /// by run_scenario (app/ScenarioRunner.hpp), the one loop all scenarios share:
 ///
-///   start()  →  loop { advance steps_to_advance() steps; after_steps(); frames, checkpoints and
-///                      stop requests (RunControl); progress line }  →  finish()
+///   start()  →  loop { advance steps_to_advance() steps (observe_step() after each);
+///                      after_steps(); frames, checkpoints and stop requests (RunControl);
+///                      progress line }  →  finish()
 ///
 /// A driver keeps what it needs to continue (peaks, next record time, phase, ...) in members and
 /// hands it to checkpoints through state(); start() restores it from the checkpoint restarted
@@ -14,8 +15,10 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "comm/Communicator.hpp"
+#include "domain/RigidBody.hpp"
 #include "io/CaseConfig.hpp"
 #include "io/Checkpoint.hpp"
 #include "io/ScenarioKind.hpp"
@@ -58,6 +61,13 @@ class ScenarioDriver {
   virtual bool start(Simulation& sim, const ScenarioContext& context) = 0;
   /// Steps to advance before the next after_steps() (at least 1).
   virtual std::int64_t steps_to_advance(const Simulation& sim) const = 0;
+  /// Whether observe_step() wants every step of a batch.
+  virtual bool observes_steps() const { return false; }
+  /// At the end of every step of a batch, where observes_steps(): the rigid bodies at the end
+  /// of the step and its time (Simulation::BodyObserver; the particles are not complete
+  /// there). For what must be seen every step, such as a boulder's largest load. Not
+  /// collective: it must not change the simulation.
+  virtual void observe_step(const std::vector<RigidBody>& /*bodies*/, double /*time*/) {}
   /// After the steps: records series rows, updates the driver's state, changes phase; returns
   /// true when the scenario is over. Collective.
   virtual bool after_steps(Simulation& sim) = 0;

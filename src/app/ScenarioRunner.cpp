@@ -22,10 +22,6 @@ namespace ringdem {
 namespace {
 using Clock = std::chrono::steady_clock;
 
-/// The most steps between two looks at the schedules and the progress line: a few seconds at
-/// most for a million grains a rank, and one unfused step in a hundred (Simulation::run_steps).
-constexpr std::int64_t kMaxBatch = 100;
-
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
@@ -80,14 +76,21 @@ int run_scenario(ScenarioDriver& driver, const ScenarioRunOptions& options,
   const auto loop_start = Clock::now();
   auto last_progress = loop_start;
   const std::int64_t first_step = sim.steps();
+  Simulation::BodyObserver observe_bodies;
+  if (driver.observes_steps())
+    observe_bodies = [&driver](const std::vector<RigidBody>& bodies, double time) {
+      driver.observe_step(bodies, time);
+    };
   while (!done) {
     // As many steps as no schedule needs to look at, up to a batch whose wall time is short
     // beside the progress interval: the simulation runs a batch faster than single steps.
     const std::int64_t steps = std::max<std::int64_t>(
-        1, std::min({driver.steps_to_advance(sim), control.steps_until_due(sim), kMaxBatch}));
+        1,
+        std::min({driver.steps_to_advance(sim), control.steps_until_due(sim), options.max_batch}));
     try {
       // A stop agreed by all ranks ends the batch early; after_step below checkpoints it.
-      sim.run_steps(steps, [&control, &sim] { control.before_step(sim); });
+      sim.run_steps(
+          steps, [&control, &sim] { control.before_step(sim); }, observe_bodies);
     } catch (const DivergenceError& e) {
       // Every rank threw at the same step. The diverged state goes into a last frame for
       // inspection, never into a checkpoint.

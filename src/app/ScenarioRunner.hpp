@@ -20,6 +20,10 @@ struct ScenarioRunOptions {
   bool force_size = false;
   /// Take over the output folder's lock even when it names a run on another host (--break-lock).
   bool break_lock = false;
+  /// The most steps between two looks at the schedules and the progress line: a few seconds at
+  /// most for a million grains a rank, and one unfused step in a hundred (Simulation::
+  /// run_steps). 1 steps one at a time, the path the batches must match bit for bit.
+  std::int64_t max_batch = 100;
 };
 
 /// The one run loop of every scenario (app/ScenarioDriver.hpp): the output folder's lock

@@ -460,7 +460,7 @@ void Simulation::evaluate_step() {
   book_momentum(/*initial=*/false);
 }
 
-void Simulation::finish_step() {
+void Simulation::finish_step(const BodyObserver& observe_bodies) {
   ParticleStore& p = model_.particles;
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
@@ -469,6 +469,7 @@ void Simulation::finish_step() {
     ledger_.accumulate(p, model_.bodies, slots_, gather_, dt_);  // needs both at v^{n+1}
   }
   ++steps_;
+  if (observe_bodies) observe_bodies(model_.bodies, time_);
 }
 
 bool Simulation::can_fuse_with_next_step() const {
@@ -479,7 +480,7 @@ bool Simulation::can_fuse_with_next_step() const {
   return true;
 }
 
-void Simulation::finish_step_and_start_next() {
+void Simulation::finish_step_and_start_next(const BodyObserver& observe_bodies) {
   // finish_step() and the next start_step() (which takes no grains in or out: see
   // can_fuse_with_next_step()) as one pass over the particles: the ledger books each chunk of
   // particles at its end-of-step velocities, before the chunk drifts. The rigid bodies' halves
@@ -488,6 +489,8 @@ void Simulation::finish_step_and_start_next() {
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     Integrator::second_half(model_.bodies, dt_, settings_.gravity);
+    // The bodies are at the end of this step, time_ too (the next step's starts below).
+    if (observe_bodies) observe_bodies(model_.bodies, time_);
     ledger_.start_accumulation(p, gather_);
     drift_ = Integrator::second_then_first_half(
         p, dt_, settings_.gravity, kMaxStepFraction * settings_.skin, kMaxTurn, track_orientations_,
@@ -502,7 +505,8 @@ void Simulation::finish_step_and_start_next() {
   time_ += dt_;
 }
 
-void Simulation::run_steps(std::int64_t n, const std::function<void()>& before_each) {
+void Simulation::run_steps(std::int64_t n, const std::function<void()>& before_each,
+                           const BodyObserver& observe_bodies) {
   bool started = false;  // the next step's first half is done
   for (std::int64_t k = 0; k < n; ++k) {
     if (before_each) before_each();
@@ -510,9 +514,9 @@ void Simulation::run_steps(std::int64_t n, const std::function<void()>& before_e
     evaluate_step();
     started = k + 1 < n && !stop_agreed_ && can_fuse_with_next_step();
     if (started)
-      finish_step_and_start_next();
+      finish_step_and_start_next(observe_bodies);
     else
-      finish_step();
+      finish_step(observe_bodies);
     if (stop_agreed_) break;
   }
 }

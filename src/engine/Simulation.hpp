@@ -132,10 +132,16 @@ class Simulation {
 
   /// Advances one step of dt.
   void step();
+  /// Called once per step with the rigid bodies at the end of that step (their loads, positions
+  /// and velocities) and the time at its end. Only the bodies are complete there: in a batch
+  /// the particles are already on their way into the next step.
+  using BodyObserver = std::function<void(const std::vector<RigidBody>& bodies, double time)>;
   /// Advances n steps, or fewer when a stop is agreed (stop_agreed()), calling `before_each`
-  /// (if given) before each. The same bits as n calls of step(), faster: between two steps of
-  /// the batch the particles are kicked, booked and drifted in one pass.
-  void run_steps(std::int64_t n, const std::function<void()>& before_each = {});
+  /// (if given) before each and `observe_bodies` (if given) at the end of each. The same bits
+  /// as n calls of step(), faster: between two steps of the batch the particles are kicked,
+  /// booked and drifted in one pass.
+  void run_steps(std::int64_t n, const std::function<void()>& before_each = {},
+                 const BodyObserver& observe_bodies = {});
 
   double time() const { return time_; }
   double dt() const { return dt_; }
@@ -239,12 +245,12 @@ class Simulation {
   /// neighbour lists and loads; the second half kick and the energy ledger.
   void start_step();
   void evaluate_step();
-  void finish_step();
+  void finish_step(const BodyObserver& observe_bodies = {});
   /// Whether the next step's start_step() does no more than its drift (no grains in or out).
   bool can_fuse_with_next_step() const;
   /// finish_step() then start_step() in one pass over the particles (Integrator::
   /// second_then_first_half), when can_fuse_with_next_step().
-  void finish_step_and_start_next();
+  void finish_step_and_start_next(const BodyObserver& observe_bodies);
   /// Sets bond_term_ and body_term_, the terms the simulation asks more of than compute().
   void find_typed_terms();
   /// Block width of the decomposition: the widest term's partner distance plus the skin (the
