@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <string>
 #include <utility>
 
@@ -75,6 +76,25 @@ void set_impacts(JsonObject& summary, const std::vector<ImpactRecord>& impacts, 
   for (std::size_t i = 0; i < impacts.size(); ++i)
     list.push_back(impacts[i].json(static_cast<int>(i + 1), g, impact_energy));
   summary.set("impacts", list);
+}
+
+std::string ImpactRecord::log_line(int number, double g, double impact_energy) const {
+  return fmt::format(
+      "rockfall impact {}: peak acceleration {:.4g} m/s^2 ({:.3g} g), deflection {:.4f} m, "
+      "rebound {:.4g} m/s, {} bonds broken, frame force up to {:.4g} kN, plastic work "
+      "{:.3g} %, friction {:.3g} %, contact damping {:.3g} %, global damping {:.3g} % of "
+      "the impact energy, residual height {}",
+      number, peak_acceleration, peak_acceleration / g, deflection, rebound_speed,
+      static_cast<long long>(broken_bonds), 1e-3 * max_frame_force,
+      100.0 * plastic_work / impact_energy, 100.0 * friction / impact_energy,
+      100.0 * contact_damping / impact_energy, 100.0 * global_damping / impact_energy,
+      std::isnan(residual_height) ? std::string("not measured")
+                                  : fmt::format("{:.4f} m", residual_height));
+}
+
+void print_impacts(const std::vector<ImpactRecord>& impacts, double g, double impact_energy) {
+  for (std::size_t i = 0; i < impacts.size(); ++i)
+    fmt::print("{}\n", impacts[i].log_line(static_cast<int>(i) + 1, g, impact_energy));
 }
 
 }  // namespace ringdem

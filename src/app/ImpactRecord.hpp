@@ -1,6 +1,7 @@
 #pragma once
 
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "io/Checkpoint.hpp"
@@ -36,10 +37,14 @@ struct ImpactRecord {
   /// The entry of summary.json's `impacts` array; energy shares are fractions of
   /// `impact_energy` (boulder mass x g x drop height).
   JsonObject json(int number, double g, double impact_energy) const;
+  /// The record as one line of the run's log ("rockfall impact <number>: ...").
+  std::string log_line(int number, double g, double impact_energy) const;
 };
 
 /// summary.json's `impacts` array.
 void set_impacts(JsonObject& summary, const std::vector<ImpactRecord>& impacts, double g,
                  double impact_energy);
+/// One log line per impact (a repeated-impact run's closing report).
+void print_impacts(const std::vector<ImpactRecord>& impacts, double g, double impact_energy);
 
 }  // namespace ringdem

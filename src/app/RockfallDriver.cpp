@@ -669,20 +669,7 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
                                 : std::string("before scenario.rockfall.duration after "
                                               "contact"));
     if (rf_.impacts > 1) {
-      for (std::size_t i = 0; i < impacts.size(); ++i) {
-        const ImpactRecord& r = impacts[i];
-        fmt::print(
-            "rockfall impact {}: peak acceleration {:.4g} m/s^2 ({:.3g} g), deflection {:.4f} m, "
-            "rebound {:.4g} m/s, {} bonds broken, frame force up to {:.4g} kN, plastic work "
-            "{:.3g} %, friction {:.3g} %, contact damping {:.3g} %, global damping {:.3g} % of "
-            "the impact energy, residual height {}\n",
-            i + 1, r.peak_acceleration, r.peak_acceleration / g_, r.deflection, r.rebound_speed,
-            static_cast<long long>(r.broken_bonds), 1e-3 * r.max_frame_force,
-            100.0 * r.plastic_work / impact_energy_, 100.0 * r.friction / impact_energy_,
-            100.0 * r.contact_damping / impact_energy_, 100.0 * r.global_damping / impact_energy_,
-            std::isnan(r.residual_height) ? std::string("not measured")
-                                          : fmt::format("{:.4f} m", r.residual_height));
-      }
+      print_impacts(impacts, g_, impact_energy_);
     } else if (phase_ == kImpact && contact_time_ >= 0.0) {
       // stopping_time_ stays negative while the boulder still moves down: it never turned within
       // `duration`, so there is no stopping time to report.
