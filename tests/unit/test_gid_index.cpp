@@ -1,6 +1,7 @@
 // The flat gid -> index table against std::unordered_map as the reference: sparse and dense
-// gids, growth past the initial size, a later index of a gid replacing the earlier one, and
-// stale entries of a shrunk column matching nothing.
+// gids, runs of consecutive gids at far-apart bases and below zero, growth past the initial size, a
+// later index of a gid replacing the earlier one, and stale entries of a shrunk column matching
+// nothing.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -17,6 +18,13 @@ TEST(GidIndex, AgreesWithUnorderedMap) {
   std::vector<std::int64_t> gids;
   for (int k = 0; k < 5000; ++k)
     gids.push_back(k % 3 == 0 ? static_cast<std::int64_t>(rng() >> 2) : 7 * k);
+  // Runs of consecutive gids, as sources hand them out, at far-apart bases (the table keeps a
+  // run's gids on one cache line; runs of different sources must not pile onto the same
+  // lines), and one run below zero.
+  for (std::int64_t base : {std::int64_t{1} << 40, std::int64_t{2} << 40, std::int64_t{3} << 40,
+                            -(std::int64_t{1} << 40) - 37})
+    for (std::int64_t k = 0; k < 3000; ++k)
+      gids.push_back(base + k);
   for (int k = 0; k < 300; ++k)  // repeats: the later index wins
     gids.push_back(gids[static_cast<std::size_t>(k * 11)]);
   GidIndex index;
@@ -29,7 +37,8 @@ TEST(GidIndex, AgreesWithUnorderedMap) {
   EXPECT_EQ(index.size(), reference.size());
   for (const auto& [gid, i] : reference)
     EXPECT_EQ(index.find(gid, gids.data(), gids.size()), i) << "gid " << gid;
-  for (std::int64_t absent : {std::int64_t{1}, std::int64_t{8}, std::int64_t{7 * 5001}})
+  for (std::int64_t absent : {std::int64_t{1}, std::int64_t{8}, std::int64_t{7 * 5001},
+                              (std::int64_t{1} << 40) + 3000, (std::int64_t{4} << 40)})
     EXPECT_EQ(index.find(absent, gids.data(), gids.size()), -1);
   // The column shrinks without a reset: entries past its end match nothing.
   gids.resize(1000);
