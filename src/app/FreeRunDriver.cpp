@@ -55,6 +55,11 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
           "barrier_mean_force_N"})
       columns.push_back(c);
   }
+  // The energy ledger (docs/physics.md "Energy ledger"): what the dissipative loads took out
+  // and the driven bodies put in, cumulative, and how far the balance moved since the start.
+  for (const char* c : {"contact_damping_J", "friction_J", "global_damping_J", "broken_bonds_J",
+                        "boundary_work_J", "energy_balance_error_J"})
+    columns.push_back(c);
   if (sim.comm().is_root() && !output_dir_.empty())
     series_ = control_->restarted() ? SeriesWriter::resume(output_dir_ + "/series.csv", columns,
                                                            control_->restart_time())
@@ -64,6 +69,16 @@ bool FreeRunDriver::start(Simulation& sim, const ScenarioContext& context) {
   max_kinetic_ = restored.get("max_kinetic_energy", 0.0);
   max_utilisation_ = restored.get("max_bond_utilisation", 0.0);
   next_record_ = restored.get("next_record_time", config_.simulation.series_interval);
+  max_balance_error_ = restored.get("max_energy_balance_error", 0.0);
+  // Collective, on every rank alike. A checkpoint of an older version holds no start, and
+  // one written with the ledger switched the other way booked other terms: the balance then
+  // counts from the restart.
+  const bool ledger_on = config_.simulation.energy_ledger;
+  ledger_start_ = restored.get("ledger_start", std::nan(""));
+  if (!std::isfinite(ledger_start_) || (restored.get("energy_ledger", 1.0) != 0.0) != ledger_on) {
+    ledger_start_ = sim.energies().ledger();
+    max_balance_error_ = 0.0;
+  }
   if (barrier_) {
     barrier_record_.for_each([&](const char* name, double& v) { v = restored.get(name, v); });
     if (!control_->restarted()) {
@@ -85,6 +100,9 @@ void FreeRunDriver::record(Simulation& sim) {
   const Simulation::GrainFlux in = sim.inflow_totals();
   const MomentumBalance momentum = sim.momentum_balance();
   max_kinetic_ = std::max(max_kinetic_, e.kinetic);
+  const bool ledger_on = config_.simulation.energy_ledger;
+  const double balance = e.ledger() - ledger_start_;
+  if (ledger_on) max_balance_error_ = std::max(max_balance_error_, std::abs(balance));
   double util = 0.0;
   for (double u : sim.model().bonds.utilisation)
     util = std::max(util, u);
@@ -93,8 +111,12 @@ void FreeRunDriver::record(Simulation& sim) {
   std::vector<double> barrier_row;
   if (barrier_) record_barrier(sim, momentum, barrier_row);
   if (!sim.comm().is_root() || output_dir_.empty()) return;
-  std::vector<double> row{sim.time(),     e.kinetic,         e.potential,
-                          e.bond_elastic, e.contact_elastic, static_cast<double>(broken)};
+  std::vector<double> row{sim.time(),
+                          e.kinetic,
+                          e.potential,
+                          e.bond_elastic,
+                          ledger_on ? e.contact_elastic : std::nan(""),  // the ledger books it
+                          static_cast<double>(broken)};
   for (const auto& b : sim.model().bodies) {
     row.push_back(b.force.x);
     row.push_back(b.force.y);
@@ -103,7 +125,7 @@ void FreeRunDriver::record(Simulation& sim) {
   row.push_back(e.plastic_work);
   row.push_back(static_cast<double>(out.grains));
   row.push_back(out.mass);
-  row.push_back(e.outflow);
+  row.push_back(ledger_on ? e.outflow : std::nan(""));  // with the contacts' share: the ledger's
   row.push_back(static_cast<double>(in.grains));
   row.push_back(in.mass);
   row.push_back(e.inflow);
@@ -112,6 +134,11 @@ void FreeRunDriver::record(Simulation& sim) {
   row.insert(row.end(), {change.x, change.y, change.z, impulse.x, impulse.y, impulse.z,
                          norm(momentum.residual())});
   row.insert(row.end(), barrier_row.begin(), barrier_row.end());
+  if (ledger_on)
+    row.insert(row.end(), {e.contact_damping, e.friction, e.global_damping, e.broken_bonds,
+                           e.boundary_work, balance});
+  else  // not booked: null, not zeros
+    row.insert(row.end(), 6, std::nan(""));
   series_.row(row);
 }
 
@@ -189,6 +216,9 @@ DriverState FreeRunDriver::state() const {
   d.set("max_kinetic_energy", max_kinetic_);
   d.set("max_bond_utilisation", max_utilisation_);
   d.set("next_record_time", next_record_);
+  d.set("ledger_start", ledger_start_);
+  d.set("energy_ledger", config_.simulation.energy_ledger ? 1.0 : 0.0);
+  d.set("max_energy_balance_error", max_balance_error_);
   if (barrier_) {
     BarrierRecord record = barrier_record_;
     record.for_each([&](const char* name, double& v) { d.set(name, v); });
@@ -265,7 +295,27 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
           .set("energy_J", energy);
       return o;
     };
-    summary.set("outflow", flux(out, e.outflow));
+    // The energy ledger at the end (docs/physics.md "Energy ledger"; docs/output.md).
+    const double energy_balance = e.ledger() - ledger_start_;
+    JsonObject ledger;
+    ledger.set("booked", config_.simulation.energy_ledger);
+    if (config_.simulation.energy_ledger)
+      ledger.set("kinetic_J", e.kinetic)
+          .set("potential_J", e.potential)
+          .set("bond_elastic_J", e.bond_elastic)
+          .set("contact_elastic_J", e.contact_elastic)
+          .set("contact_damping_J", e.contact_damping)
+          .set("friction_J", e.friction)
+          .set("global_damping_J", e.global_damping)
+          .set("broken_bonds_J", e.broken_bonds)
+          .set("plastic_work_J", e.plastic_work)
+          .set("boundary_work_J", e.boundary_work)
+          .set("outflow_J", e.outflow)
+          .set("inflow_J", e.inflow)
+          .set("balance_error_J", energy_balance)
+          .set("largest_balance_error_J", std::max(max_balance_error_, std::abs(energy_balance)));
+    summary.set("energy_ledger", ledger);
+    summary.set("outflow", flux(out, config_.simulation.energy_ledger ? e.outflow : std::nan("")));
     summary.set("inflow", flux(in, e.inflow));
     const auto vec = [](const Vec3& v) { return std::vector<double>{v.x, v.y, v.z}; };
     JsonObject impulses;

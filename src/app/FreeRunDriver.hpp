@@ -45,6 +45,10 @@ class FreeRunDriver : public ScenarioDriver {
   double max_kinetic_ = 0.0;
   double max_utilisation_ = 0.0;
   double next_record_ = 0.0;
+  /// The energy ledger (Energies::ledger()) at the start of the run, and the largest
+  /// |balance error| of a row since: what series.csv and summary.json report of it.
+  double ledger_start_ = 0.0;
+  double max_balance_error_ = 0.0;
 
   /// The barrier's running values, kept in the driver state across restarts.
   struct BarrierRecord {

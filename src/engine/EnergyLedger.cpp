@@ -14,6 +14,7 @@ void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
 }
 
 void EnergyLedger::begin_step(std::size_t n_local) {
+  if (!enabled_) return;
   for (const std::uint32_t k : touched_list_)
     if (k < entry_of_.size()) entry_of_[k] = kNoEntry;
   touched_list_.clear();
@@ -41,6 +42,7 @@ void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bo
 }
 
 void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& gather) {
+  if (!enabled_) return;
   const std::size_t n_local = p.n_local();
   const bool have_moments = entry_of_.size() == n_local;  // begin_step() ran on this store
   // A particle with no load to book now and nothing booked last step keeps its tallies bit
@@ -71,6 +73,7 @@ void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& g
 void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
                                     const std::vector<RigidBody>& bodies, const ForceSlots& slots,
                                     const GatherMap& gather, double dt, bool initial) {
+  if (!enabled_) return;
   // The tallies (docs/physics.md "Energy ledger"; physics.md §3 for the contact loads, §4
   // for the integrator). Velocity Verlet applies a load F^n, computed at t_n, in two half
   // kicks v^{n-1/2} -> v^n -> v^{n+1/2}; the kinetic energy they change is exactly
@@ -157,6 +160,7 @@ void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
 
 void EnergyLedger::finish_accumulation(ParticleStore& p, const GatherMap& gather, double dt,
                                        bool initial) {
+  if (!enabled_) return;
   active_valid_ = true;
   active_n_local_ = p.n_local();
   // External forces: F_ext . (x^{n+1} - x^n), exact for a constant force.

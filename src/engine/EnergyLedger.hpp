@@ -41,6 +41,12 @@ struct ContactMoments {
 /// boundary_work), from the records the terms write and the gather order.
 class EnergyLedger {
  public:
+  /// Off (SimulationSettings::energy_ledger), the terms add no ContactMoments (they ask
+  /// enabled() once per evaluation) and begin_step() and the accumulation do nothing: the
+  /// tallies stay as they are.
+  void set_enabled(bool on) { enabled_ = on; }
+  bool enabled() const { return enabled_; }
+
   /// After GatherMap::finish(): one record per ledger slot, stored in the order accumulate()
   /// reads them (one contiguous stream), plus a scratch record for the other slots.
   void rebuild(const GatherMap& gather, std::size_t n_slots);
@@ -83,6 +89,7 @@ class EnergyLedger {
                            bool initial = false);
 
  private:
+  bool enabled_ = true;
   std::vector<DissipationRecord> records_;
   std::vector<std::uint32_t> record_of_slot_;
   static constexpr std::uint32_t kNoEntry = 0xffffffffu;

@@ -32,6 +32,10 @@ class PairContactTerm final : public ForceTerm {
   std::size_t n_candidates() const { return pairs_.size(); }
 
  private:
+  /// compute() with the energy ledger's ContactMoments (kBook) or without.
+  template <bool kBook>
+  void compute_pairs(ComputeContext& ctx);
+
   NeighbourSearch search_;
   PairExclusions exclusions_;
   PairCandidates pairs_;

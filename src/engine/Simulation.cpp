@@ -41,6 +41,7 @@ SimulationSettings settings_from_case(const CaseConfig& c) {
   s.gravity = c.simulation.gravity;
   s.imbalance_threshold = c.simulation.imbalance_threshold;
   s.momentum_ledger = c.scenario.type == "free_run";
+  s.energy_ledger = c.simulation.energy_ledger;
   return s;
 }
 
@@ -97,6 +98,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       terms_(make_terms(model_)),
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
+  ledger_.set_enabled(settings_.energy_ledger);
   outflow_ = OutflowSink(model_.outflow);
   inflow_ = InflowSource(model_.inflow);
   momentum_ = MomentumLedger(model_.bodies.size(), settings_.momentum_ledger);
@@ -124,6 +126,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       terms_(make_terms(model_)),
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
+  ledger_.set_enabled(settings_.energy_ledger);
   ParticleStore& p = model_.particles;
   // The checkpoint's dt, whatever the case now says: a different dt would not continue the
   // same trajectory.

@@ -34,6 +34,12 @@ struct SimulationSettings {
   /// Book the momentum balance (engine/MomentumLedger): free runs report it; off, it costs
   /// nothing per step (about 3 % of the rockfall demo's step on).
   bool momentum_ledger = true;
+  /// Book the energy ledger (engine/EnergyLedger, docs/physics.md "Energy ledger"). Off, the
+  /// contact terms keep no per-particle sums of their dissipative loads and nothing is booked
+  /// after the kicks; the dissipation, boundary work and contact elastic energy then stay at
+  /// 0 and the energy guard is off (the per-step runaway guard stays). The trajectory is the
+  /// same bits either way.
+  bool energy_ledger = true;
 };
 
 /// The settings a case file asks for.

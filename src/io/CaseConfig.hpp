@@ -227,6 +227,8 @@ struct SimulationConfig {
   /// radius (Simulation::overlaps), unless allow_initial_overlap.
   double initial_overlap_tolerance = 1e-3;
   bool allow_initial_overlap = false;
+  /// Book the energy ledger (SimulationSettings::energy_ledger); only a free run may go without.
+  bool energy_ledger = true;
 };
 
 /// Quasi-static tensile test of ring elements (the paper's "DEM Modeling of a Tensile Test"):

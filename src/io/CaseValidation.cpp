@@ -347,6 +347,12 @@ long long validate_net(RingNetConfig& n, const std::string& p,
 }
 
 void validate_scenario(CaseConfig& c, Context& ctx, bool bodies_ok) {
+  // The rockfall and tensile tests report the ledger's shares and check their balance.
+  if (!c.simulation.energy_ledger && c.scenario.type != "free_run" && !ctx.failed("scenario.type"))
+    ctx.error(ctx.where("simulation.energy_ledger", "simulation"), "simulation.energy_ledger",
+              fmt::format("false applies to scenario type free_run only; a {} reports the "
+                          "energy ledger",
+                          c.scenario.type));
   if (c.scenario.type != "tensile_test" || ctx.failed("scenario.type")) return;
   const std::string p = "scenario.tensile_test";
   if (!ctx.given(p)) {

@@ -59,6 +59,9 @@ const std::vector<RestartKeyRule>& restart_key_rules() {
       {"simulation.skin", K::kApplied, E::kNone, "neighbour lists from the restart on"},
       {"simulation.imbalance_threshold", K::kApplied, E::kNone,
        "repartitioning from the restart on"},
+      {"simulation.energy_ledger", K::kApplied, E::kNone,
+       "the ledger books from the restart on; a free run's energy balance then counts from the "
+       "restart"},
       {"damping.*", K::kApplied, E::kDamping, "damping coefficients from the restart on"},
       {"materials[*].youngs_modulus", K::kApplied, E::kTimeStep,
        "contact stiffness from the restart on (an automatic dt is chosen again)"},

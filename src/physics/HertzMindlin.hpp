@@ -70,8 +70,9 @@ struct HertzMindlin {
   };
 
   /// spring: tangential spring force on i, carried from the previous step (in/out).
-  static Result compute(const Params& p, const Input& in, Vec3& spring) {
-    Result r{};
+  [[gnu::always_inline]] static Result compute(const Params& p, const Input& in, Vec3& spring) {
+    // The result is built at the end with every member given: a Result{} zeroed first became a
+    // 128-byte memset (rep stos) in every contact, 4 % of a dense packing's pair loop.
     const Vec3& n = in.normal;
     const double sqrt_rd = std::sqrt(in.r_star * in.overlap);
     // Eq. 6; normal stiffness S_n of Eq. 7.
@@ -96,29 +97,34 @@ struct HertzMindlin {
     const double f_cap = p.friction * std::max(f_n, 0.0);
     Vec3 f_t;
     Vec3 f_t_damp;
+    bool sliding = false;
     const double spring_mag = norm(spring);
     if (spring_mag > f_cap) {
       // Coulomb slip: the spring saturates at the cap, no viscous tangential force.
       spring = spring_mag > 0.0 ? spring * (f_cap / spring_mag) : Vec3{};
       f_t = spring;
-      r.sliding = true;
+      sliding = true;
     } else {
       f_t_damp = v_t * (-damp * std::sqrt(s_t * in.m_star));  // Eq. 9
       f_t = spring + f_t_damp;
     }
-    r.force_i = f_t - n * f_n;
-    r.damping_force_i = f_t_damp - n * f_n_damp;
-    r.normal_force = f_n;
-    r.tangential_energy = s_t > 0.0 ? 0.5 * norm2(spring) / s_t : 0.0;
-    r.elastic_energy = 0.4 * f_spring * in.overlap + r.tangential_energy;
+    const double tangential_energy = s_t > 0.0 ? 0.5 * norm2(spring) / s_t : 0.0;
 
     // Rolling friction, EDEM "standard": tau = -mu_r F_n R_i omega_hat_i.
+    Vec3 rolling_i, rolling_j;
     if (p.rolling_friction > 0.0 && f_n > 0.0) {
       const double k = p.rolling_friction * f_n;
-      r.rolling_torque_i = normalized(in.omega_i) * (-k * in.arm_i);
-      r.rolling_torque_j = normalized(in.omega_j) * (-k * in.arm_j);
+      rolling_i = normalized(in.omega_i) * (-k * in.arm_i);
+      rolling_j = normalized(in.omega_j) * (-k * in.arm_j);
     }
-    return r;
+    return Result{f_t - n * f_n,
+                  rolling_i,
+                  rolling_j,
+                  f_n,
+                  0.4 * f_spring * in.overlap + tangential_energy,
+                  f_t_damp - n * f_n_damp,
+                  tangential_energy,
+                  sliding};
   }
 };
 

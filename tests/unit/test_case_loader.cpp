@@ -319,6 +319,21 @@ TEST(CaseLoader, CrossChecks) {
   EXPECT_EQ(d->line, line_of(text, "  - name: pin"));
 }
 
+// A free run may go without the energy ledger; the tests that report its shares may not.
+TEST(CaseLoader, EnergyLedgerOffIsForFreeRunsOnly) {
+  EXPECT_TRUE(load_case_from_string(kValidCase, "x.yaml").simulation.energy_ledger);
+  const CaseConfig c =
+      load_case_from_string(kValidCase, "x.yaml", {"simulation.energy_ledger=false"});
+  EXPECT_FALSE(c.simulation.energy_ledger);
+  const auto diags =
+      errors_of(kValidCase, {"simulation.energy_ledger=false", "scenario.type=tensile_test"});
+  const Diagnostic* d = find_path(diags, "simulation.energy_ledger");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_NE(d->message.find("free_run only; a tensile_test reports the energy ledger"),
+            std::string::npos)
+      << d->message;
+}
+
 TEST(CaseLoader, DuplicateKeyAndNonVectorNormal) {
   std::string text = replaced(kValidCase, "  end_time: 0.5\n", "  end_time: 0.5\n  end_time: 1\n");
   text = replaced(text, "normal: [0, 2, 0]", "normal: [0, 0, 0]");
