@@ -12,9 +12,20 @@ Variants (issue 12, docs/performance.md):
   poly  polydisperse bed: radii 5-25 mm (uniform), stacked in columns on a 50.5 mm grid, plus
         one 0.4 m boulder on top (ringdem reads it from a CSV sphere file, a share of the
         lines per rank; LAMMPS from a data file)
-  flow  a dense block (10.1 mm lattice) moving at 1 m/s down a 35 degree incline (gravity
-        tilted over the floor plane), so that contacts form, slide and break all the time
+  flow  a block (10.1 mm lattice) moving at 1 m/s down a 35 degree incline (gravity tilted
+        over the floor plane). Its grains do not touch within its 500 steps (the block falls and
+        slides as one, 1 mm above the floor): it measures the candidate pairs, not contacts
+  dense a packing in contact: 5 mm spheres on a 9.98 mm simple cubic lattice (every grain
+        pressed 20 um into each of its 6 neighbours and the bottom layer 10 um into the floor),
+        jittered by up to 5 um, moving at 1 m/s down the 35 degree incline. Every grain has
+        about 6 touching contacts every step; the surfaces spring off, the jitter's unbalanced
+        forces make the interior rattle, the floor's friction shears the bottom. Both codes read
+        the same positions (a CSV sphere file, a LAMMPS data file)
 Rock: E = 1 GPa, nu = 0.25, e = 0.3, mu = 0.5, 2600 kg/m^3, Hertz-Mindlin, dt = 1.31e-5 s.
+
+Codes: ringdem (with its energy ledger, the default), ringdem_noledger (the same case with
+`simulation.energy_ledger: false`: no dissipation booked, as the peers book none), lammps,
+liggghts.
 """
 import argparse
 import json
@@ -28,13 +39,13 @@ import sys
 import tempfile
 
 E, NU, REST, MU, RHO, DT = 1.0e9, 0.25, 0.3, 0.5, 2600.0, 1.31e-5
-STEPS = {"bed": 153, "poly": 153, "flow": 500}
+STEPS = {"bed": 153, "poly": 153, "flow": 500, "dense": 500}
 SLOPE = math.radians(35.0)
 
 
 def lattice_counts(variant, n):
     """Lattice counts (nx, ny, nz) for about n grains."""
-    if variant == "flow":  # a long, shallow block: 25 x 4 x 1 in shape
+    if variant in ("flow", "dense"):  # a long, shallow block: 25 x 4 x 1 in shape
         k = round((n / 100.0) ** (1.0 / 3.0))
         return (25 * k, 4 * k, k)
     side = round(math.sqrt(n / 10.0)) if n <= 2e5 else round(n ** (1.0 / 3.0))
@@ -42,7 +53,7 @@ def lattice_counts(variant, n):
 
 
 def gravity(variant):
-    if variant == "flow":
+    if variant in ("flow", "dense"):
         return (9.81 * math.sin(SLOPE), 0.0, -9.81 * math.cos(SLOPE))
     return (0.0, 0.0, -9.81)
 
@@ -81,26 +92,53 @@ def poly_spheres(n, seed=7):
     return out
 
 
-def write_ringdem(work, variant, n):
+DENSE_SPACING, DENSE_JITTER, DENSE_FLOOR_OVERLAP = 0.00998, 5e-6, 1e-5
+
+
+def dense_spheres(n, seed=11):
+    """The dense variant: radius 5 mm on a simple cubic lattice closer than a diameter, each
+    coordinate jittered uniformly by up to DENSE_JITTER; the bottom layer overlaps the floor."""
+    nx, ny, nz = lattice_counts("dense", n)
+    rng = random.Random(seed)
+    a, j, r = DENSE_SPACING, DENSE_JITTER, 0.005
+    z0 = r - DENSE_FLOOR_OVERLAP
+    out = []
+    for k in range(nz):
+        for jy in range(ny):
+            for i in range(nx):
+                out.append((i * a + rng.uniform(-j, j), jy * a + rng.uniform(-j, j),
+                            z0 + k * a + (rng.uniform(-j, j) if k else 0.0), r))
+    return out
+
+
+def file_spheres(variant, n):
+    return poly_spheres(n) if variant == "poly" else dense_spheres(n)
+
+
+def write_ringdem(work, variant, n, ledger=True):
     g = gravity(variant)
     lines = [
         "schema_version: 1", f"name: peer_{variant}",
         f"simulation: {{dt: {DT}, end_time: {STEPS[variant] * DT * (1 - 1e-6)}, "
-        f"gravity: [{g[0]!r}, {g[1]!r}, {g[2]!r}], skin: 0.001}}",
+        f"gravity: [{g[0]!r}, {g[1]!r}, {g[2]!r}], skin: 0.001"
+        f"{'' if ledger else ', energy_ledger: false'}"
+        f"{', allow_initial_overlap: true' if variant == 'dense' else ''}}}",
         "output: {frame_interval: 0, checkpoint_interval: 0}",
         "materials:",
         f"  - {{name: rock, density: {RHO}, youngs_modulus: {E}, poisson_ratio: {NU}, "
         f"restitution: {REST}, friction: {MU}}}",
         "particles:"]
-    if variant == "poly":
+    if variant in ("poly", "dense"):
         # A sphere file beside the case: each rank reads its share of the lines.
         spheres = os.path.join(work, f"{variant}_{n}.csv")
-        with open(spheres, "w") as f:
-            f.write("x,y,z,radius\n")
-            for x, y, z, r in poly_spheres(n):
-                f.write(f"{x:.6f},{y:.6f},{z:.6f},{r:.6f}\n")
+        if not os.path.exists(spheres):
+            with open(spheres, "w") as f:
+                f.write("x,y,z,radius\n")
+                for x, y, z, r in file_spheres(variant, n):
+                    f.write(f"{x:.9f},{y:.9f},{z:.9f},{r:.6f}\n")
+        velocity = ", velocity: [1.0, 0.0, 0.0]" if variant == "dense" else ""
         lines += ["  sphere_files:",
-                  f"    - {{path: {os.path.basename(spheres)}, material: rock}}"]
+                  f"    - {{path: {os.path.basename(spheres)}, material: rock{velocity}}}"]
     else:
         s = lattice_spec(variant, n)
         v = s["velocity"]
@@ -112,23 +150,26 @@ def write_ringdem(work, variant, n):
     lines += ["rigid_bodies:",
               "  - {name: floor, shape: plane, position: [0, 0, 0], normal: [0, 0, 1], "
               "material: rock, motion: fixed}"]
-    path = os.path.join(work, f"{variant}_{n}.yaml")
+    path = os.path.join(work, f"{variant}_{n}{'' if ledger else '_noledger'}.yaml")
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
     return path
 
 
 def write_lammps_data(work, variant, n):
-    spheres = poly_spheres(n)
-    lo = min(min(s[0], s[1]) - s[3] for s in spheres) - 0.05
-    hi = max(max(s[0], s[1]) + s[3] for s in spheres) + 0.05
+    spheres = file_spheres(variant, n)
+    # Each axis's extent with a margin (a square box over a long block would give LAMMPS
+    # millions of empty bins).
+    lo = [min(s[c] - s[3] for s in spheres) - 0.05 for c in (0, 1)]
+    hi = [max(s[c] + s[3] for s in spheres) + 0.05 for c in (0, 1)]
     top = max(s[2] + s[3] for s in spheres) + 0.05
     path = os.path.join(work, f"{variant}_{n}.data")
     with open(path, "w") as f:
         f.write(f"peer {variant}\n\n{len(spheres)} atoms\n1 atom types\n\n")
-        f.write(f"{lo} {hi} xlo xhi\n{lo} {hi} ylo yhi\n-0.01 {top} zlo zhi\n\nAtoms # sphere\n\n")
+        f.write(f"{lo[0]} {hi[0]} xlo xhi\n{lo[1]} {hi[1]} ylo yhi\n-0.01 {top} zlo zhi\n\n"
+                "Atoms # sphere\n\n")
         for k, (x, y, z, r) in enumerate(spheres, 1):
-            f.write(f"{k} 1 {2 * r:.6f} {RHO} {x:.6f} {y:.6f} {z:.6f}\n")
+            f.write(f"{k} 1 {2 * r:.6f} {RHO} {x:.9f} {y:.9f} {z:.9f}\n")
     return path
 
 
@@ -136,6 +177,9 @@ def box_and_atoms(work, variant, n, liggghts):
     """Input lines that make the grains (LAMMPS and LIGGGHTS share them)."""
     if variant == "poly":
         return [f"read_data {write_lammps_data(work, variant, n)}"]
+    if variant == "dense":
+        return [f"read_data {write_lammps_data(work, variant, n)}",
+                "velocity all set 1.0 0.0 0.0 units box"]
     s = lattice_spec(variant, n)
     a = s["spacing"]
     length = (s["nx"] - 1) * a
@@ -206,7 +250,7 @@ def write_liggghts(work, variant, n):
 
 
 def run_one(code, path, work, ringdem):
-    if code == "ringdem":
+    if code.startswith("ringdem"):
         cmd = [ringdem, "run", path, "-o", os.path.join(work, "out_" + os.path.basename(path))]
     elif code == "lammps":
         cmd = ["lmp", "-in", path, "-log", "none"]
@@ -218,7 +262,7 @@ def run_one(code, path, work, ringdem):
     if proc.returncode != 0:
         sys.exit(f"{code} failed on {path} (exit {proc.returncode}):\n{text[-3000:]}")
     rss = int(re.search(r"peak_rss_kb (\d+)", text).group(1)) * 1024
-    if code == "ringdem":
+    if code.startswith("ringdem"):
         m = re.search(r"done: (\d+) steps", text)
         out = os.path.join(work, "out_" + os.path.basename(path), "summary.json")
         with open(out) as f:
@@ -242,7 +286,7 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--ringdem", required=True, help="path of the ringdem binary")
     ap.add_argument("--sizes", default="1e5", help="grain counts, comma separated (1e5,1e6)")
-    ap.add_argument("--variants", default="bed,poly,flow")
+    ap.add_argument("--variants", default="bed,poly,flow,dense")
     ap.add_argument("--codes", default="ringdem,lammps,liggghts")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--json", help="also write the medians here")
@@ -255,8 +299,9 @@ def main():
             for variant in args.variants.split(","):
                 inputs = {}
                 for code in codes:
-                    writer = {"ringdem": write_ringdem, "lammps": write_lammps,
-                              "liggghts": write_liggghts}[code]
+                    writer = {"ringdem": write_ringdem,
+                              "ringdem_noledger": lambda *a: write_ringdem(*a, ledger=False),
+                              "lammps": write_lammps, "liggghts": write_liggghts}[code]
                     inputs[code] = writer(work, variant, n)
                 runs = {c: [] for c in codes}
                 for _ in range(args.repeats):  # interleaved: code by code within a round
@@ -279,7 +324,7 @@ def main():
                     ratio = (f"  {c['ns_per_particle_step'] / ref['ns_per_particle_step']:.2f}x "
                              "LAMMPS's time" if ref and code != "lammps" else "")
                     pairs = f", {c['neighbour_pairs']} pairs" if c["neighbour_pairs"] else ""
-                    print(f"  {code:9s} {c['atoms']:8d} grains {c['steps']:4d} steps  loop "
+                    print(f"  {code:16s} {c['atoms']:8d} grains {c['steps']:4d} steps  loop "
                           f"{c['loop_s']:8.3f} s  {c['ns_per_particle_step']:7.1f} ns/particle-"
                           f"step  {c['bytes_per_particle']:6.0f} B/particle{pairs}{ratio}")
                 sys.stdout.flush()

@@ -4,6 +4,7 @@
 # tangential history) on the same beds, one rank each, runs interleaved, medians printed.
 #   scripts/bench/peer_granular.sh [--sizes 1e5,1e6] [--variants bed,poly,flow]
 #                                  [--codes ringdem,lammps,liggghts] [--repeats 3] [--json F]
+#   (code ringdem_noledger: ringdem with simulation.energy_ledger: false, as the peers book none)
 #   RINGDEM_BINARY=path/to/ringdem  to measure another build (before/after comparisons)
 # Variants and what each figure means: scripts/bench/peer_granular.py and docs/performance.md.
 # At 1e6 grains a bed needs about 2 GB per code and minutes per run: quiet machines only.
