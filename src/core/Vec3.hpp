@@ -66,9 +66,14 @@ constexpr double norm2(const Vec3& a) {
 inline double norm(const Vec3& a) {
   return std::sqrt(norm2(a));
 }
+/// Component-wise c ? a : b. Written as three selects so that a loop over contacts
+/// vectorises (GCC turns them into blends; a ternary on the struct stays a branch).
+constexpr Vec3 select(bool c, const Vec3& a, const Vec3& b) {
+  return {c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z};
+}
 inline Vec3 normalized(const Vec3& a) {
   const double n = norm(a);
-  return n > 0.0 ? a / n : Vec3{};
+  return select(n > 0.0, a / n, Vec3{});
 }
 
 /// Any unit vector perpendicular to the unit vector n.

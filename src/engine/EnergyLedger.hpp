@@ -28,6 +28,10 @@ struct DissipationRecord {
 /// (r x F) . w, so the sums of F and of r x F over the contacts give the power at the
 /// end-of-step velocities v, w without a record per contact (physics.md §3 for the loads).
 struct ContactMoments {
+  /// Provided, so that a new entry (moments_.emplace_back()) is made by the members' zero
+  /// initialisers, not value-initialised: that became a 112-byte rep stos, 8 % of a dense
+  /// packing's pair loop.
+  ContactMoments() {}
   Vec3 damping;                    ///< sum of the viscous forces (Eq. 7 + Eq. 9)
   Vec3 damping_moment;             ///< sum of arm x viscous force
   Vec3 friction;                   ///< sum of the tangential spring forces (Coulomb-capped)
@@ -55,18 +59,24 @@ class EnergyLedger {
   /// books it, e.g. the ghost end of a pair).
   DissipationRecord& record(std::uint32_t slot) { return records_[record_of_slot_[slot]]; }
 
-  /// The moments of owned particle k for a per-particle term to add to: a zeroed entry taken
-  /// at the first call of a force evaluation, so that particles without contacts cost nothing
-  /// here, neither time nor memory. The reference holds until the next call.
-  ContactMoments& moments(std::uint32_t k) {
+  /// The entry of owned particle k's moments, for a per-particle term to add to through
+  /// moments_at(): a zeroed entry taken at the first call of a force evaluation, so that
+  /// particles without contacts cost nothing here, neither time nor memory. An entry is an
+  /// index (moments_at() of it holds until the next entry is taken), so that a kernel can take
+  /// the entries of a chunk of contacts first, prefetch them, and add to them after.
+  std::uint32_t moments_entry(std::uint32_t k) {
     std::uint32_t& entry = entry_of_[k];
     if (entry == kNoEntry) {
       entry = static_cast<std::uint32_t>(moments_.size());
       touched_list_.push_back(k);
       moments_.emplace_back();
     }
-    return moments_[entry];
+    return entry;
   }
+  ContactMoments& moments_at(std::uint32_t entry) { return moments_[entry]; }
+  /// Asks the cache for what moments_entry(k) will read (for a particle some contacts ahead).
+  void prefetch_entry(std::uint32_t k) const { __builtin_prefetch(&entry_of_[k]); }
+  void prefetch_moments(std::uint32_t entry) const { __builtin_prefetch(&moments_[entry], 1); }
   /// Before a force evaluation over `n_local` owned particles: no particle has moments yet.
   void begin_step(std::size_t n_local);
 

@@ -5,7 +5,6 @@
 
 #include "engine/ContactKeys.hpp"
 #include "engine/Loop.hpp"
-#include "physics/HertzMindlin.hpp"
 
 namespace ringdem {
 
@@ -96,8 +95,7 @@ ContactSpringStore PairContactTerm::touching_springs(const ParticleStore& p) con
 
 void PairContactTerm::compute(ComputeContext& ctx) {
   // Compiled with and without the ledger's sums (a branch on it in the loop cost the loop with
-  // them 6 %). Two loops call the contact law and the pair kernel twice, so GCC inlines them
-  // only when told to (always_inline): called out of line they cost the loop 60 %.
+  // them 6 %).
   if (ctx.ledger.enabled())
     compute_pairs<true>(ctx);
   else
@@ -115,73 +113,105 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
   const Vec3* const position = p.position.data();
   const double* const radius = p.radius.data();
   SpringSlots& springs = spring_;
-  // Particle contacts (physics.md §3). The pairs come in ascending (gid of a, gid of b) order
+  PairContactChunk& chunk = chunk_;
+  // The b ends are read in jumps: in a packing stored in gid order a grain's partners of higher
+  // gid lie in a few far-apart runs, each a stream through every array the kernel reads (nine,
+  // and the ledger's entries), more streams than the hardware prefetcher follows. The kernel
+  // asks for the b end of the pair kPrefetchAhead ahead itself: on a dense bed it had waited
+  // on those loads for half of the pair loop's time (docs/performance.md, fourteenth round).
+  const std::size_t n_pairs = pairs_.size();
+  constexpr std::size_t kPrefetchAhead = 16;
+  // Particle contacts (physics.md §3), a chunk of candidates at a time: the touching ones are
+  // copied into the chunk's columns, the contact law runs over them vectorised, and their
+  // loads are added in pair order. The pairs come in ascending (gid of a, gid of b) order
   // (NeighbourSearch), and each adds its loads to both ends at once: every particle then gets
   // its contacts in ascending partner gid, the gather order (DESIGN §4), without a slot per
-  // pair. Most candidates do not touch: they cost a distance test and a slot read, and hold no
-  // spring.
-  for_each_in_order(
-      IndexRange{0, pairs_.size()}, [&](std::size_t m) __attribute__((always_inline)) {
-        const std::uint32_t a = pair_a[m];
-        const std::uint32_t b = pair_b[m];
-        const Vec3 d = position[b] - position[a];
-        const double reach = radius[a] + radius[b];
-        const double dist2 = norm2(d);
-        if (dist2 >= reach * reach) {
-          springs.release(m);  // an open contact's spring is zero (physics.md §3)
-          return;
-        }
-        Vec3& spring = springs.take(m);
-        const double dist = std::sqrt(dist2);
-        const Vec3 n = d / dist;
-        const double overlap = reach - dist;
-        const double arm_a = radius[a] - 0.5 * overlap;
-        const double arm_b = radius[b] - 0.5 * overlap;
-        HertzMindlin::Input in;
-        in.normal = n;
-        in.overlap = overlap;
-        in.r_star = radius[a] * radius[b] / reach;
-        in.m_star = effective_mass(p.mass[a], p.motion[a], p.mass[b], p.motion[b]);
-        in.v_rel = (p.velocity[b] + cross(p.omega[b], n * (-arm_b))) -
-                   (p.velocity[a] + cross(p.omega[a], n * arm_a));
-        in.dt = ctx.dt;
-        in.arm_i = arm_a;
-        in.arm_j = arm_b;
-        in.omega_i = p.omega[a];
-        in.omega_j = p.omega[b];
-        const auto r =
-            HertzMindlin::compute(ctx.materials.pair(p.material[a], p.material[b]), in, spring);
-        const Vec3 lever_a = n * arm_a;   // from a's centre to the contact point
-        const Vec3 lever_b = n * -arm_b;  // from b's centre to the contact point
-        // Each end's loads, and for the ledger its viscous and spring loads and moments
-        // (ContactMoments) with half of the pair's tangential and elastic energy.
-        if (loads.owned(a)) {
-          loads.force[a] += r.force_i;
-          loads.torque[a] += cross(lever_a, r.force_i) + r.rolling_torque_i;
-          if constexpr (kBook) {
-            ContactMoments& c = ledger.moments(a);
-            c.damping += r.damping_force_i;
-            c.damping_moment += cross(lever_a, r.damping_force_i);
-            c.friction += spring;
-            c.friction_moment += cross(lever_a, spring) + r.rolling_torque_i;
-            c.tangential_energy += 0.5 * r.tangential_energy;
-            c.elastic_energy += 0.5 * r.elastic_energy;
+  // pair. Most candidates of a loose packing do not touch: they cost a distance test and a
+  // slot read, and hold no spring.
+  for_each_chunk(IndexRange{0, pairs_.size()}, PairContactChunk::kSize, [&](IndexRange range) {
+    chunk.n = 0;
+    chunk.any_rolling = false;
+    for_each_in_order(
+        range, [&](std::size_t m) __attribute__((always_inline)) {
+          const std::uint32_t a = pair_a[m];
+          const std::uint32_t b = pair_b[m];
+          if (m + kPrefetchAhead < n_pairs) {
+            const std::uint32_t ahead = pair_b[m + kPrefetchAhead];
+            __builtin_prefetch(&position[ahead]);
+            __builtin_prefetch(&p.velocity[ahead]);
+            __builtin_prefetch(&p.omega[ahead]);
+            __builtin_prefetch(&radius[ahead]);
+            __builtin_prefetch(&p.mass[ahead]);
+            __builtin_prefetch(&p.motion[ahead]);
+            __builtin_prefetch(&p.material[ahead]);
+            __builtin_prefetch(&loads.force[ahead], 1);
+            __builtin_prefetch(&loads.torque[ahead], 1);
+            if constexpr (kBook)
+              if (loads.owned(ahead)) ledger.prefetch_entry(ahead);
           }
-        }
-        if (loads.owned(b)) {
-          loads.force[b] += -r.force_i;
-          loads.torque[b] += cross(n * arm_b, r.force_i) + r.rolling_torque_j;
-          if constexpr (kBook) {
-            ContactMoments& c = ledger.moments(b);
-            c.damping += -r.damping_force_i;
-            c.damping_moment += cross(lever_b, -r.damping_force_i);
-            c.friction += -spring;
-            c.friction_moment += cross(lever_b, -spring) + r.rolling_torque_j;
-            c.tangential_energy += 0.5 * r.tangential_energy;
-            c.elastic_energy += 0.5 * r.elastic_energy;
+          const Vec3 d = position[b] - position[a];
+          const double reach = radius[a] + radius[b];
+          const double dist2 = norm2(d);
+          if (dist2 >= reach * reach) {
+            springs.release(m);  // an open contact's spring is zero (physics.md §3)
+            return;
           }
-        }
-      });
+          chunk.add(static_cast<std::uint32_t>(m), a, b, d, dist2, radius[a], radius[b],
+                    effective_mass(p.mass[a], p.motion[a], p.mass[b], p.motion[b]), p.velocity[a],
+                    p.velocity[b], p.omega[a], p.omega[b],
+                    ctx.materials.pair(p.material[a], p.material[b]), springs.take(m));
+          if constexpr (kBook) {
+            // The ledger's entries now, in pair order (the order the scatter adds in), so that
+            // the scatter finds them in cache.
+            const std::size_t c = chunk.n - 1;
+            if (loads.owned(a)) {
+              chunk.moments_a[c] = ledger.moments_entry(a);
+              ledger.prefetch_moments(chunk.moments_a[c]);
+            }
+            if (loads.owned(b)) {
+              chunk.moments_b[c] = ledger.moments_entry(b);
+              ledger.prefetch_moments(chunk.moments_b[c]);
+            }
+          }
+        });
+    chunk.compute<kBook>(ctx.dt);
+    // Each end's loads, and for the ledger its viscous and spring loads and moments
+    // (ContactMoments) with half of the pair's tangential and elastic energy.
+    for_each_in_order(
+        IndexRange{0, chunk.n}, [&](std::size_t c) __attribute__((always_inline)) {
+          const std::uint32_t a = chunk.end_a[c];
+          const std::uint32_t b = chunk.end_b[c];
+          const Vec3 spring = chunk.spring.get(c);
+          springs.take(chunk.pair[c]) = spring;
+          const Vec3 force = chunk.force_a.get(c);
+          if (loads.owned(a)) {
+            loads.force[a] += force;
+            loads.torque[a] += chunk.torque_a.get(c);
+            if constexpr (kBook) {
+              ContactMoments& e = ledger.moments_at(chunk.moments_a[c]);
+              e.damping += chunk.damping_a.get(c);
+              e.damping_moment += chunk.damping_moment_a.get(c);
+              e.friction += spring;
+              e.friction_moment += chunk.friction_moment_a.get(c);
+              e.tangential_energy += chunk.half_tangential_energy[c];
+              e.elastic_energy += chunk.half_elastic_energy[c];
+            }
+          }
+          if (loads.owned(b)) {
+            loads.force[b] += -force;
+            loads.torque[b] += chunk.torque_b.get(c);
+            if constexpr (kBook) {
+              ContactMoments& e = ledger.moments_at(chunk.moments_b[c]);
+              e.damping += -chunk.damping_a.get(c);
+              e.damping_moment += chunk.damping_moment_b.get(c);
+              e.friction += -spring;
+              e.friction_moment += chunk.friction_moment_b.get(c);
+              e.tangential_energy += chunk.half_tangential_energy[c];
+              e.elastic_energy += chunk.half_elastic_energy[c];
+            }
+          }
+        });
+  });
 }
 
 }  // namespace ringdem

@@ -6,6 +6,7 @@
 #include "domain/NeighbourSearch.hpp"
 #include "domain/SpringSlots.hpp"
 #include "engine/ForceTerm.hpp"
+#include "engine/PairContactChunk.hpp"
 
 namespace ringdem {
 
@@ -45,6 +46,7 @@ class PairContactTerm final : public ForceTerm {
   /// restart) to the next rebuild(): empty between rebuilds.
   ContactSpringStore springs_{ContactSpringStore::Partner::kParticle};
   std::vector<std::uint32_t> carried_order_;  ///< rebuild scratch: the carried rows' key order
+  PairContactChunk chunk_;                    ///< compute scratch (about 40 KB)
 };
 
 }  // namespace ringdem

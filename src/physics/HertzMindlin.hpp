@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/Vec3.hpp"
@@ -70,6 +71,11 @@ struct HertzMindlin {
   };
 
   /// spring: tangential spring force on i, carried from the previous step (in/out).
+  /// Branch-free: every case is computed and the case that holds is selected, so that the pair
+  /// kernel's loop over a chunk of contacts vectorises (PairContactTerm). A select gives the
+  /// bits the branch would (a skipped rescale is a product by 1, exact). kRolling = false
+  /// leaves the rolling-friction torques out (zero), for chunks whose pairs have mu_r = 0.
+  template <bool kRolling = true>
   [[gnu::always_inline]] static Result compute(const Params& p, const Input& in, Vec3& spring) {
     // The result is built at the end with every member given: a Result{} zeroed first became a
     // 128-byte memset (rep stos) in every contact, 4 % of a dense packing's pair loop.
@@ -84,38 +90,35 @@ struct HertzMindlin {
     const double f_n_damp = damp * std::sqrt(s_n * in.m_star) * v_n;
     const double f_n = f_spring + f_n_damp;
 
-    // Tangential (Eq. 8–9). Keep the stored spring in the current tangent plane.
+    // Tangential (Eq. 8–9). Keep the stored spring in the current tangent plane, at its length
+    // (a zero spring, or one that was all normal, is not rescaled).
     const Vec3 v_t = in.v_rel - n * v_n;
     const double s_t = 8.0 * p.g_star * sqrt_rd;
     const double old_mag2 = norm2(spring);
-    spring -= n * dot(spring, n);
-    if (old_mag2 > 0.0) {
-      const double new_mag2 = norm2(spring);
-      if (new_mag2 > 0.0) spring *= std::sqrt(old_mag2 / new_mag2);
-    }
-    spring += v_t * (s_t * in.dt);  // j slides along +v_t relative to i: drags i along +v_t
+    Vec3 s = spring - n * dot(spring, n);
+    const double new_mag2 = norm2(s);
+    const bool rescale = old_mag2 > 0.0 && new_mag2 > 0.0;
+    s *= rescale ? std::sqrt(old_mag2 / new_mag2) : 1.0;
+    s += v_t * (s_t * in.dt);  // j slides along +v_t relative to i: drags i along +v_t
     const double f_cap = p.friction * std::max(f_n, 0.0);
-    Vec3 f_t;
-    Vec3 f_t_damp;
-    bool sliding = false;
-    const double spring_mag = norm(spring);
-    if (spring_mag > f_cap) {
-      // Coulomb slip: the spring saturates at the cap, no viscous tangential force.
-      spring = spring_mag > 0.0 ? spring * (f_cap / spring_mag) : Vec3{};
-      f_t = spring;
-      sliding = true;
-    } else {
-      f_t_damp = v_t * (-damp * std::sqrt(s_t * in.m_star));  // Eq. 9
-      f_t = spring + f_t_damp;
-    }
-    const double tangential_energy = s_t > 0.0 ? 0.5 * norm2(spring) / s_t : 0.0;
+    const double spring_mag = norm(s);
+    // Coulomb slip: the spring saturates at the cap (spring_mag > f_cap >= 0, so no division
+    // by zero where it applies), and there is no viscous tangential force.
+    const bool sliding = spring_mag > f_cap;
+    s = select(sliding, s * (f_cap / spring_mag), s);
+    const Vec3 f_t_damp =
+        select(sliding, Vec3{}, v_t * (-damp * std::sqrt(s_t * in.m_star)));  // Eq. 9
+    const Vec3 f_t = select(sliding, s, s + f_t_damp);
+    const double tangential_energy = s_t > 0.0 ? 0.5 * norm2(s) / s_t : 0.0;
+    spring = s;
 
     // Rolling friction, EDEM "standard": tau = -mu_r F_n R_i omega_hat_i.
     Vec3 rolling_i, rolling_j;
-    if (p.rolling_friction > 0.0 && f_n > 0.0) {
+    if constexpr (kRolling) {
+      const bool rolls = p.rolling_friction > 0.0 && f_n > 0.0;
       const double k = p.rolling_friction * f_n;
-      rolling_i = normalized(in.omega_i) * (-k * in.arm_i);
-      rolling_j = normalized(in.omega_j) * (-k * in.arm_j);
+      rolling_i = select(rolls, normalized(in.omega_i) * (-k * in.arm_i), Vec3{});
+      rolling_j = select(rolls, normalized(in.omega_j) * (-k * in.arm_j), Vec3{});
     }
     return Result{f_t - n * f_n,
                   rolling_i,
