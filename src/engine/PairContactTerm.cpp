@@ -119,8 +119,11 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
   // and the ledger's entries), more streams than the hardware prefetcher follows. The kernel
   // asks for the b end of the pair kPrefetchAhead ahead itself: on a dense bed it had waited
   // on those loads for half of the pair loop's time (docs/performance.md, fourteenth round).
+  // Only while most candidates touch (the last chunk's): a candidate that does not touch reads
+  // only the positions and radii, and the requests cost the net's sparse contacts 50 %.
   const std::size_t n_pairs = pairs_.size();
   constexpr std::size_t kPrefetchAhead = 16;
+  bool prefetch = true;
   // Particle contacts (physics.md §3), a chunk of candidates at a time: the touching ones are
   // copied into the chunk's columns, the contact law runs over them vectorised, and their
   // loads are added in pair order. The pairs come in ascending (gid of a, gid of b) order
@@ -135,7 +138,7 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
         range, [&](std::size_t m) __attribute__((always_inline)) {
           const std::uint32_t a = pair_a[m];
           const std::uint32_t b = pair_b[m];
-          if (m + kPrefetchAhead < n_pairs) {
+          if (prefetch && m + kPrefetchAhead < n_pairs) {
             const std::uint32_t ahead = pair_b[m + kPrefetchAhead];
             __builtin_prefetch(&position[ahead]);
             __builtin_prefetch(&p.velocity[ahead]);
@@ -174,6 +177,7 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             }
           }
         });
+    prefetch = 2 * chunk.n > range.size();
     chunk.compute<kBook>(ctx.dt);
     // Each end's loads, and for the ledger its viscous and spring loads and moments
     // (ContactMoments) with half of the pair's tangential and elastic energy.
