@@ -46,7 +46,7 @@ class PairContactTerm final : public ForceTerm {
   /// restart) to the next rebuild(): empty between rebuilds.
   ContactSpringStore springs_{ContactSpringStore::Partner::kParticle};
   std::vector<std::uint32_t> carried_order_;  ///< rebuild scratch: the carried rows' key order
-  PairContactChunk chunk_;                    ///< compute scratch (about 40 KB)
+  PairContactChunk chunk_;                    ///< compute scratch (28 KB)
 };
 
 }  // namespace ringdem
