@@ -30,12 +30,8 @@ void PairContactChunk::compute_lanes(double dt) {
         in.arm_j = arm_b;
         in.omega_i = wa;
         in.omega_j = wb;
-        HertzMindlin::Params params;
-        params.e_star = e_star[c];
-        params.g_star = g_star[c];
-        params.beta = beta[c];
-        params.friction = friction[c];
-        params.rolling_friction = rolling_friction[c];
+        const HertzMindlin::Params params{e_star[c], g_star[c], beta[c], friction[c],
+                                          rolling_friction[c]};
         Vec3 s = spring.get(c);
         const auto r = HertzMindlin::compute<kRolling>(params, in, s);
         spring.set(c, s);
