@@ -72,7 +72,7 @@ struct HertzMindlin {
 
   /// spring: tangential spring force on i, carried from the previous step (in/out).
   /// Branch-free: every case is computed and the case that holds is selected, so that the pair
-  /// kernel's loop over a chunk of contacts vectorises (PairContactTerm). A select gives the
+  /// kernel's loop over a chunk of contacts vectorises (PairContactChunk). A select gives the
   /// bits the branch would (a skipped rescale is a product by 1, exact). kRolling = false
   /// leaves the rolling-friction torques out (zero), for chunks whose pairs have mu_r = 0.
   template <bool kRolling = true>
