@@ -48,6 +48,15 @@ void ParticleStore::set_tracks_orientation(bool on) {
     std::vector<Quat>().swap(orientation);  // the memory goes back, not only the size
 }
 
+void ParticleStore::set_tracks_ledger(bool on) {
+  if (on == tracks_ledger_) return;
+  tracks_ledger_ = on;
+  if (on)
+    for_each_ledger_field([n = n_total()](const FieldInfo&, auto& v) { v.assign(n, 0.0); });
+  else  // the memory goes back, not only the size
+    for_each_ledger_field([](const FieldInfo&, auto& v) { std::vector<double>().swap(v); });
+}
+
 void ParticleStore::resize_local(std::size_t n) {
   n_local_ = n;
   n_ghost_ = 0;

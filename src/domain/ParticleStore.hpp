@@ -19,6 +19,8 @@ inline constexpr unsigned kGhostOnce = 1u << 1;   ///< sent when a ghost is crea
 inline constexpr unsigned kGhostStep = 1u << 2;   ///< refreshed on ghosts every step
 inline constexpr unsigned kOutput = 1u << 3;      ///< written to frame files
 inline constexpr unsigned kCheckpoint = 1u << 4;  ///< part of the restart state
+/// A checkpoint written without the field (an energy ledger switched off) restores zeros.
+inline constexpr unsigned kZeroIfAbsent = 1u << 5;
 }  // namespace field_flag
 
 struct FieldInfo {
@@ -69,8 +71,8 @@ class ParticleStore {
   std::vector<std::int32_t> group;  ///< particle group (case-file name table)
   std::vector<Motion> motion;
   // --- energy ledger (docs/physics.md "Energy ledger"): this particle's share of the energy
-  // dissipated or put in since the start, accumulated every step. Owned state (migrated and
-  // checkpointed, never sent to ghosts), summed exactly over the ranks (comm/ExactSum) so the
+  // dissipated or put in since the start, accumulated every step; only while tracks_ledger().
+  // Owned state (migrated and checkpointed, never sent to ghosts), summed exactly over the ranks (comm/ExactSum) so the
   // totals do not depend on the rank count. Each dissipated_* / boundary_work holds dt/2 P^0 +
   // sum_{n>=1} dt P^n of its power P (plus, for friction, minus the change of tangential_energy,
   // and for boundary_work the exact work F_ext . dx of an external force); power_* holds the last
@@ -131,17 +133,35 @@ class ParticleStore {
     f(FieldInfo{"body", kState | kGhostOnce | kOutput}, body);
     f(FieldInfo{"group", kState | kGhostOnce | kOutput}, group);
     f(FieldInfo{"motion", kState | kGhostOnce}, motion);
-    f(FieldInfo{"dissipated_damping", kState}, dissipated_damping);
-    f(FieldInfo{"dissipated_friction", kState}, dissipated_friction);
-    f(FieldInfo{"dissipated_global", kState}, dissipated_global);
-    f(FieldInfo{"boundary_work", kState}, boundary_work);
-    f(FieldInfo{"power_damping", kState}, power_damping);
-    f(FieldInfo{"power_friction", kState}, power_friction);
-    f(FieldInfo{"power_global", kState}, power_global);
-    f(FieldInfo{"power_boundary", kState}, power_boundary);
-    f(FieldInfo{"tangential_energy", kState}, tangential_energy);
-    f(FieldInfo{"contact_energy", kState}, contact_energy);
+    if (tracks_ledger_) for_each_ledger_field(f);
   }
+
+  /// Whether the store keeps the energy ledger's ten columns (80 B a particle). Off
+  /// (simulation.energy_ledger: false) they are empty: in memory, migration and checkpoints a
+  /// particle carries only what moves it. On by default.
+  bool tracks_ledger() const { return tracks_ledger_; }
+  /// Turns the columns on (every particle's tallies at zero) or off (emptied).
+  void set_tracks_ledger(bool on);
+
+ private:
+  /// The ledger's part of the registry (for_each_field() while tracks_ledger()).
+  template <class F>
+  void for_each_ledger_field(F&& f) {
+    using namespace field_flag;
+    constexpr unsigned kLedger = kMigrate | kCheckpoint | kZeroIfAbsent;
+    f(FieldInfo{"dissipated_damping", kLedger}, dissipated_damping);
+    f(FieldInfo{"dissipated_friction", kLedger}, dissipated_friction);
+    f(FieldInfo{"dissipated_global", kLedger}, dissipated_global);
+    f(FieldInfo{"boundary_work", kLedger}, boundary_work);
+    f(FieldInfo{"power_damping", kLedger}, power_damping);
+    f(FieldInfo{"power_friction", kLedger}, power_friction);
+    f(FieldInfo{"power_global", kLedger}, power_global);
+    f(FieldInfo{"power_boundary", kLedger}, power_boundary);
+    f(FieldInfo{"tangential_energy", kLedger}, tangential_energy);
+    f(FieldInfo{"contact_energy", kLedger}, contact_energy);
+  }
+
+ public:
 
   /// Whether the store keeps the particles' orientations. Only bonds read them (the beam ends'
   /// frames): a model without bonds turns the column off, which takes 32 B a particle out of
@@ -197,6 +217,7 @@ class ParticleStore {
   void resize_all(std::size_t n);
 
   bool tracks_orientation_ = true;
+  bool tracks_ledger_ = true;
   std::size_t n_local_ = 0;
   std::size_t n_ghost_ = 0;
   GidIndex index_;

@@ -5,6 +5,11 @@
 namespace ringdem {
 
 void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
+  if (!enabled_) {  // no records to fill: a term's record() is never asked for
+    std::vector<DissipationRecord>().swap(records_);
+    std::vector<std::uint32_t>().swap(record_of_slot_);
+    return;
+  }
   const auto& ledger_slots = gather.ledger_slots();
   records_.assign(ledger_slots.size() + 1, DissipationRecord{});
   record_of_slot_.assign(n_slots, static_cast<std::uint32_t>(ledger_slots.size()));
@@ -19,6 +24,10 @@ void EnergyLedger::begin_step(std::size_t n_local) {
     if (k < entry_of_.size()) entry_of_[k] = kNoEntry;
   touched_list_.clear();
   moments_.clear();
+  // Room for every owned particle: pages never written are never resident, and entries
+  // taken one by one would otherwise double the vector (both copies at once) in the pair loop.
+  moments_.reserve(n_local);
+  touched_list_.reserve(n_local);
   entry_of_.resize(n_local, kNoEntry);
 }
 

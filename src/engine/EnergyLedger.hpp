@@ -57,7 +57,10 @@ class EnergyLedger {
 
   /// The record of a slot for the term to fill (the scratch record when no owned particle
   /// books it, e.g. the ghost end of a pair).
-  DissipationRecord& record(std::uint32_t slot) { return records_[record_of_slot_[slot]]; }
+  /// Off, every slot writes one scratch record (the ledger keeps no records then).
+  DissipationRecord& record(std::uint32_t slot) {
+    return enabled_ ? records_[record_of_slot_[slot]] : unbooked_;
+  }
 
   /// The entry of owned particle k's moments, for a per-particle term to add to through
   /// moments_at(): a zeroed entry taken at the first call of a force evaluation, so that
@@ -101,6 +104,7 @@ class EnergyLedger {
  private:
   bool enabled_ = true;
   std::vector<DissipationRecord> records_;
+  DissipationRecord unbooked_;  ///< what record() gives while the ledger is off
   std::vector<std::uint32_t> record_of_slot_;
   static constexpr std::uint32_t kNoEntry = 0xffffffffu;
   std::vector<ContactMoments> moments_;      ///< one per particle touched in this evaluation

@@ -262,6 +262,9 @@ ModelPlan plan_model(const CaseConfig& c) {
   // Only bonds read orientations, and only the start-up sources create bonds (inlets emit
   // grains): the same answer on every rank, at start-up and on restart.
   model.particles.set_tracks_orientation(model.initial_bonds > 0);
+  // The ledger's columns only where it is booked (set before the store is reserved, and
+  // before a checkpoint is read into it).
+  model.particles.set_tracks_ledger(c.simulation.energy_ledger);
 
   // Inlets: gids above every start-up source's, 2^48 apart per inlet (batches of a million
   // items each leave room for 2.8e8 batches).

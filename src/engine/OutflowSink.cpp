@@ -64,6 +64,7 @@ std::size_t OutflowSink::remove_leaving(ParticleStore& p, const Vec3& gravity, d
     // The same terms as Simulation::energies() sums for a particle still in the model.
     partial_[kEnergy].add(p.kinetic_energy(k));
     partial_[kEnergy].add(p.potential_energy(k, gravity));
+    if (!p.tracks_ledger()) continue;  // nothing booked (simulation.energy_ledger: false)
     partial_[kEnergy].add(p.contact_energy[k]);
     const ParticleStore::LedgerTallies t = p.ledger_tallies(k, dt);
     partial_[kDamping].add(t.damping);

@@ -99,6 +99,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
   ledger_.set_enabled(settings_.energy_ledger);
+  model_.particles.set_tracks_ledger(settings_.energy_ledger);
   outflow_ = OutflowSink(model_.outflow);
   inflow_ = InflowSource(model_.inflow);
   momentum_ = MomentumLedger(model_.bodies.size(), settings_.momentum_ledger);
@@ -127,6 +128,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
   ledger_.set_enabled(settings_.energy_ledger);
+  model_.particles.set_tracks_ledger(settings_.energy_ledger);
   ParticleStore& p = model_.particles;
   // The checkpoint's dt, whatever the case now says: a different dt would not continue the
   // same trajectory.
@@ -219,7 +221,7 @@ void Simulation::change_time_step(double dt) {
   // re-weight that last half step so the tally is unchanged under the new dt.
   ParticleStore& p = model_.particles;
   const double shift = 0.5 * (dt - dt_);
-  for (std::size_t k = 0; k < p.n_local(); ++k) {
+  for (std::size_t k = 0; p.tracks_ledger() && k < p.n_local(); ++k) {
     p.dissipated_damping[k] += shift * p.power_damping[k];
     p.dissipated_friction[k] += shift * p.power_friction[k];
     p.dissipated_global[k] += shift * p.power_global[k];

@@ -234,12 +234,14 @@ Energies Simulation::energies() {
   partial[kOutflow] += gone[OutflowSink::kEnergy];
   partial[kInflow] += inflow_.partial()[InflowSource::kEnergy];
   for (std::size_t k = 0; k < p.n_local(); ++k) {
-    const ParticleStore::LedgerTallies t = p.ledger_tallies(k, dt_);
-    partial[kDamping].add(t.damping);
-    partial[kFriction].add(t.friction);
-    partial[kGlobal].add(t.global_damping);
-    partial[kBoundary].add(t.boundary_work);
-    partial[kContact].add(p.contact_energy[k]);
+    if (p.tracks_ledger()) {
+      const ParticleStore::LedgerTallies t = p.ledger_tallies(k, dt_);
+      partial[kDamping].add(t.damping);
+      partial[kFriction].add(t.friction);
+      partial[kGlobal].add(t.global_damping);
+      partial[kBoundary].add(t.boundary_work);
+      partial[kContact].add(p.contact_energy[k]);
+    }
     if (p.motion[k] == Motion::kFree) {
       partial[kKinetic].add(p.kinetic_energy(k));
       partial[kPotential].add(p.potential_energy(k, settings_.gravity));

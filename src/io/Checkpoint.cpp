@@ -487,8 +487,12 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
   p.for_each_field([&](const FieldInfo& field, auto& v) {
     if (!field.has(field_flag::kCheckpoint)) return;
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
-    auto rows = read_verified_block<T>(f, comm, "/particles/" + std::string(field.name),
-                                       info.particles, p_first, p_end);
+    const std::string name = "/particles/" + std::string(field.name);
+    if (field.has(field_flag::kZeroIfAbsent) && !f.exists(name)) {
+      std::fill(v.begin(), v.end(), T{});  // written by a run that did not keep the field
+      return;
+    }
+    auto rows = read_verified_block<T>(f, comm, name, info.particles, p_first, p_end);
     std::copy(rows.begin(), rows.end(), v.begin());
   });
   // Rows in strictly increasing gid order, across the blocks too.

@@ -239,8 +239,10 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
   Vec3* const torque = p.torque.data();
   Vec3* const v = p.velocity.data();
   Vec3* const w = p.omega.data();
-  double* const dissipated = p.dissipated_global.data();
-  double* const power = p.power_global.data();
+  // The ledger's columns, or null where the store keeps none (simulation.energy_ledger: false).
+  const bool ledger = p.tracks_ledger();
+  double* const dissipated = ledger ? p.dissipated_global.data() : nullptr;
+  double* const power = ledger ? p.power_global.data() : nullptr;
   // Each chunk goes through one of two branch-free loops that vectorise: without
   // Cundall arithmetic where no particle of the chunk is damped (most grains), with it
   // elsewhere (the net). An undamped particle gets the same bits on either path (its loads stay
@@ -248,11 +250,13 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
   // which particles share its chunk, that is on the rank count.
   // Counted in doubles (select_bits), so that the check is a vector loop too.
   double damped_count = 0.0, stale_count = 0.0;
-#pragma omp simd reduction(+ : damped_count, stale_count)
-  for (std::size_t k = begin; k < end; ++k) {
+#pragma omp simd reduction(+ : damped_count)
+  for (std::size_t k = begin; k < end; ++k)
     damped_count += select_bits(alpha[k] != 0.0, 1.0, 0.0);
-    stale_count += select_bits(power[k] != 0.0, 1.0, 0.0);
-  }
+  if (ledger)
+#pragma omp simd reduction(+ : stale_count)
+    for (std::size_t k = begin; k < end; ++k)
+      stale_count += select_bits(power[k] != 0.0, 1.0, 0.0);
   const bool damped = damped_count > 0.0;
   constexpr std::size_t kChunk = Integrator::kChunk;
   const std::size_t n = end - begin, n3 = 3 * n;
@@ -296,6 +300,7 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
   };
   damp_and_kick(run_of(force + begin), run_of(v + begin), kick_run, force_power);
   damp_and_kick(run_of(torque + begin), run_of(w + begin), turn_run, torque_power);
+  if (!ledger) return;
 #pragma omp simd
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t k = begin + i;
@@ -366,6 +371,7 @@ void apply_global_damping(ParticleStore& p, double dt) {
     const Vec3 damping_torque = damping_load(p.torque[k], p.omega[k], p.damping[k]);
     p.force[k] -= damping_force;
     p.torque[k] -= damping_torque;
+    if (!p.tracks_ledger()) continue;
     // The ledger's first trapezoid weight: the tally so far is kept and the power of the
     // initial loads enters with dt/2 (see ParticleStore::ledger_value).
     const double q = p.motion[k] == Motion::kFree
