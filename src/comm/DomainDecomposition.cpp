@@ -420,14 +420,14 @@ void DomainDecomposition::distribute_initial(ParticleStore& p,
   const std::vector<int> named_owner = owners_of_gids(p, owner, named);
   Destinations to;
   to.particle = std::move(owner);
-  std::size_t next = 0;
-  for (const PairStore& handle : stores) {
-    auto& rows = to.rows.emplace_back(visit_store(handle, [](const auto& s) { return s.size(); }));
-    for (auto& row : rows) {
-      row = {named_owner[next], named_owner[next + 1]};
-      next += 2;
-    }
-  }
+  std::vector<std::size_t> first_named(stores.size() + 1, 0);  // each store's rows in `named`
+  for (std::size_t s = 0; s < stores.size(); ++s)
+    first_named[s + 1] =
+        first_named[s] + 2 * visit_store(stores[s], [](const auto& st) { return st.size(); });
+  to.row = [&](std::size_t s, std::size_t h) {
+    const std::size_t at = first_named[s] + 2 * h;
+    return std::array<int, 2>{named_owner[at], named_owner[at + 1]};
+  };
   migrate(p, stores, to);
 }
 
@@ -456,15 +456,11 @@ void DomainDecomposition::redistribute(ParticleStore& p, const std::vector<PairS
   };
   Destinations to;
   to.particle.assign(owner.begin(), owner.begin() + static_cast<std::ptrdiff_t>(p.n_local()));
-  for (const PairStore& handle : stores)
-    visit_store(handle, [&](const auto& s) {
-      auto& rows = to.rows.emplace_back(s.size());
-      for (std::size_t r = 0; r < s.size(); ++r) {
-        const auto ends = s.ends(r);
-        const int oa = owner_of_gid(ends[0]);
-        rows[r] = {oa, ends[1] >= 0 ? owner_of_gid(ends[1]) : oa};
-      }
-    });
+  to.row = [&](std::size_t s, std::size_t r) {
+    const auto ends = visit_store(stores[s], [r](const auto& st) { return st.ends(r); });
+    const int oa = owner_of_gid(ends[0]);
+    return std::array<int, 2>{oa, ends[1] >= 0 ? owner_of_gid(ends[1]) : oa};
+  };
   migrate(p, stores, to);
 }
 
@@ -543,10 +539,13 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
   std::vector<std::vector<std::uint64_t>> row_counts(static_cast<std::size_t>(n_ranks),
                                                      std::vector<std::uint64_t>(n_stores, 0));
   std::vector<std::vector<char>> rows_to(static_cast<std::size_t>(n_ranks));
+  std::vector<std::vector<char>> keep_row(n_stores);  // the rows with an end here
   for (std::size_t s = 0; s < n_stores; ++s)
     visit_store(stores[s], [&](auto& store) {
+      keep_row[s].resize(store.size());
       for (std::size_t h = 0; h < store.size(); ++h) {
-        const auto [oa, ob] = to.rows[s][h];
+        const auto [oa, ob] = to.row(s, h);
+        keep_row[s][h] = oa == me || ob == me;
         for (const int r : {oa, ob == oa ? -1 : ob}) {
           if (r < 0 || r == me) continue;
           ++row_counts[static_cast<std::size_t>(r)][s];
@@ -571,10 +570,7 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
   std::vector<std::size_t> first_arrival(stores.size());
   for (std::size_t s = 0; s < stores.size(); ++s)
     visit_store(stores[s], [&](auto& store) {
-      std::vector<char> keep_row(store.size());
-      for (std::size_t h = 0; h < store.size(); ++h)
-        keep_row[h] = to.rows[s][h][0] == me || to.rows[s][h][1] == me;
-      store.keep_rows(keep_row);
+      store.keep_rows(keep_row[s]);
       first_arrival[s] = store.size();
     });
   const char* data = recv_rows.data();

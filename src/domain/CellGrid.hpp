@@ -22,6 +22,13 @@ class CellGrid {
   template <class F>
   void for_each_near(const Vec3& x, double reach, F&& f) const;
   bool dense() const { return dense_; }
+  /// Gives the bins' memory back (until the next build; dense() still tells the last one).
+  void release_memory() {
+    for (auto* v : {&cell_start_, &fill_, &cell_of_member_, &in_cells_})
+      std::vector<std::uint32_t>().swap(*v);
+    std::vector<std::pair<std::uint64_t, std::uint32_t>>().swap(keyed_);
+    cells_ = {};
+  }
 
  private:
   std::int64_t cell(double coordinate, double origin) const {

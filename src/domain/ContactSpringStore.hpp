@@ -45,6 +45,9 @@ class ContactSpringStore {
   void resize(std::size_t n) {
     for_each_field([n](const FieldInfo&, auto& v) { v.resize(n); });
   }
+  void reserve(std::size_t n) {
+    for_each_field([n](const FieldInfo&, auto& v) { v.reserve(n); });
+  }
   void append(std::int64_t gid_value, std::int64_t partner_value, const Vec3& spring_value) {
     gid.push_back(gid_value);
     partner.push_back(partner_value);

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/Vec3.hpp"
@@ -19,11 +20,52 @@ namespace ringdem {
 /// kernel walks it.
 class SpringSlots {
  public:
-  /// Every candidate of n without a spring; the pool empty, its memory kept.
+  /// Every candidate of n without a spring; the pool empty, with room for a spring on every
+  /// candidate. Reserved memory that is never written is never resident, so a pool that grows
+  /// to its touching contacts costs what they hold, and no doubling of a full pool (the old
+  /// and the new copy at once) makes a peak.
   void reset(std::size_t n_candidates) {
     slot_.assign(n_candidates, kNoSpring);
     pool_.clear();
     free_.clear();
+    pool_.reserve(n_candidates);
+  }
+  /// reset(), with the pool made in the memory of `carried`, the springs a rebuild reads back
+  /// (one column of keyed rows): carry() then gives candidate m the spring of row `row`, with
+  /// rows in increasing order and each at most once, so that the pool is compacted in place and
+  /// the springs are never held twice; end_carry() cuts the pool to the springs carried.
+  void reset_carrying(std::size_t n_candidates, std::vector<Vec3>&& carried) {
+    slot_.assign(n_candidates, kNoSpring);
+    pool_ = std::move(carried);
+    free_.clear();
+    n_carried_ = 0;
+  }
+  void carry(std::size_t m, std::size_t row) {
+    // n_carried_ <= row: the rows taken so far are distinct and below `row`.
+    slot_[m] = static_cast<std::uint32_t>(n_carried_);
+    pool_[n_carried_++] = pool_[row];
+  }
+  void end_carry() { pool_.resize(n_carried_); }
+  /// The springs of the candidates m with holds(m) and keep(m), in candidate order, made in the
+  /// pool's own memory, which the slots give up (release_memory() follows): what a rebuild keys
+  /// and carries. The pool is permuted in place (each swap puts one spring where it goes), so
+  /// that a packing's springs are never held twice; a slot number per spring is the scratch.
+  template <class Keep>
+  std::vector<Vec3> take_in_candidate_order(Keep&& keep) {
+    std::vector<std::uint32_t> target(pool_.size(), kNoSpring);
+    std::uint32_t n_kept = 0;
+    for (std::size_t m = 0; m < slot_.size(); ++m)
+      if (holds(m) && keep(m)) target[slot_[m]] = n_kept++;
+    for (std::size_t s = 0; s < target.size(); ++s)
+      while (target[s] != kNoSpring && target[s] != s) {
+        const std::uint32_t d = target[s];
+        std::swap(pool_[s], pool_[d]);
+        std::swap(target[s], target[d]);
+      }
+    pool_.resize(n_kept);
+    std::vector<Vec3> kept = std::move(pool_);
+    release_memory();
+    return kept;
   }
   /// Gives the memory back (between a pack and the next reset).
   void release_memory() {
@@ -68,6 +110,7 @@ class SpringSlots {
   std::vector<std::uint32_t> slot_;  ///< candidate -> its spring in pool_, or kNoSpring
   std::vector<Vec3> pool_;           ///< the springs (physics.md §3), some of them free
   std::vector<std::uint32_t> free_;  ///< slots of pool_ given back, reused first
+  std::size_t n_carried_ = 0;        ///< springs carried so far (reset_carrying)
 };
 
 }  // namespace ringdem

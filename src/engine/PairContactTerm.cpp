@@ -28,14 +28,17 @@ void PairContactTerm::find_overlaps(const ParticleStore& p, const std::vector<Ri
 void PairContactTerm::rebuild(RebuildContext& ctx) {
   const ParticleStore& p = ctx.particles;
   const std::size_t n_total = p.n_total();
-  // Exclusion lists by particle (the bonded terms' entries), as offsets into one array.
-  exclusions_.offset.assign(n_total + 1, 0);
-  for (const auto& e : ctx.excluded)
-    ++exclusions_.offset[e.particle + 1];
-  for (std::size_t k = 0; k < n_total; ++k)
-    exclusions_.offset[k + 1] += exclusions_.offset[k];
-  exclusions_.partner_gid.assign(exclusions_.offset[n_total], 0);
-  {
+  // Exclusion lists by particle (the bonded terms' entries), as offsets into one array; none
+  // (an empty offset array) where nothing is bonded.
+  exclusions_.offset.clear();
+  exclusions_.partner_gid.clear();
+  if (!ctx.excluded.empty()) {
+    exclusions_.offset.assign(n_total + 1, 0);
+    for (const auto& e : ctx.excluded)
+      ++exclusions_.offset[e.particle + 1];
+    for (std::size_t k = 0; k < n_total; ++k)
+      exclusions_.offset[k + 1] += exclusions_.offset[k];
+    exclusions_.partner_gid.assign(exclusions_.offset[n_total], 0);
     std::vector<std::uint32_t> fill(exclusions_.offset.begin(), exclusions_.offset.end() - 1);
     for (const auto& e : ctx.excluded)
       exclusions_.partner_gid[fill[e.particle]++] = e.partner_gid;
@@ -49,26 +52,44 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
   // storage order is taken.
   const ContactSpringStore& carried = springs_;
   const std::size_t n_carried = carried.size();
-  carried_order_.resize(n_carried);
-  for (std::uint32_t r = 0; r < n_carried; ++r)
-    carried_order_[r] = r;
-  const auto row_before = [&carried](std::uint32_t x, std::uint32_t y) {
+  const auto row_before = [&carried](std::size_t x, std::size_t y) {
     return PairKey::less(carried.gid[x], carried.partner[x], carried.gid[y], carried.partner[y]);
   };
-  if (!std::is_sorted(carried_order_.begin(), carried_order_.end(), row_before))
+  // Rows in key order (the usual case; always on one rank) are read in storage order and become
+  // the pool in their own memory, without an order array: at the rebuild of a packing in
+  // contact the keyed rows, a second copy of their springs and the order had made the run's
+  // peak memory (docs/performance.md, fifteenth round).
+  bool in_place = n_carried > 0;
+  for (std::size_t r = 1; r < n_carried && in_place; ++r)
+    in_place = !row_before(r, r - 1);
+  carried_order_.clear();
+  if (!in_place) {
+    carried_order_.resize(n_carried);
+    for (std::uint32_t r = 0; r < n_carried; ++r)
+      carried_order_[r] = r;
     std::stable_sort(carried_order_.begin(), carried_order_.end(), row_before);
+  }
+  const auto row = [&](std::size_t c) { return in_place ? c : carried_order_[c]; };
   const std::size_t np = pairs_.size();
-  spring_.reset(np);
+  if (in_place)
+    spring_.reset_carrying(np, std::move(springs_.spring));
+  else
+    spring_.reset(np);
   std::size_t c = 0;
   for (std::size_t m = 0; m < np && c < n_carried; ++m) {
     const std::int64_t key_a = p.gid[pairs_.i[m]], key_b = p.gid[pairs_.j[m]];
-    while (c < n_carried && PairKey::less(carried.gid[carried_order_[c]],
-                                          carried.partner[carried_order_[c]], key_a, key_b))
+    while (c < n_carried &&
+           PairKey::less(carried.gid[row(c)], carried.partner[row(c)], key_a, key_b))
       ++c;
-    if (c < n_carried && carried.gid[carried_order_[c]] == key_a &&
-        carried.partner[carried_order_[c]] == key_b)
-      spring_.take(m) = carried.spring[carried_order_[c]];
+    if (c < n_carried && carried.gid[row(c)] == key_a && carried.partner[row(c)] == key_b) {
+      if (in_place)
+        spring_.carry(m, c);
+      else
+        spring_.take(m) = carried.spring[row(c)];
+      ++c;  // a row gives its spring once
+    }
   }
+  if (in_place) spring_.end_carry();
   // Read back: the keyed rows' memory goes until the next pack.
   springs_ = ContactSpringStore{ContactSpringStore::Partner::kParticle};
   std::vector<std::uint32_t>().swap(carried_order_);
@@ -77,8 +98,24 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
 void PairContactTerm::pack_springs(const ParticleStore& p) {
   // Rows already in the store (a checkpoint's, before the first rebuild) stay.
   springs_.drop_released();
+  const auto touching = [this](std::size_t m) { return norm2(spring_.value(m)) > 0.0; };
+  if (springs_.size() == 0) {
+    // The keys in candidate order, and the springs in that order made in the pool's own
+    // memory: at 10^6 grains in contact a second copy of the springs beside the keyed rows was
+    // the run's peak (docs/performance.md, fifteenth round).
+    springs_.gid.reserve(spring_.n_held());
+    springs_.partner.reserve(spring_.n_held());
+    for (std::size_t m = 0; m < spring_.n_candidates(); ++m)
+      if (spring_.holds(m) && touching(m)) {
+        springs_.gid.push_back(p.gid[pairs_.i[m]]);
+        springs_.partner.push_back(p.gid[pairs_.j[m]]);
+      }
+    springs_.spring = spring_.take_in_candidate_order(touching);
+    return;
+  }
+  springs_.reserve(springs_.size() + spring_.n_held());
   for (std::size_t m = 0; m < spring_.n_candidates(); ++m)
-    if (spring_.holds(m) && norm2(spring_.value(m)) > 0.0)
+    if (spring_.holds(m) && touching(m))
       springs_.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_.value(m));
   // The candidates are rebuilt next: their springs' memory goes before the search's comes.
   spring_.release_memory();

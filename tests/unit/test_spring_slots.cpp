@@ -67,5 +67,67 @@ TEST(SpringSlots, AReusedSlotStartsAtZero) {
   EXPECT_FALSE(slots.holds(2));
 }
 
+// A rebuild's round trip without a second copy of the springs: the held springs taken out in
+// candidate order (the pool permuted in place) and carried back into a fresh pool made in their
+// own memory must give every candidate the spring a plain copy gives it.
+TEST(SpringSlots, InPlacePackingAndCarryingAgreeWithCopies) {
+  constexpr std::size_t kCandidates = 3000;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  std::bernoulli_distribution touches(0.6), opens(0.3), zero(0.05);
+  SpringSlots slots;
+  slots.reset(kCandidates);
+  // Springs taken, some given back and taken again, so that pool order is not candidate order.
+  for (int round = 0; round < 3; ++round)
+    for (std::size_t m = 0; m < kCandidates; ++m) {
+      if (touches(rng))
+        slots.take(m) = zero(rng) ? Vec3{} : Vec3{value(rng), value(rng), value(rng)};
+      else if (opens(rng))
+        slots.release(m);
+    }
+  const auto keep = [&](std::size_t m) { return slots.value(m).x != 0.0; };
+  std::vector<Vec3> copied;  // what the copying pack appends, in candidate order
+  std::vector<std::size_t> kept_candidates;
+  for (std::size_t m = 0; m < kCandidates; ++m)
+    if (slots.holds(m) && keep(m)) {
+      copied.push_back(slots.value(m));
+      kept_candidates.push_back(m);
+    }
+  ASSERT_GT(copied.size(), kCandidates / 4);
+  ASSERT_LT(copied.size(), slots.n_held()) << "no spring left out: the test checks less";
+  const std::vector<Vec3> packed = slots.take_in_candidate_order(keep);
+  ASSERT_EQ(packed.size(), copied.size());
+  for (std::size_t r = 0; r < packed.size(); ++r)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(packed[r][c], copied[r][c]) << "row " << r;
+  EXPECT_EQ(slots.n_candidates(), 0u);
+
+  // Carried back to new candidates: every other kept row finds a candidate again (rows
+  // increasing), into the rows' own memory and by take() into a fresh pool.
+  SpringSlots carried, taken;
+  const std::size_t n_new = kCandidates + 10;
+  carried.reset_carrying(n_new, std::vector<Vec3>(packed));
+  taken.reset(n_new);
+  std::size_t n_carried = 0;
+  for (std::size_t r = 0; r < packed.size(); r += 2) {
+    const std::size_t m = kept_candidates[r] + 7;  // the same order, other numbers
+    carried.carry(m, r);
+    taken.take(m) = packed[r];
+    ++n_carried;
+  }
+  carried.end_carry();
+  EXPECT_EQ(carried.n_held(), n_carried);
+  for (std::size_t m = 0; m < n_new; ++m) {
+    ASSERT_EQ(carried.holds(m), taken.holds(m)) << "candidate " << m;
+    if (!carried.holds(m)) continue;
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(carried.value(m)[c], taken.value(m)[c]) << "candidate " << m;
+  }
+  // A contact that opens after the carry, and one that closes, behave as in any pool.
+  carried.release(kept_candidates[0] + 7);
+  EXPECT_EQ(carried.n_held(), n_carried - 1);
+  EXPECT_EQ(carried.take(1).x, 0.0);
+}
+
 }  // namespace
 }  // namespace ringdem
