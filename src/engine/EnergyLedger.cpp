@@ -4,6 +4,11 @@
 
 namespace ringdem {
 
+void EnergyLedger::release_moments() {
+  clear_moments();
+  std::vector<ContactMoments>().swap(moments_);
+}
+
 void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
   if (!enabled_) {  // no records to fill: a term's record() is never asked for
     std::vector<DissipationRecord>().swap(records_);
@@ -20,15 +25,19 @@ void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
 
 void EnergyLedger::begin_step(std::size_t n_local) {
   if (!enabled_) return;
-  for (const std::uint32_t k : touched_list_)
-    if (k < entry_of_.size()) entry_of_[k] = kNoEntry;
-  touched_list_.clear();
-  moments_.clear();
+  clear_moments();
   // Room for every owned particle: pages never written are never resident, and entries
   // taken one by one would otherwise double the vector (both copies at once) in the pair loop.
   moments_.reserve(n_local);
   touched_list_.reserve(n_local);
   entry_of_.resize(n_local, kNoEntry);
+}
+
+void EnergyLedger::clear_moments() {
+  for (const std::uint32_t k : touched_list_)
+    if (k < entry_of_.size()) entry_of_[k] = kNoEntry;
+  touched_list_.clear();
+  moments_.clear();
 }
 
 namespace {

@@ -294,6 +294,7 @@ void Simulation::build_lists() {
   ParticleStore& p = model_.particles;
   // Only touching contacts carry a spring across the rebuild; migration moves those rows with
   // their particles, and each term's rebuild() reads its own store back by key.
+  ledger_.release_moments();
   for (auto& t : terms_)
     t->pack_springs(p);
   decomposition_.redistribute(p, pair_stores());
