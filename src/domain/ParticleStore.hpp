@@ -72,11 +72,12 @@ class ParticleStore {
   std::vector<Motion> motion;
   // --- energy ledger (docs/physics.md "Energy ledger"): this particle's share of the energy
   // dissipated or put in since the start, accumulated every step; only while tracks_ledger().
-  // Owned state (migrated and checkpointed, never sent to ghosts), summed exactly over the ranks (comm/ExactSum) so the
-  // totals do not depend on the rank count. Each dissipated_* / boundary_work holds dt/2 P^0 +
-  // sum_{n>=1} dt P^n of its power P (plus, for friction, minus the change of tangential_energy,
-  // and for boundary_work the exact work F_ext . dx of an external force); power_* holds the last
-  // P^n, so the tally up to the current step is dissipated_* - dt/2 power_* (ledger_value()).
+  // Owned state (migrated and checkpointed, never sent to ghosts), summed exactly over the ranks
+  // (comm/ExactSum) so the totals do not depend on the rank count. Each dissipated_* /
+  // boundary_work holds dt/2 P^0 + sum_{n>=1} dt P^n of its power P (plus, for friction, minus the
+  // change of tangential_energy, and for boundary_work the exact work F_ext . dx of an external
+  // force); power_* holds the last P^n, so the tally up to the current step is dissipated_* - dt/2
+  // power_* (ledger_value()).
   std::vector<double> dissipated_damping;   ///< viscous contact damping (Eq. 7, 9)
   std::vector<double> dissipated_friction;  ///< Coulomb slip, rolling friction
   std::vector<double> dissipated_global;    ///< Cundall global damping
@@ -162,7 +163,6 @@ class ParticleStore {
   }
 
  public:
-
   /// Whether the store keeps the particles' orientations. Only bonds read them (the beam ends'
   /// frames): a model without bonds turns the column off, which takes 32 B a particle out of
   /// memory, of every migration and ghost refresh and of checkpoints. On by default.

@@ -134,8 +134,12 @@ class LedgerSwitchAtRestart : public ::testing::Test {
 TEST_F(LedgerSwitchAtRestart, WrittenWithoutTheColumnsRestartsWithTheLedgerFromZero) {
   cross(false, true);
 }
-TEST_F(LedgerSwitchAtRestart, WrittenWithThemRestartsWithout) { cross(true, false); }
-TEST_F(LedgerSwitchAtRestart, WrittenWithThemRestartsWithThemExactly) { cross(true, true); }
+TEST_F(LedgerSwitchAtRestart, WrittenWithThemRestartsWithout) {
+  cross(true, false);
+}
+TEST_F(LedgerSwitchAtRestart, WrittenWithThemRestartsWithThemExactly) {
+  cross(true, true);
+}
 
 }  // namespace
 }  // namespace ringdem
