@@ -10,6 +10,7 @@
 #include <string>
 
 #include "CommandLine.hpp"
+#include "TempDir.hpp"
 
 namespace ringdem {
 namespace {
@@ -20,11 +21,7 @@ using testing::run_command;
 const std::string kBinary = RINGDEM_BINARY;
 const std::string kCase = std::string(RINGDEM_SOURCE_DIR) + "/tests/data/restart_net.yaml";
 
-std::string temp_dir(const std::string& tag) {
-  std::string templ = (fs::temp_directory_path() / ("ringdem_" + tag + "_XXXXXX")).string();
-  if (!mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
-  return templ;
-}
+using testing::temp_dir;
 
 TEST(CliErrors, OutOfMemoryNamesTheCaseFile) {
 #ifdef __SANITIZE_ADDRESS__

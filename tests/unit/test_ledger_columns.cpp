@@ -4,12 +4,12 @@
 // switch both ways: written without the columns it restarts with the ledger from zero; written
 // with them it restarts without. The oracle is the uninterrupted run with the ledger on.
 #include <gtest/gtest.h>
-#include <stdlib.h>
 
 #include <filesystem>
 #include <map>
 #include <string>
 
+#include "TempDir.hpp"
 #include "TestCases.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
@@ -80,11 +80,7 @@ TEST(LedgerColumns, OnlyABookedLedgerKeepsThemAndTheMotionIsTheSame) {
 
 class LedgerSwitchAtRestart : public ::testing::Test {
  protected:
-  void SetUp() override {
-    std::string templ = (fs::temp_directory_path() / "ringdem_ledger_XXXXXX").string();
-    ASSERT_NE(mkdtemp(templ.data()), nullptr);
-    dir_ = templ;
-  }
+  void SetUp() override { dir_ = testing::temp_dir("ledger"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   /// Runs `first` steps with the ledger `before`, checkpoints, restarts with it `after`, runs

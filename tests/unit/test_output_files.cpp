@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "TempDir.hpp"
 #include "TestCases.hpp"
 #include "app/InfoCommand.hpp"
 #include "engine/ModelBuilder.hpp"
@@ -26,11 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string temp_dir(const std::string& tag) {
-  std::string templ = (fs::temp_directory_path() / ("ringdem_" + tag + "_XXXXXX")).string();
-  if (!mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
-  return templ;
-}
+using testing::temp_dir;
 
 /// One paper ring dropped onto a plane at 1 m/s: bonds, a body contact with history.
 CaseConfig ring_on_floor() {

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "CommandLine.hpp"
+#include "TempDir.hpp"
 #include "app/OutputLock.hpp"
 
 namespace ringdem {
@@ -24,11 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::run_command;
 
-std::string temp_dir(const std::string& tag) {
-  std::string templ = (fs::temp_directory_path() / ("ringdem_" + tag + "_XXXXXX")).string();
-  if (!mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
-  return templ;
-}
+using testing::temp_dir;
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
