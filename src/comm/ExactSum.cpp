@@ -3,6 +3,8 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <utility>
 
 namespace ringdem {
 
@@ -64,6 +66,14 @@ ExactSum& ExactSum::operator+=(const ExactSum& o) {
   pending_ += o.pending_ + 1;
   if (pending_ >= kMaxPending) normalise();
   return *this;
+}
+
+ExactSum ExactSum::negated() const {
+  ExactSum n = *this;
+  for (auto& l : n.limb_)
+    l = -l;
+  std::swap(n.pos_inf_, n.neg_inf_);
+  return n;
 }
 
 void ExactSum::normalise() {
@@ -146,6 +156,28 @@ double ExactSum::value() const {
     ++mantissa;  // round half to even; 2^53 stays exact and ldexp moves the exponent
   const double v = std::ldexp(static_cast<double>(mantissa), lsb - 1074);
   return negative ? -v : v;
+}
+
+std::vector<std::int64_t> words_of_sums(const std::vector<ExactSum>& sums) {
+  std::vector<std::int64_t> words;
+  words.reserve(sums.size() * ExactSum::kWords);
+  for (const ExactSum& s : sums) {
+    const auto w = s.export_words();
+    words.insert(words.end(), w.begin(), w.end());
+  }
+  return words;
+}
+
+std::vector<ExactSum> sums_of_words(const std::vector<std::int64_t>& words, std::size_t count,
+                                    const std::string& what) {
+  if (words.empty()) return {};
+  if (words.size() != count * ExactSum::kWords)
+    throw std::runtime_error("checkpoint: " + what + " of the wrong size");
+  std::vector<ExactSum> sums;
+  sums.reserve(count);
+  for (std::size_t c = 0; c < count; ++c)
+    sums.push_back(ExactSum::from_words(words.data() + c * ExactSum::kWords));
+  return sums;
 }
 
 }  // namespace ringdem

@@ -2,6 +2,8 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace ringdem {
 
@@ -26,6 +28,8 @@ class ExactSum {
   void add(double x);
   /// Adds another partial sum (exact).
   ExactSum& operator+=(const ExactSum& o);
+  /// The sum of the negated terms (exact).
+  ExactSum negated() const;
   /// The sum rounded to the nearest double (ties to even); +-inf beyond the double range.
   double value() const;
 
@@ -42,5 +46,12 @@ class ExactSum {
   std::int64_t nan_ = 0, pos_inf_ = 0, neg_inf_ = 0;
   std::int64_t pending_ = 0;  ///< terms added since the last normalise()
 };
+
+/// The canonical words of several sums, one after another (a checkpoint's record of them).
+std::vector<std::int64_t> words_of_sums(const std::vector<ExactSum>& sums);
+/// The sums of words_of_sums(): `count` of them, or none from no words; any other number of
+/// words throws "checkpoint: <what> of the wrong size".
+std::vector<ExactSum> sums_of_words(const std::vector<std::int64_t>& words, std::size_t count,
+                                    const std::string& what);
 
 }  // namespace ringdem

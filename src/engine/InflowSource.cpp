@@ -83,12 +83,7 @@ std::vector<double> InflowSource::next_due() const {
 }
 
 std::vector<std::int64_t> InflowSource::export_totals(const Communicator& comm) const {
-  std::vector<std::int64_t> words;
-  for (const ExactSum& t : comm.reduce_exact(partial_)) {
-    const auto w = t.export_words();
-    words.insert(words.end(), w.begin(), w.end());
-  }
-  return words;
+  return words_of_sums(comm.reduce_exact(partial_));
 }
 
 void InflowSource::restore(const std::vector<std::int64_t>& batches,
@@ -103,10 +98,7 @@ void InflowSource::restore(const std::vector<std::int64_t>& batches,
     inlets_[i].batches = batches[i];
     inlets_[i].next_due = next_due[i];
   }
-  if (!root) return;
-  for (int c = 0; c < kColumns; ++c)
-    partial_[static_cast<std::size_t>(c)] =
-        ExactSum::from_words(totals.data() + static_cast<std::size_t>(c) * ExactSum::kWords);
+  if (root) partial_ = sums_of_words(totals, kColumns, "inflow totals");
 }
 
 }  // namespace ringdem

@@ -97,27 +97,17 @@ MomentumBalance MomentumLedger::balance(const ParticleStore& p, const Communicat
 std::vector<std::int64_t> MomentumLedger::export_state(const Communicator& comm) const {
   std::vector<ExactSum> both = totals_;
   both.insert(both.end(), pending_.begin(), pending_.end());
-  const std::vector<ExactSum> reduced = comm.reduce_exact(both);
-  std::vector<std::int64_t> words;
-  words.reserve(reduced.size() * ExactSum::kWords);
-  for (const ExactSum& t : reduced) {
-    const auto w = t.export_words();
-    words.insert(words.end(), w.begin(), w.end());
-  }
-  return words;
+  return words_of_sums(comm.reduce_exact(both));
 }
 
 void MomentumLedger::import_state(const std::vector<std::int64_t>& words, bool root) {
   const std::size_t columns = totals_.size();
   totals_.assign(columns, ExactSum{});
   pending_.assign(columns, ExactSum{});
-  if (words.empty() || !root) return;
-  if (words.size() != 2 * columns * ExactSum::kWords)
-    throw std::runtime_error("checkpoint: momentum record of the wrong size");
-  for (std::size_t c = 0; c < 2 * columns; ++c) {
-    ExactSum& target = c < columns ? totals_[c] : pending_[c - columns];
-    target = ExactSum::from_words(words.data() + c * ExactSum::kWords);
-  }
+  if (!root) return;
+  const std::vector<ExactSum> sums = sums_of_words(words, 2 * columns, "momentum record");
+  for (std::size_t c = 0; c < sums.size(); ++c)
+    (c < columns ? totals_[c] : pending_[c - columns]) = sums[c];
 }
 
 }  // namespace ringdem

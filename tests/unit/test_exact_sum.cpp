@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "comm/ExactSum.hpp"
@@ -189,6 +190,50 @@ TEST(ExactSum, CarriesOverManyTerms) {
   EXPECT_EQ(neg.value(), -std::ldexp(x, 25));
   s += neg;
   EXPECT_EQ(s.value(), 0.0);
+}
+
+// negated() is the sum of the negated terms: adding it to the original cancels exactly, its
+// value is the negated value (also for infinities, which swap), and it agrees with a sum of
+// the negated terms to the bit.
+TEST(ExactSum, NegatedIsTheSumOfTheNegatedTerms) {
+  const std::vector<double> terms = {1e300, 3.0, -1e-300, 0.1, -7.5e-310, 2.0 / 3.0};
+  ExactSum s, minus;
+  for (double x : terms) {
+    s.add(x);
+    minus.add(-x);
+  }
+  const ExactSum n = s.negated();
+  EXPECT_EQ(bits(n.value()), bits(minus.value()));
+  EXPECT_EQ(n.value(), -s.value());
+  ExactSum zero = s;
+  zero += n;
+  EXPECT_EQ(zero.value(), 0.0);
+  ExactSum inf;
+  inf.add(std::numeric_limits<double>::infinity());
+  EXPECT_EQ(inf.negated().value(), -std::numeric_limits<double>::infinity());
+}
+
+// A checkpoint's record of several sums: the words give back the same sums, no words give
+// none, and a record of another length is refused with what it was.
+TEST(ExactSum, WordsOfSeveralSumsRoundTrip) {
+  std::vector<ExactSum> sums(3);
+  sums[0].add(1.0 / 3.0);
+  sums[1].add(-2.5e-200);
+  sums[2].add(std::numeric_limits<double>::quiet_NaN());
+  const std::vector<std::int64_t> words = words_of_sums(sums);
+  ASSERT_EQ(words.size(), 3u * ExactSum::kWords);
+  const std::vector<ExactSum> back = sums_of_words(words, 3, "test record");
+  ASSERT_EQ(back.size(), 3u);
+  EXPECT_EQ(bits(back[0].value()), bits(sums[0].value()));
+  EXPECT_EQ(bits(back[1].value()), bits(sums[1].value()));
+  EXPECT_TRUE(std::isnan(back[2].value()));
+  EXPECT_TRUE(sums_of_words({}, 3, "test record").empty());
+  try {
+    sums_of_words(words, 2, "test record");
+    ADD_FAILURE() << "a record of three sums was read as two";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "checkpoint: test record of the wrong size");
+  }
 }
 
 }  // namespace
