@@ -70,38 +70,29 @@ class ParticleStore {
   std::vector<std::int32_t> body;   ///< ring / clump id, -1 for none
   std::vector<std::int32_t> group;  ///< particle group (case-file name table)
   std::vector<Motion> motion;
-  // --- energy ledger (docs/physics.md "Energy ledger"): this particle's share of the energy
-  // dissipated or put in since the start, accumulated every step; only while tracks_ledger().
-  // Owned state (migrated and checkpointed, never sent to ghosts), summed exactly over the ranks
-  // (comm/ExactSum) so the totals do not depend on the rank count. Each dissipated_* /
-  // boundary_work holds dt/2 P^0 + sum_{n>=1} dt P^n of its power P (plus, for friction, minus the
-  // change of tangential_energy, and for boundary_work the exact work F_ext . dx of an external
-  // force); power_* holds the last P^n, so the tally up to the current step is dissipated_* - dt/2
-  // power_* (ledger_value()).
-  std::vector<double> dissipated_damping;   ///< viscous contact damping (Eq. 7, 9)
-  std::vector<double> dissipated_friction;  ///< Coulomb slip, rolling friction
-  std::vector<double> dissipated_global;    ///< Cundall global damping
-  std::vector<double> boundary_work;        ///< work put in by driven bodies and loads
-  std::vector<double> power_damping, power_friction, power_global, power_boundary;
+  // --- energy ledger (docs/physics.md "Energy ledger"); only while tracks_ledger(). The
+  // contact terms' tallies are kept per rank in exact sums (engine/EnergyLedger); what a
+  // particle carries is what is its own. Owned state (migrated and checkpointed, never sent to
+  // ghosts), summed exactly over the ranks (comm/ExactSum) so the totals do not depend on the
+  // rank count.
+  /// Cundall global damping (the integrator books it per particle): dissipated_global holds
+  /// dt/2 P^0 + sum_{n>=1} dt P^n of its power P, power_global the last P^n, so the tally up to
+  /// the current step is dissipated_global - dt/2 power_global (global_damping_tally()).
+  std::vector<double> dissipated_global;
+  std::vector<double> power_global;
   /// This particle's share of the tangential spring energy of its contacts at the last step.
   std::vector<double> tangential_energy;
   /// This particle's share of the elastic energy of its contacts (half of a pair's, all of a
   /// contact with a rigid body), for the rank-count independent sum of contact energy.
   std::vector<double> contact_energy;
 
-  /// The trapezoidal tally of an accumulator and its last power (see dissipated_damping).
+  /// The trapezoidal tally of an accumulator and its last power (see dissipated_global).
   static double ledger_value(double accumulated, double last_power, double dt) {
     return accumulated - 0.5 * dt * last_power;
   }
-  /// A particle's ledger tallies up to the current step (ledger_value of each).
-  struct LedgerTallies {
-    double damping, friction, global_damping, boundary_work;
-  };
-  LedgerTallies ledger_tallies(std::size_t k, double dt) const {
-    return {ledger_value(dissipated_damping[k], power_damping[k], dt),
-            ledger_value(dissipated_friction[k], power_friction[k], dt),
-            ledger_value(dissipated_global[k], power_global[k], dt),
-            ledger_value(boundary_work[k], power_boundary[k], dt)};
+  /// Particle k's global-damping tally up to the current step.
+  double global_damping_tally(std::size_t k, double dt) const {
+    return ledger_value(dissipated_global[k], power_global[k], dt);
   }
   /// Moment of inertia of a solid sphere, 2/5 m r^2 (isotropic), from its mass and radius: no
   /// column of its own (8 B a particle less in memory and in every ghost exchange).
@@ -137,7 +128,7 @@ class ParticleStore {
     if (tracks_ledger_) for_each_ledger_field(f);
   }
 
-  /// Whether the store keeps the energy ledger's ten columns (80 B a particle). Off
+  /// Whether the store keeps the energy ledger's four columns (32 B a particle). Off
   /// (simulation.energy_ledger: false) they are empty: in memory, migration and checkpoints a
   /// particle carries only what moves it. On by default.
   bool tracks_ledger() const { return tracks_ledger_; }
@@ -150,14 +141,8 @@ class ParticleStore {
   void for_each_ledger_field(F&& f) {
     using namespace field_flag;
     constexpr unsigned kLedger = kMigrate | kCheckpoint | kZeroIfAbsent;
-    f(FieldInfo{"dissipated_damping", kLedger}, dissipated_damping);
-    f(FieldInfo{"dissipated_friction", kLedger}, dissipated_friction);
     f(FieldInfo{"dissipated_global", kLedger}, dissipated_global);
-    f(FieldInfo{"boundary_work", kLedger}, boundary_work);
-    f(FieldInfo{"power_damping", kLedger}, power_damping);
-    f(FieldInfo{"power_friction", kLedger}, power_friction);
     f(FieldInfo{"power_global", kLedger}, power_global);
-    f(FieldInfo{"power_boundary", kLedger}, power_boundary);
     f(FieldInfo{"tangential_energy", kLedger}, tangential_energy);
     f(FieldInfo{"contact_energy", kLedger}, contact_energy);
   }

@@ -1,6 +1,7 @@
 #include "engine/EnergyLedger.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace ringdem {
 
@@ -42,30 +43,57 @@ void EnergyLedger::clear_moments() {
 
 namespace {
 
-/// A particle with no power booked last step and no contact energy: nothing of it changes
-/// unless a load books something now.
+/// A particle whose contacts hold no energy: nothing of it changes unless a load books
+/// something now (a power that was not zero last step is in the rank's last-step sums).
 bool idle(const ParticleStore& p, std::size_t k) {
-  return p.power_damping[k] == 0.0 && p.power_friction[k] == 0.0 && p.power_boundary[k] == 0.0 &&
-         p.tangential_energy[k] == 0.0 && p.contact_energy[k] == 0.0;
+  return p.tangential_energy[k] == 0.0 && p.contact_energy[k] == 0.0;
 }
 
 }  // namespace
 
 void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bodies,
                               const ForceSlots& slots, const GatherMap& gather, double dt,
-                              bool initial) {
+                              bool initial, const LeavingTest& leaving) {
   start_accumulation(p, gather);
-  accumulate_below(p.n_local(), p, bodies, slots, gather, dt, initial);
+  accumulate_below(p.n_local(), p, bodies, slots, gather, initial, leaving);
   finish_accumulation(p, gather, dt, initial);
+}
+
+void EnergyLedger::close_intervals(const std::array<double, kTallies>& intervals_totals,
+                                   double dt_old, bool root) {
+  for (int t = 0; t < kTallies; ++t) {
+    if (root) direct_[t].add(tally(intervals_totals[t], 0.0, dt_old));
+    intervals_[t] = ExactSum{};
+  }
+}
+
+std::vector<ExactSum> EnergyLedger::state() const {
+  std::vector<ExactSum> s(intervals_.begin(), intervals_.end());
+  s.insert(s.end(), last_.begin(), last_.end());
+  s.insert(s.end(), direct_.begin(), direct_.end());
+  return s;
+}
+
+void EnergyLedger::restore(const std::vector<ExactSum>& totals, bool root) {
+  intervals_ = direct_ = now_ = closing_ = last_ = {};
+  if (totals.empty() || !root) return;
+  if (totals.size() != 3 * kTallies)
+    throw std::runtime_error("checkpoint: energy ledger state of the wrong size");
+  for (int t = 0; t < kTallies; ++t) {
+    intervals_[t] = totals[t];
+    last_[t] = totals[kTallies + t];
+    direct_[t] = totals[2 * kTallies + t];
+  }
 }
 
 void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& gather) {
   if (!enabled_) return;
   const std::size_t n_local = p.n_local();
   const bool have_moments = entry_of_.size() == n_local;  // begin_step() ran on this store
-  // A particle with no load to book now and nothing booked last step keeps its tallies bit
-  // for bit, so only the particles with contacts or records now, the driven ones, and those
-  // that had a nonzero power or energy after the last step (the active list) are visited.
+  // A particle with no load to book now and no energy in its contacts after the last step adds
+  // nothing and keeps its columns, so only the particles with contacts or records now, the
+  // driven ones, and those whose contacts held energy after the last step (the active list)
+  // are visited.
   // After a rebuild (indices changed) and whenever that union is not small, every owned
   // particle is, in index order; accumulate_below() then skips the idle ones.
   const auto& particles = gather.ledger_particles();
@@ -84,13 +112,15 @@ void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& g
     visit_.erase(std::unique(visit_.begin(), visit_.end()), visit_.end());
   }
   active_.clear();
+  active_valid_next_ = true;
   n_visit_ = scan_all_ ? n_local : visit_.size();
   next_visit_ = next_records_ = next_driven_ = 0;
 }
 
 void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
                                     const std::vector<RigidBody>& bodies, const ForceSlots& slots,
-                                    const GatherMap& gather, double dt, bool initial) {
+                                    const GatherMap& gather, bool initial,
+                                    const LeavingTest& leaving) {
   if (!enabled_) return;
   // The tallies (docs/physics.md "Energy ledger"; physics.md §3 for the contact loads, §4
   // for the integrator). Velocity Verlet applies a load F^n, computed at t_n, in two half
@@ -99,20 +129,16 @@ void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
   // velocities), i.e. the load's power at the end of this step's second half kick, which is
   // where this runs. Summing dt P^n is the trapezoidal rule in time for the work: the same
   // as the mid-step form dt (F^n + F^{n+1})/2 . v^{n+1/2} summed over steps. The current
-  // step's second kick is only half done, so the reported tally is accumulated - dt/2 P^n
-  // (ParticleStore::ledger_value), and the ledger closes to O(dt^2) at every step, the order
-  // of velocity Verlet's own energy error. (The work of F^n with the half-step velocity the
-  // contact law saw, F^n . v^{n-1/2} dt, would be only first order.)
+  // step's second kick is only half done, so the tally up to step n is dt/2 P^0 + dt (P^1 +
+  // ... + P^{n-1}) + dt/2 P^n = dt/2 sum of (P^{m-1} + P^m) over the steps m <= n: the rank
+  // sums P^n in now_ and adds last_ + now_ to intervals_ at each step (finish_accumulation),
+  // and the ledger closes to O(dt^2) at every step, the order of velocity Verlet's own energy
+  // error. (The work of F^n with the half-step velocity the contact law saw, F^n . v^{n-1/2}
+  // dt, would be only first order.)
   const auto& particles = gather.ledger_particles();
   const auto& offsets = gather.ledger_offsets();
   const auto& ledger_slots = gather.ledger_slots();
   const auto& driven = gather.driven_powers();
-  auto add = [&](double& accumulated, double& last_power, double power) {
-    accumulated = initial
-                      ? ParticleStore::ledger_value(accumulated, last_power, dt) + 0.5 * dt * power
-                      : accumulated + dt * power;
-    last_power = power;
-  };
   const bool have_moments = entry_of_.size() == p.n_local();
   std::size_t i = next_records_, d = next_driven_, v_index = next_visit_;
   for (; v_index < n_visit_; ++v_index) {
@@ -162,14 +188,23 @@ void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
     }
     // A driven particle: whatever its interactions push against, the driver supplies.
     if (is_driven) boundary -= driven[d++].power;
-    add(p.dissipated_damping[k], p.power_damping[k], damping);
-    add(p.dissipated_friction[k], p.power_friction[k], friction);
-    add(p.boundary_work[k], p.power_boundary[k], boundary);
-    // Friction is what the tangential springs took in and do not hold any more.
-    if (!initial) p.dissipated_friction[k] -= tangential - p.tangential_energy[k];
+    // A particle that leaves before the next step ends its trapezoid with this step.
+    std::array<ExactSum, kTallies>& powers = leaving && leaving(k) ? closing_ : now_;
+    powers[kDamping].add(damping);  // adding 0 is free (ExactSum::add)
+    powers[kFriction].add(friction);
+    powers[kBoundary].add(boundary);
+    // Friction is what the tangential springs took in and do not hold any more: the tally is
+    // the friction work less the tangential energy held now (the caller's sum over the
+    // particles), plus that held when the ledger started.
+    if (initial) direct_[kFriction].add(tangential);
     p.tangential_energy[k] = tangential;
     p.contact_energy[k] = elastic;  // summed in a fixed order: the same bits on any rank count
-    if (!idle(p, k)) active_.push_back(static_cast<std::uint32_t>(k));
+    if (!idle(p, k) && active_valid_next_) {
+      if (4 * (active_.size() + 1) > p.n_local())
+        active_valid_next_ = false;  // the next accumulate() visits every particle anyway
+      else
+        active_.push_back(static_cast<std::uint32_t>(k));
+    }
   }
   next_visit_ = v_index;
   next_records_ = i;
@@ -179,12 +214,22 @@ void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
 void EnergyLedger::finish_accumulation(ParticleStore& p, const GatherMap& gather, double dt,
                                        bool initial) {
   if (!enabled_) return;
-  active_valid_ = true;
+  active_valid_ = active_valid_next_;
   active_n_local_ = p.n_local();
   // External forces: F_ext . (x^{n+1} - x^n), exact for a constant force.
   if (!initial)
     for (const auto& x : gather.external_powers())
-      p.boundary_work[x.particle] += dt * x.power;
+      direct_[kBoundary].add(dt * x.power);
+  for (int t = 0; t < kTallies; ++t) {
+    if (!initial) {  // the interval of this step: its start's powers and its end's
+      intervals_[t] += last_[t];
+      intervals_[t] += now_[t];
+      intervals_[t] += closing_[t];
+    }
+    last_[t] = now_[t];
+    now_[t] = ExactSum{};
+    closing_[t] = ExactSum{};
+  }
 }
 
 }  // namespace ringdem

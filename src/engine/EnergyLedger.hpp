@@ -1,8 +1,11 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
+#include "comm/ExactSum.hpp"
 #include "core/Vec3.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
@@ -40,11 +43,39 @@ struct ContactMoments {
   double elastic_energy = 0.0;     ///< this particle's shares of the contacts' elastic energy
 };
 
-/// The energy ledger, written once for every force term: per-particle tallies of the work of
-/// the dissipative loads and of driven bodies and particles (ParticleStore's dissipated_*,
-/// boundary_work), from the records the terms write and the gather order.
+/// The energy ledger, written once for every force term: the work of the dissipative contact
+/// loads and of driven bodies and particles, from the records the terms write and the gather
+/// order, kept per rank and per tally in exact sums (docs/physics.md "Energy ledger"). Each
+/// particle's power is computed as before, in a fixed order of its contacts; the exact sums
+/// make the totals over the ranks independent of which rank held which particle, without a
+/// column per particle. (Global damping, booked by the integrator, keeps its columns.)
 class EnergyLedger {
  public:
+  /// The tallies kept here.
+  enum Tally { kDamping, kFriction, kBoundary, kTallies };
+  /// A tally over the ranks, from the exact totals of intervals() and direct():
+  /// dt/2 * intervals + direct (for friction, less the tangential energy the springs hold now,
+  /// which the caller sums over the particles' tangential_energy).
+  static double tally(double intervals_total, double direct_total, double dt) {
+    return 0.5 * dt * intervals_total + direct_total;
+  }
+  /// This rank's part of the trapezoidal sums since the time step was last set: per step,
+  /// the powers at the step's start plus those at its end (unscaled).
+  const std::array<ExactSum, kTallies>& intervals() const { return intervals_; }
+  /// This rank's part of what is booked as it is: a friction tally's tangential energy at the
+  /// ledger's start, the exact work of external forces, and the intervals of earlier time steps.
+  const std::array<ExactSum, kTallies>& direct() const { return direct_; }
+  /// Before the time step changes from `dt_old`: the intervals so far, totalled over the ranks
+  /// (`intervals_totals`, the same on every rank), move into direct() (on the root rank only,
+  /// so they count once), so that the next intervals take the new step.
+  void close_intervals(const std::array<double, kTallies>& intervals_totals, double dt_old,
+                       bool root);
+  /// The tallies as exact sums to reduce over the ranks and write to a checkpoint: intervals,
+  /// the last step's powers, direct, in that order (3 kTallies sums).
+  std::vector<ExactSum> state() const;
+  /// From a checkpoint's totals (root rank; the others start from zero), or all zero (empty).
+  void restore(const std::vector<ExactSum>& totals, bool root);
+
   /// Off (SimulationSettings::energy_ledger), the terms add no ContactMoments (they ask
   /// enabled() once per evaluation) and begin_step() and the accumulation do nothing: the
   /// tallies stay as they are.
@@ -88,11 +119,16 @@ class EnergyLedger {
   /// Before a force evaluation over `n_local` owned particles: no particle has moments yet.
   void begin_step(std::size_t n_local);
 
+  /// Owned particle k is taken out by an outflow sink before the next step: its powers end the
+  /// trapezoid here instead of entering the next step's interval.
+  using LeavingTest = std::function<bool(std::size_t k)>;
+
   /// After the second half kick of particles and rigid bodies, with the velocities of the end
-  /// of the step: adds the work of the last force evaluation to each owned particle's tallies.
-  /// `initial`: the loads of the initial state, entered with weight dt/2 and no work over a step.
+  /// of the step: adds the work of the last force evaluation to the tallies.
+  /// `initial`: the loads of the initial state, which begin the first interval.
   void accumulate(ParticleStore& p, const std::vector<RigidBody>& bodies, const ForceSlots& slots,
-                  const GatherMap& gather, double dt, bool initial = false);
+                  const GatherMap& gather, double dt, bool initial = false,
+                  const LeavingTest& leaving = {});
 
   /// accumulate() in three parts, so that the integrator can book each particle between its
   /// two half kicks while the particle is in cache (Integrator::second_then_first_half): the
@@ -101,8 +137,8 @@ class EnergyLedger {
   /// (called with growing ends); finish_accumulation() books the external loads.
   void start_accumulation(const ParticleStore& p, const GatherMap& gather);
   void accumulate_below(std::size_t end, ParticleStore& p, const std::vector<RigidBody>& bodies,
-                        const ForceSlots& slots, const GatherMap& gather, double dt,
-                        bool initial = false);
+                        const ForceSlots& slots, const GatherMap& gather, bool initial = false,
+                        const LeavingTest& leaving = {});
   void finish_accumulation(ParticleStore& p, const GatherMap& gather, double dt,
                            bool initial = false);
 
@@ -111,6 +147,9 @@ class EnergyLedger {
   void clear_moments();
 
   bool enabled_ = true;
+  /// This rank's exact tallies (see intervals(), direct()): the powers of the step being booked,
+  /// those of particles that leave after it, and those of the last step.
+  std::array<ExactSum, kTallies> intervals_, direct_, now_, closing_, last_;
   std::vector<DissipationRecord> records_;
   DissipationRecord unbooked_;  ///< what record() gives while the ledger is off
   std::vector<std::uint32_t> record_of_slot_;
@@ -118,10 +157,12 @@ class EnergyLedger {
   std::vector<ContactMoments> moments_;      ///< one per particle touched in this evaluation
   std::vector<std::uint32_t> entry_of_;      ///< owned particle -> its moments_, or kNoEntry
   std::vector<std::uint32_t> touched_list_;  ///< the k with an entry, to clear them
-  /// Owned particles with a nonzero last power or contact energy after the last accumulate(),
-  /// valid until a rebuild changes the indices.
+  /// Owned particles with a nonzero tangential or contact energy after the last accumulate(),
+  /// valid until a rebuild changes the indices; not kept (invalid) once they are a quarter of
+  /// the particles, when the next accumulate() visits every particle anyway.
   std::vector<std::uint32_t> active_;
   bool active_valid_ = false;
+  bool active_valid_next_ = true;  ///< active_ is being kept for the next accumulate()
   std::size_t active_n_local_ = 0;
   std::vector<std::uint32_t> visit_;  ///< scratch: the particles accumulate() visits
   /// Where accumulate_below() stands: every owned particle or visit_, the next of them, the

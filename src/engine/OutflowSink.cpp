@@ -66,35 +66,21 @@ std::size_t OutflowSink::remove_leaving(ParticleStore& p, const Vec3& gravity, d
     partial_[kEnergy].add(p.potential_energy(k, gravity));
     if (!p.tracks_ledger()) continue;  // nothing booked (simulation.energy_ledger: false)
     partial_[kEnergy].add(p.contact_energy[k]);
-    const ParticleStore::LedgerTallies t = p.ledger_tallies(k, dt);
-    partial_[kDamping].add(t.damping);
-    partial_[kFriction].add(t.friction);
-    partial_[kGlobalDamping].add(t.global_damping);
-    partial_[kBoundaryWork].add(t.boundary_work);
+    partial_[kTangentialEnergy].add(p.tangential_energy[k]);
+    partial_[kGlobalDamping].add(p.global_damping_tally(k, dt));
   }
   if (removed == 0) return 0;
   return p.remove_owned(keep);
 }
 
 std::vector<std::int64_t> OutflowSink::export_totals(const Communicator& comm) const {
-  const std::vector<ExactSum> totals = comm.reduce_exact(partial_);
-  std::vector<std::int64_t> words;
-  words.reserve(totals.size() * ExactSum::kWords);
-  for (const ExactSum& t : totals) {
-    const auto w = t.export_words();
-    words.insert(words.end(), w.begin(), w.end());
-  }
-  return words;
+  return words_of_sums(comm.reduce_exact(partial_));
 }
 
 void OutflowSink::import_totals(const std::vector<std::int64_t>& words, bool root) {
   partial_.assign(kColumns, ExactSum{});
   if (words.empty() || !root) return;
-  if (words.size() != static_cast<std::size_t>(kColumns) * ExactSum::kWords)
-    throw std::runtime_error("checkpoint: outflow totals of the wrong size");
-  for (int c = 0; c < kColumns; ++c)
-    partial_[static_cast<std::size_t>(c)] =
-        ExactSum::from_words(words.data() + static_cast<std::size_t>(c) * ExactSum::kWords);
+  partial_ = sums_of_words(words, kColumns, "outflow totals");
 }
 
 }  // namespace ringdem

@@ -22,10 +22,12 @@ struct OutflowBox {
 /// The outflow boundaries and what has gone out through them (docs/physics.md "Outflow").
 /// Grains are taken out between two steps, at the synchronised state (x^n, v^n, the ledger
 /// tallies at t_n), so that what they carry out closes the energy ledger: their kinetic and
-/// potential energy, their share of contact elastic energy, and the dissipation and boundary
-/// work they had booked, which stay in the ledger's totals. Mass, momentum and count are kept
-/// too (the momentum balance of a debris flow). Each rank sums exactly (comm/ExactSum) what
-/// its own grains carry, so totals are the same bits on any rank count.
+/// potential energy, their share of contact elastic energy, and what the ledger booked per
+/// particle (global damping; the tangential energy their springs held, which the friction
+/// tally counts as still held). The contact terms' tallies are the ledger's per rank
+/// (EnergyLedger), which ends a leaving grain's trapezoid at its last step. Mass, momentum and
+/// count are kept too (the momentum balance of a debris flow). Each rank sums exactly
+/// (comm/ExactSum) what its own grains carry, so totals are the same bits on any rank count.
 class OutflowSink {
  public:
   enum Column {
@@ -34,11 +36,9 @@ class OutflowSink {
     kMomentumX,
     kMomentumY,
     kMomentumZ,
-    kEnergy,  ///< kinetic + potential (-m g.x) + contact elastic share
-    kDamping,
-    kFriction,
-    kGlobalDamping,
-    kBoundaryWork,
+    kEnergy,            ///< kinetic + potential (-m g.x) + contact elastic share
+    kTangentialEnergy,  ///< the tangential spring energy share, part of kEnergy
+    kGlobalDamping,     ///< the global-damping tally
     kColumns
   };
 

@@ -51,6 +51,9 @@ struct RestartState {
   /// The momentum ledger (engine/MomentumLedger): its totals and the half kick it has booked
   /// for the next step, as exact sums' words.
   std::vector<std::int64_t> momentum;
+  /// The energy ledger's exact tallies (EnergyLedger::state) totalled over the ranks, as exact
+  /// sums' words (empty: the ledger was off).
+  std::vector<std::int64_t> energy_ledger;
 };
 
 }  // namespace ringdem

@@ -148,6 +148,12 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
                   comm_.is_root());
   momentum_ = MomentumLedger(model_.bodies.size(), settings_.momentum_ledger);
   momentum_.import_state(restart.momentum, comm_.is_root());
+  // A ledger switched on at this restart starts from zero (no words); one switched off keeps
+  // none.
+  if (ledger_.enabled())
+    ledger_.restore(
+        sums_of_words(restart.energy_ledger, 3 * EnergyLedger::kTallies, "energy ledger state"),
+        comm_.is_root());
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("restart state has no valid time step");
   std::vector<RigidBody>& bodies = model_.bodies;
@@ -211,21 +217,26 @@ RestartState Simulation::restart_state() const {
   s.inflow_next_due = inflow_.next_due();
   s.inflow_totals = inflow_.export_totals(comm_);
   s.momentum = momentum_.export_state(comm_);
+  if (ledger_.enabled()) s.energy_ledger = words_of_sums(comm_.reduce_exact(ledger_.state()));
   return s;
 }
 
 void Simulation::change_time_step(double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw std::runtime_error("change_time_step: the time step must be positive and finite");
-  // Each accumulator holds tally + dt/2 P of its last power P (ParticleStore::ledger_value):
-  // re-weight that last half step so the tally is unchanged under the new dt.
+  // The global-damping accumulators hold tally + dt/2 P of their last power P
+  // (ParticleStore::ledger_value): re-weight that last half step so the tally is unchanged
+  // under the new dt. The contact terms' sums of the intervals so far are totalled over the
+  // ranks and booked at the old dt (collective: every rank changes the step together).
   ParticleStore& p = model_.particles;
   const double shift = 0.5 * (dt - dt_);
-  for (std::size_t k = 0; p.tracks_ledger() && k < p.n_local(); ++k) {
-    p.dissipated_damping[k] += shift * p.power_damping[k];
-    p.dissipated_friction[k] += shift * p.power_friction[k];
+  for (std::size_t k = 0; p.tracks_ledger() && k < p.n_local(); ++k)
     p.dissipated_global[k] += shift * p.power_global[k];
-    p.boundary_work[k] += shift * p.power_boundary[k];
+  if (ledger_.enabled()) {
+    const auto& steps = ledger_.intervals();
+    const std::vector<double> totals =
+        comm_.sum_exact(std::vector<ExactSum>(steps.begin(), steps.end()));
+    ledger_.close_intervals({totals[0], totals[1], totals[2]}, dt_, comm_.is_root());
   }
   // The momentum ledger's booked half kick (MomentumLedger) stays at the old dt/2: an exact sum
   // cannot be rescaled exactly, so the balance keeps (dt - dt_old)/2 times that step's loads.
@@ -472,7 +483,11 @@ void Simulation::finish_step(const BodyObserver& observe_bodies) {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     Integrator::second_half(p, dt_);
     Integrator::second_half(model_.bodies, dt_, settings_.gravity);
-    ledger_.accumulate(p, model_.bodies, slots_, gather_, dt_);  // needs both at v^{n+1}
+    // Needs both at v^{n+1}. Grains an outflow box takes out before the next step end their
+    // trapezoid here.
+    EnergyLedger::LeavingTest leaving;
+    if (outflow_pending_) leaving = [this, &p](std::size_t k) { return outflow_.leaving(p, k); };
+    ledger_.accumulate(p, model_.bodies, slots_, gather_, dt_, /*initial=*/false, leaving);
   }
   ++steps_;
   if (observe_bodies) observe_bodies(model_.bodies, time_);
@@ -501,7 +516,7 @@ void Simulation::finish_step_and_start_next(const BodyObserver& observe_bodies) 
     drift_ = Integrator::second_then_first_half(
         p, dt_, settings_.gravity, kMaxStepFraction * settings_.skin, kMaxTurn, track_orientations_,
         [this, &p](std::size_t end) {
-          ledger_.accumulate_below(end, p, model_.bodies, slots_, gather_, dt_);
+          ledger_.accumulate_below(end, p, model_.bodies, slots_, gather_);
         });
     ledger_.finish_accumulation(p, gather_, dt_);
     momentum_.book_first_half();

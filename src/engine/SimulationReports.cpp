@@ -222,24 +222,32 @@ Energies Simulation::energies() {
     kPlastic,
     kOutflow,
     kInflow,
+    kDampingSteps,  // the contact terms' trapezoidal sums (EnergyLedger::intervals)
+    kFrictionSteps,
+    kBoundarySteps,
     kColumns
   };
   std::vector<ExactSum> partial(kColumns);
-  // What left through outflow boxes: the dissipation it had booked stays in the ledger.
+  // The contact terms' tallies, this rank's part (EnergyLedger::tally).
+  const auto& steps = ledger_.intervals();
+  const auto& direct = ledger_.direct();
+  partial[kDampingSteps] += steps[EnergyLedger::kDamping];
+  partial[kFrictionSteps] += steps[EnergyLedger::kFriction];
+  partial[kBoundarySteps] += steps[EnergyLedger::kBoundary];
+  partial[kDamping] += direct[EnergyLedger::kDamping];
+  partial[kFriction] += direct[EnergyLedger::kFriction];
+  partial[kBoundary] += direct[EnergyLedger::kBoundary];
+  // What left through outflow boxes: the dissipation it had booked stays in the ledger, the
+  // tangential energy its springs held went out with it (friction counts what they hold).
   const std::vector<ExactSum>& gone = outflow_.partial();
-  partial[kDamping] += gone[OutflowSink::kDamping];
-  partial[kFriction] += gone[OutflowSink::kFriction];
   partial[kGlobal] += gone[OutflowSink::kGlobalDamping];
-  partial[kBoundary] += gone[OutflowSink::kBoundaryWork];
+  partial[kFriction] += gone[OutflowSink::kTangentialEnergy].negated();
   partial[kOutflow] += gone[OutflowSink::kEnergy];
   partial[kInflow] += inflow_.partial()[InflowSource::kEnergy];
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     if (p.tracks_ledger()) {
-      const ParticleStore::LedgerTallies t = p.ledger_tallies(k, dt_);
-      partial[kDamping].add(t.damping);
-      partial[kFriction].add(t.friction);
-      partial[kGlobal].add(t.global_damping);
-      partial[kBoundary].add(t.boundary_work);
+      partial[kGlobal].add(p.global_damping_tally(k, dt_));
+      partial[kFriction].add(-p.tangential_energy[k]);
       partial[kContact].add(p.contact_energy[k]);
     }
     if (p.motion[k] == Motion::kFree) {
@@ -259,10 +267,10 @@ Energies Simulation::energies() {
   Energies e;
   e.kinetic = sums[kKinetic];
   e.potential = sums[kPotential];
-  e.contact_damping = sums[kDamping];
-  e.friction = sums[kFriction];
+  e.contact_damping = EnergyLedger::tally(sums[kDampingSteps], sums[kDamping], dt_);
+  e.friction = EnergyLedger::tally(sums[kFrictionSteps], sums[kFriction], dt_);
   e.global_damping = sums[kGlobal];
-  e.boundary_work = sums[kBoundary];
+  e.boundary_work = EnergyLedger::tally(sums[kBoundarySteps], sums[kBoundary], dt_);
   e.contact_elastic = sums[kContact];
   e.bond_elastic = sums[kBond];
   e.broken_bonds = sums[kBreak];

@@ -33,9 +33,12 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // /inflow/batches, /inflow/next_due, /inflow/totals: the exact totals of what crossed); 7: plastic
 // bond hinges in the end frames; 8: the particles' move bound since the last rebuild
 // (move_bound) instead of a column of their positions then; 9: the momentum ledger
-// (/momentum/state: the exact totals of the impulses and the booked half kick). Only this
-// version is read: an older file lacks what this one needs to go on bit for bit.
-constexpr std::int64_t kFormatVersion = 9;
+// (/momentum/state: the exact totals of the impulses and the booked half kick); 10: the energy
+// ledger's contact tallies as the exact totals of the ranks' sums (/ledger/state) instead of
+// six particle columns (dissipated_damping, dissipated_friction, boundary_work and their last
+// powers). Only this version is read: an older file lacks what this one needs to go on bit for
+// bit.
+constexpr std::int64_t kFormatVersion = 10;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
 /// global row index, so partial sums of blocks written by any number of ranks add up to the
@@ -379,6 +382,10 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     std::vector<std::int64_t> momentum = state.momentum;  // the same on every rank
     if (!comm.is_root()) momentum.clear();
     write_concatenated(f, comm, "/momentum/state", momentum);
+    f.create_group("/ledger");
+    std::vector<std::int64_t> ledger = state.energy_ledger;  // the same on every rank
+    if (!comm.is_root()) ledger.clear();
+    write_concatenated(f, comm, "/ledger/state", ledger);
     f.create_group("/driver");
     f.set_attribute("/driver", "names", join(driver.names));
     std::vector<double> values = driver.values;
@@ -533,6 +540,7 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
   read_whole("/inflow/next_due", &state.inflow_next_due);
   read_whole("/inflow/totals", &state.inflow_totals);
   read_whole("/momentum/state", &state.momentum);
+  read_whole("/ledger/state", &state.energy_ledger);
   for (const std::string& term : spring_terms(f)) {
     const std::string partner = f.attribute_string(spring_dataset(term, "partner"), "names");
     if (partner != kParticlePartner && partner != kBodyPartner)
@@ -586,7 +594,7 @@ std::vector<std::string> verify_checkpoint(const std::string& path) {
   const Hdf5File f = Hdf5File::open_read(path);
   std::vector<std::string> checked;
   for (const char* group : {"/particles", "/bonds", "/history", "/bodies", "/outflow", "/inflow",
-                            "/momentum", "/driver", "/case"}) {
+                            "/momentum", "/ledger", "/driver", "/case"}) {
     for (const std::string& name : f.list(group)) {
       const std::string full = std::string(group) + "/" + name;
       std::size_t row_bytes = 0;

@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 bool registers_ledger(ParticleStore& p) {
   bool found = false;
   p.for_each_field([&](const FieldInfo& f, auto&) {
-    found = found || f.name == "dissipated_damping" || f.name == "contact_energy";
+    found = found || f.name == "dissipated_global" || f.name == "contact_energy";
   });
   return found;
 }
@@ -64,7 +64,7 @@ TEST(LedgerColumns, OnlyABookedLedgerKeepsThemAndTheMotionIsTheSame) {
   Model built = build_model(off, self);
   EXPECT_FALSE(built.particles.tracks_ledger());
   EXPECT_FALSE(registers_ledger(built.particles));
-  EXPECT_EQ(built.particles.dissipated_damping.capacity(), 0u);
+  EXPECT_EQ(built.particles.dissipated_global.capacity(), 0u);
   Simulation without(std::move(built), self, settings_from_case(off));
   Simulation with(build_model(on, self), self, settings_from_case(on));
   EXPECT_TRUE(with.model().particles.tracks_ledger());
@@ -73,7 +73,7 @@ TEST(LedgerColumns, OnlyABookedLedgerKeepsThemAndTheMotionIsTheSame) {
   ASSERT_GT(without.inflow_totals().grains, 0) << "no grain arrived: the test checks less";
   ASSERT_GT(without.outflow_totals().grains, 0) << "no grain left: the test checks less";
   ASSERT_GT(with.energies().contact_damping, 0.0) << "no contact dissipated: nothing booked";
-  EXPECT_EQ(without.model().particles.dissipated_damping.capacity(), 0u);
+  EXPECT_EQ(without.model().particles.dissipated_global.capacity(), 0u);
   EXPECT_EQ(without.model().particles.contact_energy.capacity(), 0u);
   expect_same_bits(without, with);
 }
@@ -96,15 +96,15 @@ class LedgerSwitchAtRestart : public ::testing::Test {
       path = CheckpointStore(dir_ + (before ? "/on" : "/off"))
                  .write(self, sim.model(), sim.restart_state(), DriverState{}, 0, written);
     }
-    EXPECT_EQ(Hdf5File::open_read(path).exists("/particles/dissipated_damping"), before);
+    EXPECT_EQ(Hdf5File::open_read(path).exists("/particles/dissipated_global"), before);
     Model model = build_model_without_particles(read);
     DriverState d;
     const RestartState state = read_checkpoint(self, path, read, model, d);
     EXPECT_EQ(model.particles.tracks_ledger(), after);
     if (after) {
-      ASSERT_EQ(model.particles.dissipated_damping.size(), model.particles.n_local());
+      ASSERT_EQ(model.particles.dissipated_global.size(), model.particles.n_local());
       for (std::size_t k = 0; k < model.particles.n_local() && !before; ++k)
-        ASSERT_EQ(model.particles.dissipated_damping[k], 0.0) << "a tally that was never booked";
+        ASSERT_EQ(model.particles.dissipated_global[k], 0.0) << "a tally that was never booked";
     }
     Simulation resumed(std::move(model), self, settings_from_case(read), state);
     resumed.run_steps(kSecond);

@@ -195,7 +195,8 @@ TEST_F(CorruptCheckpoint, GoodOneRestoresTheState) {
   EXPECT_GT(floor.store.size(), 0u) << "the ring touches the floor";
   // Every registry field flagged kCheckpoint (particles, bonds, each term's springs), 9 body
   // rows (7 of state, 2 of the rebuild reference), the outflow totals, the inflow's batches,
-  // next times and totals, the momentum ledger's state, the driver, the case text.
+  // next times and totals, the momentum ledger's state, the energy ledger's state, the driver,
+  // the case text.
   std::size_t fields = 0;
   const auto count = [&](const FieldInfo& i, const auto&) {
     fields += i.has(field_flag::kCheckpoint);
@@ -205,7 +206,7 @@ TEST_F(CorruptCheckpoint, GoodOneRestoresTheState) {
   EXPECT_EQ(fields, 2u * 3u);  // gid, partner, spring of each term
   model.particles.for_each_field(count);
   model.bonds.for_each_field(count);
-  EXPECT_EQ(verify_checkpoint(good_).size(), fields + 9u + 1u + 3u + 1u + 1u + 1u);
+  EXPECT_EQ(verify_checkpoint(good_).size(), fields + 9u + 1u + 3u + 1u + 1u + 1u + 1u);
 }
 
 TEST_F(CorruptCheckpoint, TruncatedFileIsRefused) {
