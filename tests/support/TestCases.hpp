@@ -35,6 +35,25 @@ inline CaseConfig base_case() {
   return c;
 }
 
+/// A steel sphere of 4.5 mm (group "spheres") touching a fixed steel floor plane z = 0 at the
+/// origin and sliding along +x at `speed`, under gravity (9.81 m/s^2 along -z); friction
+/// `friction`, restitution 1 (no contact damping).
+inline CaseConfig sliding_sphere(double friction, double speed) {
+  CaseConfig c = base_case();
+  c.simulation.gravity = {0, 0, -9.81};
+  c.materials[0].restitution = 1.0;
+  c.materials[0].friction = friction;
+  SphereConfig s;
+  s.position = {0, 0, s.radius};
+  s.velocity = {speed, 0, 0};
+  c.spheres = {s};
+  RigidBodyConfig floor;
+  floor.name = "floor";
+  floor.shape = ShapeKind::kPlane;
+  c.rigid_bodies = {floor};
+  return c;
+}
+
 /// One ring of the paper: 300 mm internal diameter, 100 particles of 4.5 mm.
 inline RingConfig paper_ring(const Vec3& centre = {}, const Vec3& normal = {0, 1, 0}) {
   RingConfig r;

@@ -232,15 +232,8 @@ TEST(EnergyLedger, IdleParticlesAreSkippedWithoutChangingTheTallies) {
 // until it rolls at 5/7 of its speed: friction takes m v0^2 / 7 (rigid-body analytic value),
 // which is also the mechanical energy lost.
 TEST(EnergyLedger, SlidingSphereFriction) {
-  CaseConfig c = testing::base_case();
-  c.simulation.gravity = {0, 0, -kG};
-  c.materials[0].restitution = 1.0;
-  c.materials[0].friction = 0.3;
   const double r = 0.0045, v0 = 0.1;
-  SphereConfig s;
-  s.velocity = {v0, 0, 0};
-  c.spheres = {s};
-  c.rigid_bodies = {floor_plane()};
+  const CaseConfig c = testing::sliding_sphere(0.3, v0);
   Model model = build_model(c);
   model.particles.position[0] = {0, 0, r - resting_overlap(model.particles.mass[0], r)};
   const Communicator comm = self_comm();

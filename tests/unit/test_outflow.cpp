@@ -89,25 +89,13 @@ TEST(Outflow, GrainsLeaveWhenTheirTrajectoryCrossesTheBoxAndCarryTheirState) {
 // trapezoid with its last step): the balance, read every step, does not move when it leaves.
 // Booking its last power over one more half step would move it by dt/2 mu m g v_slip.
 TEST(Outflow, AGrainLeavingWhileSlidingTakesNoFrictionPastItsLastStep) {
-  CaseConfig c = testing::base_case();
-  c.simulation.gravity = {0, 0, -kG};
-  c.materials[0].restitution = 1.0;
-  c.materials[0].friction = 0.3;
-  const double r = 0.0045, v0 = 1.0;
-  SphereConfig s;
-  s.group = "debris";
-  s.position = {0, 0, r};
-  s.velocity = {v0, 0, 0};
-  c.spheres = {s};
-  RigidBodyConfig floor;
-  floor.name = "floor";
-  floor.shape = ShapeKind::kPlane;
-  c.rigid_bodies = {floor};
+  const double v0 = 1.0;
+  CaseConfig c = testing::sliding_sphere(0.3, v0);
   OutflowConfig out;
   out.name = "end";
   out.box_min = {-1, -1, -1};
   out.box_max = {0.002, 1, 1};
-  out.groups = {"debris"};
+  out.groups = {c.spheres[0].group};
   c.outflow = {out};
   const Communicator self = testing::self_comm();
   Simulation sim(build_model(c, self), self, settings_from_case(c));
