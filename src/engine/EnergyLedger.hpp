@@ -134,7 +134,8 @@ class EnergyLedger {
   /// two half kicks while the particle is in cache (Integrator::second_then_first_half): the
   /// same operations on each particle, so the same bits. start_accumulation() lists the
   /// particles to visit; accumulate_below(end) books the listed ones with index below `end`
-  /// (called with growing ends); finish_accumulation() books the external loads.
+  /// (called with growing ends); finish_accumulation() books the external loads and closes
+  /// the step's interval.
   void start_accumulation(const ParticleStore& p, const GatherMap& gather);
   void accumulate_below(std::size_t end, ParticleStore& p, const std::vector<RigidBody>& bodies,
                         const ForceSlots& slots, const GatherMap& gather, bool initial = false,
