@@ -6,7 +6,9 @@
 namespace ringdem {
 
 double RigidBody::contact_radius() const {
-  return shape == RigidShape::kSphere ? radius : std::numeric_limits<double>::infinity();
+  if (shape == RigidShape::kSphere) return radius;
+  if (shape == RigidShape::kTorus) return tube_radius;
+  return std::numeric_limits<double>::infinity();
 }
 
 double RigidBody::extent() const {
@@ -15,6 +17,8 @@ double RigidBody::extent() const {
       return radius;
     case RigidShape::kCylinder:
       return std::sqrt(radius * radius + half_length * half_length);
+    case RigidShape::kTorus:
+      return radius + tube_radius;
     case RigidShape::kPlane:
       break;
   }
@@ -60,6 +64,18 @@ RigidBody::SurfacePoint RigidBody::closest(const Vec3& p) const {
       const double to_cap = half_length - std::abs(t);
       if (to_side <= to_cap) return {-to_side, e_r, position + a * t + e_r * radius};
       return {-to_cap, a * cap_sign, p + a * (cap_sign * to_cap)};
+    }
+    case RigidShape::kTorus: {
+      // The nearest point of the centreline circle, then the tube around it.
+      const Vec3 a = rotate(orientation, {0, 0, 1});
+      const Vec3 radial = d - a * dot(d, a);
+      const double rho = norm(radial);
+      const Vec3 e_r = rho > 0.0 ? radial / rho : any_perpendicular(a);
+      const Vec3 centreline = position + e_r * radius;
+      const Vec3 off = p - centreline;
+      const double dist = norm(off);
+      const Vec3 n = dist > 0.0 ? off / dist : a;
+      return {dist - tube_radius, n, centreline + n * tube_radius};
     }
   }
   return {std::numeric_limits<double>::infinity(), {0, 0, 1}, p};

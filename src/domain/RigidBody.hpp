@@ -9,9 +9,10 @@
 
 namespace ringdem {
 
-enum class RigidShape : std::uint8_t { kPlane, kCylinder, kSphere };
+enum class RigidShape : std::uint8_t { kPlane, kCylinder, kSphere, kTorus };
 
-/// A large rigid body in contact with particles (plane, finite capped cylinder, sphere).
+/// A large rigid body in contact with particles (plane, finite capped cylinder, sphere, torus:
+/// a net's braked shackle).
 /// Rigid bodies are few and replicated on every rank; they are not in the particle grid.
 struct RigidBody {
   std::string name;
@@ -20,8 +21,9 @@ struct RigidBody {
   std::int32_t material = 0;
 
   // Geometry in the body frame: plane normal and cylinder axis are the body z axis.
-  double radius = 0.0;       ///< cylinder, sphere
+  double radius = 0.0;       ///< cylinder, sphere; torus: of its centreline circle
   double half_length = 0.0;  ///< cylinder
+  double tube_radius = 0.0;  ///< torus: of its cross-section (the axis is the body z axis)
 
   // State.
   Vec3 position;  ///< centre (point on the plane)
@@ -42,7 +44,8 @@ struct RigidBody {
   Vec3 force;
   Vec3 torque;
 
-  /// Effective contact radius for Hertz (infinite for plane and cylinder: physics.md §3).
+  /// Effective contact radius for Hertz (infinite for plane and cylinder: physics.md §3; a
+  /// torus's tube radius, the smaller of its two curvature radii, as the shackle spheres').
   double contact_radius() const;
   /// Whether the body has finite mass in contacts.
   bool has_finite_mass() const { return motion == Motion::kFree; }

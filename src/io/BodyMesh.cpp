@@ -57,6 +57,28 @@ BodyMesh cylinder(double r, double h) {
   return m;
 }
 
+BodyMesh torus(double big_r, double small_r) {
+  // kTorusRings rings of kTorusTube vertices around the tube, one per angle about the axis (z):
+  // coarser than a sphere's, since a net has one torus per braked shackle (76 in r12).
+  constexpr int S = BodyMesh::kTorusRings, T = BodyMesh::kTorusTube;
+  BodyMesh m;
+  for (int i = 0; i < S; ++i) {
+    const double phi = 2.0 * M_PI * i / S;
+    for (int j = 0; j < T; ++j) {
+      const double theta = 2.0 * M_PI * j / T;
+      const double rho = big_r + small_r * std::cos(theta);
+      m.vertices.push_back({rho * std::cos(phi), rho * std::sin(phi), small_r * std::sin(theta)});
+    }
+  }
+  const auto v = [](int i, int j) -> std::int64_t { return (i % S) * T + (j % T); };
+  for (int i = 0; i < S; ++i)
+    for (int j = 0; j < T; ++j) {
+      m.triangles.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
+      m.triangles.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
+    }
+  return m;
+}
+
 }  // namespace
 
 BodyMesh BodyMesh::of(const RigidBody& body, double plane_half_width, const Vec3& plane_centre) {
@@ -65,6 +87,8 @@ BodyMesh BodyMesh::of(const RigidBody& body, double plane_half_width, const Vec3
       return sphere(body.radius);
     case RigidShape::kCylinder:
       return cylinder(body.radius, body.half_length);
+    case RigidShape::kTorus:
+      return torus(body.radius, body.tube_radius);
     case RigidShape::kPlane:
       break;
   }

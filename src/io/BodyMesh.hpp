@@ -26,6 +26,9 @@ struct BodyMesh {
 
   static constexpr int kStacks = 16;
   static constexpr int kSlices = 32;
+  /// Torus: kTorusRings rings of kTorusTube vertices (128 vertices, 256 triangles).
+  static constexpr int kTorusRings = 16;
+  static constexpr int kTorusTube = 8;
 };
 
 /// World position of a body-frame point of `body`.

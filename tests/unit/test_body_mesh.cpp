@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
+#include <vector>
 
 #include "io/BodyMesh.hpp"
 
@@ -97,6 +99,55 @@ TEST(BodyMesh, PlanePatchLiesInThePlaneAroundTheGivenCentre) {
               5.0 * std::sqrt(2.0), 1e-12);
   EXPECT_NEAR(norm(body_to_world(b, m.vertices[3]) - body_to_world(b, m.vertices[1])),
               5.0 * std::sqrt(2.0), 1e-12);
+}
+
+TEST(BodyMesh, TorusIsAClosedOutwardRingOfItsTube) {
+  RigidBody b = placed(RigidShape::kTorus);
+  b.tube_radius = 0.08;
+  const BodyMesh m = BodyMesh::of(b, 0.0, {});
+  EXPECT_EQ(m.vertices.size(), 128u);  // docs/output.md
+  EXPECT_EQ(m.triangles.size(), 256u);
+  expect_closed(m);
+  expect_on_surface_facing_out(b, m);
+  // A lathe of planar trapezoids: each of the S wedges holds sin(2 pi / S) times the first
+  // moment about the axis of the inscribed T-gon, (T / 2) r^2 sin(2 pi / T) R: exactly, and
+  // 0.877 of the torus 2 pi^2 R r^2.
+  const double s = BodyMesh::kTorusRings, t = BodyMesh::kTorusTube;
+  const double lathe = s * std::sin(2.0 * M_PI / s) * 0.5 * t * b.tube_radius * b.tube_radius *
+                       std::sin(2.0 * M_PI / t) * b.radius;
+  EXPECT_NEAR(enclosed_volume(m), lathe, 1e-12 * lathe);
+  EXPECT_LT(lathe, 2.0 * M_PI * M_PI * b.radius * b.tube_radius * b.tube_radius);
+}
+
+// RigidBody::closest of a torus against the nearest of 720 x 180 points sampled on its surface:
+// no sample is nearer than the closest point, and the nearest sample is within its spacing.
+TEST(BodyMesh, TorusClosestPointAgreesWithSampledSurface) {
+  RigidBody b = placed(RigidShape::kTorus);
+  b.tube_radius = 0.08;
+  std::vector<Vec3> surface;
+  for (int i = 0; i < 720; ++i)
+    for (int j = 0; j < 180; ++j) {
+      const double phi = 2.0 * M_PI * i / 720, theta = 2.0 * M_PI * j / 180;
+      const double rho = b.radius + b.tube_radius * std::cos(theta);
+      surface.push_back(body_to_world(
+          b, {rho * std::cos(phi), rho * std::sin(phi), b.tube_radius * std::sin(theta)}));
+    }
+  const std::vector<Vec3> probes{{1.5, -2.0, 0.25},   {1.9, -2.0, 0.5}, {1.0, -1.5, 0.0},
+                                 {1.6, -2.2, 0.3},    {2.2, -2.6, 1.0}, {0.9, -2.3, -0.4},
+                                 {1.55, -1.75, 0.22}, {3.0, 0.0, 0.0}};
+  for (const Vec3& x : probes) {
+    const RigidBody::SurfacePoint c = b.closest(x);
+    if (c.distance < 0.0) continue;  // inside the tube: the samples bound only outside points
+    double nearest = 1e9;
+    for (const Vec3& s : surface)
+      nearest = std::min(nearest, norm(x - s));
+    EXPECT_GE(nearest, c.distance - 1e-12);
+    EXPECT_LE(nearest, c.distance + 2e-3);
+    EXPECT_NEAR(norm(c.normal), 1.0, 1e-12);
+    EXPECT_NEAR(norm(x - (c.point + c.normal * c.distance)), 0.0, 1e-12);
+  }
+  EXPECT_EQ(b.extent(), b.radius + b.tube_radius);
+  EXPECT_EQ(b.contact_radius(), b.tube_radius);
 }
 
 }  // namespace
