@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "domain/BondStore.hpp"
+#include "domain/BrakeStore.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
 #include "engine/InflowSpec.hpp"
@@ -28,6 +29,7 @@ struct Model {
   ParticleStore particles;
   BondStore bonds;
   std::vector<RigidBody> bodies;
+  BrakeStore brakes;  ///< brake elements holding rigid bodies to the frame (braked shackles)
   std::vector<OutflowBox> outflow;  ///< boxes that grains may not leave (`outflow[]`)
   std::vector<InflowSpec> inflow;   ///< inlets that add grains during the run (`inflow[]`)
   std::vector<PointLoad> point_loads;

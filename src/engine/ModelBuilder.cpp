@@ -51,6 +51,35 @@ Quat orientation_for_axis(const Vec3& n) {
   return quat_between({0, 0, 1}, normalized(n));
 }
 
+/// A net's shackles as free rigid tori, each held to the frame by a brake element at its
+/// centre (docs/physics.md "Brake elements"): the shackle rings' centreline and tube, the
+/// material's density for their mass.
+void add_braked_shackles(Model& model, const RingNetConfig& net, const RingNetLayout& layout) {
+  const ShackleConfig& s = net.shackles;
+  const int material = material_index(model.materials, s.material);
+  const double big_r = 0.5 * s.internal_diameter + s.particle_radius, small_r = s.particle_radius;
+  const double density = model.materials[static_cast<std::size_t>(material)].density;
+  const double mass = density * 2.0 * M_PI * M_PI * big_r * small_r * small_r;
+  const double axial = mass * (big_r * big_r + 0.75 * small_r * small_r);
+  const double diametral = mass * (0.5 * big_r * big_r + 0.625 * small_r * small_r);
+  for (const ShacklePlacement& placement : layout.shackles) {
+    RigidBody b;
+    b.name = s.group + "_" + std::to_string(model.brakes.size());
+    b.shape = RigidShape::kTorus;
+    b.motion = Motion::kFree;
+    b.material = material;
+    b.radius = big_r;
+    b.tube_radius = small_r;
+    b.position = placement.centre;
+    b.orientation = orientation_for_axis(placement.normal);
+    b.mass = mass;
+    b.principal_inertia = {diametral, diametral, axial};
+    model.brakes.append(static_cast<std::int32_t>(model.bodies.size()), b.position,
+                        s.brake->stiffness, s.brake->activation_force, s.brake->stroke);
+    model.bodies.push_back(b);
+  }
+}
+
 RingSpec ring_spec(Model& model, const CaseConfig& c, const RingConfig& ring, int bond_type,
                    std::uint64_t bond_seed) {
   RingSpec s;
@@ -176,6 +205,13 @@ ModelPlan plan_model(const CaseConfig& c) {
       ring.material = net.material;
       ring.mass = net.mass;
       rings.push_back(ring_spec(model, c, ring, bond_type, seed_of(bond_type)));
+    }
+    if (net.shackles.brake) {
+      add_braked_shackles(model, net, layout);
+      ensure_group(model,
+                   net.shackles.group);  // the rockfall's frame group, then without particles
+      plan.sources.push_back(std::make_unique<RingSource>("net", std::move(rings)));
+      continue;
     }
     for (const ShacklePlacement& placement : layout.shackles) {
       RingConfig shackle;

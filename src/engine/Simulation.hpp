@@ -58,6 +58,8 @@ struct Energies {
   double global_damping = 0.0;   ///< dissipated by Cundall global damping
   double broken_bonds = 0.0;     ///< elastic energy the bonds held when they broke
   double plastic_work = 0.0;     ///< dissipated by plastic flow of the bonds (broken ones too)
+  double brake_work = 0.0;       ///< dissipated by the brake elements' sliding
+  double brake_elastic = 0.0;    ///< held by the brake elements' springs
   /// Work done on the particles by driven (prescribed) rigid bodies and particles and by
   /// external forces: energy put in, so it enters the balance with a minus sign.
   double boundary_work = 0.0;
@@ -67,10 +69,12 @@ struct Energies {
   /// Energy that inlets brought in with their grains (kinetic and potential).
   double inflow = 0.0;
 
-  /// Mechanical energy: kinetic + potential + bond and contact elastic.
-  double total() const { return kinetic + potential + bond_elastic + contact_elastic; }
+  /// Mechanical energy: kinetic + potential + bond, contact and brake elastic.
+  double total() const {
+    return kinetic + potential + bond_elastic + contact_elastic + brake_elastic;
+  }
   double dissipated() const {
-    return contact_damping + friction + global_damping + broken_bonds + plastic_work;
+    return contact_damping + friction + global_damping + broken_bonds + plastic_work + brake_work;
   }
   /// Mechanical + dissipated - boundary work + carried out - brought in: constant in time, up to
   /// the integrator's O(dt^2) energy error.
@@ -170,6 +174,9 @@ class Simulation {
   /// motion; the neighbour lists are rebuilt at the next step. The energy it adds is outside
   /// the ledger: the energy guard takes a new reference at the next energies().
   void place_body(std::size_t index, const Vec3& position, const Vec3& velocity, Motion motion);
+  /// Holds the braked bodies (fixed, at rest) or sets them free (hold_braked_bodies(), every
+  /// rank alike); like place_body(), what that moves in the ledger is the caller's to book.
+  void hold_braked_bodies(bool held);
   /// Sets the Cundall coefficient of every particle of a group (physics.md §4).
   void set_group_damping(int group, double coefficient);
 

@@ -88,8 +88,16 @@ struct RingConfig {
   Vec3 velocity;
 };
 
+/// A brake element holding each shackle of a net to the frame (docs/physics.md "Brake
+/// elements"); the shackles are then free rigid tori instead of fixed rings of spheres.
+struct ShackleBrakeConfig {
+  double activation_force = 0.0;  ///< F_b [N]
+  double stroke = 1.0;            ///< [m]
+  double stiffness = 1.0e7;       ///< k [N/m]
+};
+
 /// Rigid shackles holding the outer rings of a net (domain/RingNet.hpp): fixed rings of
-/// unbonded spheres, one per boundary ring and side.
+/// unbonded spheres, one per boundary ring and side, or braked rigid tori.
 struct ShackleConfig {
   bool enabled = true;
   std::string group = "shackles";
@@ -97,6 +105,7 @@ struct ShackleConfig {
   int n_particles = 14;
   double particle_radius = 0.008;
   std::string material = "steel";
+  std::optional<ShackleBrakeConfig> brake;
 };
 
 /// A horizontal chain-mail net of rings (domain/RingNet.hpp); the defaults are the paper's

@@ -361,6 +361,16 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
       if (!comm.is_root()) mine.clear();
       write_concatenated(f, comm, std::string("/bodies/") + name, mine);
     });
+    // Brake elements: replicated like the bodies they hold; only a model with brakes has them.
+    if (!model.brakes.empty()) {
+      f.create_group("/brakes");
+      model.brakes.for_each_field([&](const FieldInfo& field, const auto& rows) {
+        if (!field.has(field_flag::kCheckpoint)) return;
+        auto mine = rows;
+        if (!comm.is_root()) mine.clear();
+        write_concatenated(f, comm, std::string("/brakes/") + std::string(field.name), mine);
+      });
+    }
     f.set_attribute("/", "outflow_pending", std::int64_t{state.outflow_pending});
     f.create_group("/outflow");
     std::vector<std::int64_t> outflow = state.outflow_totals;  // the same on every rank
@@ -581,6 +591,19 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
       throw Hdf5Error(path + ": invalid rigid-body motion");
     body.motion = rows.motion[b];
   }
+  if (!model.brakes.empty()) {
+    if (!f.exists("/brakes"))
+      throw Hdf5Error(path +
+                      ": the case holds its shackles with brake elements, the checkpoint "
+                      "has no brake state (written by a case without brakes)");
+    const auto n_brakes = static_cast<std::int64_t>(model.brakes.size());
+    model.brakes.for_each_field([&](const FieldInfo& field, auto& v) {
+      if (!field.has(field_flag::kCheckpoint)) return;
+      using T = typename std::remove_cvref_t<decltype(v)>::value_type;
+      v = read_verified_block<T>(f, comm, "/brakes/" + std::string(field.name), n_brakes, 0,
+                                 n_brakes, ReadBy::kEveryRank);
+    });
+  }
   driver.names = split(f.attribute_string("/driver", "names"));
   const auto n_values = static_cast<std::int64_t>(driver.names.size());
   driver.values = read_verified_block<double>(f, comm, "/driver/values", n_values, 0, n_values,
@@ -593,8 +616,8 @@ std::vector<std::string> verify_checkpoint(const std::string& path) {
   read_checkpoint_info(path);
   const Hdf5File f = Hdf5File::open_read(path);
   std::vector<std::string> checked;
-  for (const char* group : {"/particles", "/bonds", "/history", "/bodies", "/outflow", "/inflow",
-                            "/momentum", "/ledger", "/driver", "/case"}) {
+  for (const char* group : {"/particles", "/bonds", "/history", "/bodies", "/brakes", "/outflow",
+                            "/inflow", "/momentum", "/ledger", "/driver", "/case"}) {
     for (const std::string& name : f.list(group)) {
       const std::string full = std::string(group) + "/" + name;
       std::size_t row_bytes = 0;

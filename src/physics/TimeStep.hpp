@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,8 @@ struct StabilityLimits {
   double bond_axial;     ///< sqrt(m / (E A / L))
   double bond_shear;     ///< sqrt(m / (12 c / L^3))
   double bond_rotation;  ///< sqrt(I / max((4 + Phi) c / L, G J / L))
+  /// sqrt(M / k) of a braked body on its brake's spring (docs/physics.md "Brake elements")
+  double brake = std::numeric_limits<double>::infinity();
 
   double min() const;
   /// (name, value) of each limit, for the pre-flight report.
