@@ -148,9 +148,11 @@ def main():
              ("broken_bonds_J", "broken bonds", True)]
     if "plastic_work_J" in ser:  # series of runs before the plastic bond lack it
         parts.append(("plastic_work_J", "plastic work", True))
+    if "brake_work_J" in ser and ser["brake_work_J"].max() > 0.0:  # braked shackles
+        parts += [("brake_elastic_J", "brake springs", False), ("brake_work_J", "brakes", True)]
     ax.stackplot(t, *[ser[k] - (ser[k][0] if since else 0.0) for k, _, since in parts],
                  labels=[n + (" (dissipated)" if since else "") for _, n, since in parts])
-    supplied = ser["kinetic_J"][0] + ser["bond_elastic_J"][0] + ser["contact_elastic_J"][0] \
+    supplied = sum(ser[k][0] for k, _, since in parts if not since) \
         - (ser["potential_J"] - ser["potential_J"][0]) + (ser["boundary_work_J"] - ser["boundary_work_J"][0])
     ax.plot(t, supplied, "k--", lw=1, label="energy at release + potential energy released")
     ax.plot(t, ser["balance_error_J"], "r:", lw=1, label="ledger error")

@@ -99,7 +99,7 @@ BarrierSample BarrierMonitor::sample(const Simulation& sim) const {
 
   // Loads: the frame's contact load (summed exactly), the posts' contact forces (global).
   if (frame_group_ >= 0)
-    out.net_force = dot(group_contact_load(sim, frame_group_, sim.settings().gravity), d);
+    out.net_force = dot(frame_load(sim, frame_group_, sim.settings().gravity), d);
   for (const std::size_t b : posts_)
     out.posts_force += dot(model.bodies[b].force, d);
 

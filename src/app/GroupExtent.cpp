@@ -4,6 +4,7 @@
 #include <array>
 #include <vector>
 
+#include "engine/BrakeLoads.hpp"
 #include "engine/Simulation.hpp"
 
 namespace ringdem {
@@ -48,6 +49,11 @@ Vec3 group_contact_load(const Simulation& sim, int group, const Vec3& gravity) {
   }
   const std::vector<double> s = sim.comm().sum_exact(partial);
   return {s[0], s[1], s[2]};
+}
+
+Vec3 frame_load(const Simulation& sim, int group, const Vec3& gravity) {
+  return group_contact_load(sim, group, gravity) +
+         brake_totals(sim.model().brakes, sim.model().bodies).frame_load;
 }
 
 }  // namespace ringdem

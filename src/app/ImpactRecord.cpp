@@ -28,6 +28,7 @@ void for_each_field(Record& r, F&& f) {
   f("friction", r.friction);
   f("contact_damping", r.contact_damping);
   f("global_damping", r.global_damping);
+  f("brake_work", r.brake_work);
   f("residual_height", r.residual_height);
 }
 
@@ -66,6 +67,7 @@ JsonObject ImpactRecord::json(int number, double g, double impact_energy) const 
       .set("friction_share", friction / impact_energy)
       .set("contact_damping_share", contact_damping / impact_energy)
       .set("global_damping_share", global_damping / impact_energy)
+      .set("brake_work_share", brake_work / impact_energy)
       .set("residual_height_m", residual_height);  // null: not re-settled
   return o;
 }
@@ -82,12 +84,13 @@ std::string ImpactRecord::log_line(int number, double g, double impact_energy) c
   return fmt::format(
       "rockfall impact {}: peak acceleration {:.4g} m/s^2 ({:.3g} g), deflection {:.4f} m, "
       "rebound {:.4g} m/s, {} bonds broken, frame force up to {:.4g} kN, plastic work "
-      "{:.3g} %, friction {:.3g} %, contact damping {:.3g} %, global damping {:.3g} % of "
-      "the impact energy, residual height {}",
+      "{:.3g} %, friction {:.3g} %, contact damping {:.3g} %, global damping {:.3g} %, brakes "
+      "{:.3g} % of the impact energy, residual height {}",
       number, peak_acceleration, peak_acceleration / g, deflection, rebound_speed,
       static_cast<long long>(broken_bonds), 1e-3 * max_frame_force,
       100.0 * plastic_work / impact_energy, 100.0 * friction / impact_energy,
       100.0 * contact_damping / impact_energy, 100.0 * global_damping / impact_energy,
+      100.0 * brake_work / impact_energy,
       std::isnan(residual_height) ? std::string("not measured")
                                   : fmt::format("{:.4f} m", residual_height));
 }

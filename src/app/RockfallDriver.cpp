@@ -13,6 +13,7 @@
 #include "app/RunCommand.hpp"
 #include "app/RunControl.hpp"
 #include "core/Version.hpp"
+#include "engine/BrakeLoads.hpp"
 #include "engine/Simulation.hpp"
 
 namespace ringdem {
@@ -113,7 +114,9 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
                                                 "boundary_work_J",
                                                 "balance_error_J",
                                                 "plastic_work_J",
-                                                "impact"};
+                                                "impact",
+                                                "brake_work_J",
+                                                "brake_elastic_J"};
   if (comm.is_root() && !output_dir_.empty()) {
     const double until = control_->restarted() ? control_->restart_time() : -1.0;
     series_ = SeriesWriter::resume(output_dir_ + "/series.csv", columns, until);
@@ -139,6 +142,7 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
   drop_x_ = rf_.drop_point ? rf_.drop_point->x : 0.5 * (e.lo.x + e.hi.x);
   drop_y_ = rf_.drop_point ? rf_.drop_point->y : 0.5 * (e.lo.y + e.hi.y);
   net_top_initial_ = group_extent(sim, net_, drop_x_, drop_y_, radius_).top_near_axis;
+  sim.hold_braked_bodies(true);  // until the release
   ledger_start_ = sim.energies().ledger();
   if (rf_.sag_damping) sim.set_group_damping(net_, *rf_.sag_damping);
   apply_phase_time_step(sim);
@@ -154,40 +158,49 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
   return between_steps(sim);
 }
 
+template <class Self, class F>
+void RockfallDriver::for_each_saved(Self& s, F&& f) {
+  const double inf = std::numeric_limits<double>::infinity();
+  f("next_sag_check", s.next_sag_check_, s.rf_.sag_min_time);
+  f("sag_end_time", s.sag_end_time_, -1.0);
+  f("contact_time", s.contact_time_, -1.0);
+  f("ledger_start", s.ledger_start_, 0.0);
+  f("energy_added", s.energy_added_, 0.0);
+  f("contact_z", s.contact_z_, 0.0);
+  f("net_top_initial", s.net_top_initial_, 0.0);
+  f("net_top_sagged", s.net_top_sagged_, 0.0);
+  f("drop_x", s.drop_x_, 0.0);
+  f("drop_y", s.drop_y_, 0.0);
+  f("next_record", s.next_record_, 0.0);
+  f("peak_acceleration", s.peak_acceleration_, 0.0);
+  f("time_of_peak", s.time_of_peak_, 0.0);
+  f("peak_instant", s.peak_instant_, 0.0);
+  f("lowest_z", s.lowest_z_, inf);
+  f("stopping_time", s.stopping_time_, -1.0);
+  f("max_frame_force", s.max_frame_force_, 0.0);
+  f("max_balance_error", s.max_balance_error_, 0.0);
+  f("free_fall_time", s.free_fall_time_, 0.0);
+  f("peak_sag_kinetic", s.peak_sag_kinetic_, 0.0);
+  f("no_contact_limit", s.no_contact_limit_, inf);
+  f("sum_steps", s.sum_steps_, 0.0);
+  f("sum_fx", s.sum_force_.x, 0.0);
+  f("sum_fy", s.sum_force_.y, 0.0);
+  f("sum_fz", s.sum_force_.z, 0.0);
+  f("rest_start", s.rest_start_, 0.0);
+  f("rebound_speed", s.rebound_speed_, 0.0);
+  f("release_time", s.release_time_, 0.0);
+  f("release_top", s.release_top_, 0.0);
+  f("ledger_before_removal", s.ledger_before_removal_, -inf);
+  f("release_broken", s.release_broken_, 0.0);
+}
+
 void RockfallDriver::restore(const DriverState& d) {
+  for_each_saved(*this,
+                 [&](const char* name, double& v, double absent) { v = d.get(name, absent); });
   phase_ = static_cast<int>(d.get("phase", 0.0));
-  next_sag_check_ = d.get("next_sag_check", rf_.sag_min_time);
-  sag_end_time_ = d.get("sag_end_time", -1.0);
-  contact_time_ = d.get("contact_time", -1.0);
-  ledger_start_ = d.get("ledger_start", 0.0);
-  energy_added_ = d.get("energy_added", 0.0);
-  contact_z_ = d.get("contact_z", 0.0);
-  net_top_initial_ = d.get("net_top_initial", 0.0);
-  net_top_sagged_ = d.get("net_top_sagged", 0.0);
-  drop_x_ = d.get("drop_x", 0.0);
-  drop_y_ = d.get("drop_y", 0.0);
-  next_record_ = d.get("next_record", 0.0);
-  peak_acceleration_ = d.get("peak_acceleration", 0.0);
-  time_of_peak_ = d.get("time_of_peak", 0.0);
-  peak_instant_ = d.get("peak_instant", 0.0);
-  lowest_z_ = d.get("lowest_z", std::numeric_limits<double>::infinity());
-  stopping_time_ = d.get("stopping_time", -1.0);
-  max_frame_force_ = d.get("max_frame_force", 0.0);
-  max_balance_error_ = d.get("max_balance_error", 0.0);
-  free_fall_time_ = d.get("free_fall_time", 0.0);
-  peak_sag_kinetic_ = d.get("peak_sag_kinetic", 0.0);
-  no_contact_limit_ = d.get("no_contact_limit", std::numeric_limits<double>::infinity());
-  sum_steps_ = d.get("sum_steps", 0.0);
-  sum_force_ = {d.get("sum_fx", 0.0), d.get("sum_fy", 0.0), d.get("sum_fz", 0.0)};
   sag_wall_ = d.get("sag_wall", 0.0);
   finished_ = d.get("finished", 0.0) != 0.0;
   impact_ = static_cast<int>(d.get("impact", 0.0));
-  rest_start_ = d.get("rest_start", 0.0);
-  rebound_speed_ = d.get("rebound_speed", 0.0);
-  release_time_ = d.get("release_time", 0.0);
-  release_top_ = d.get("release_top", 0.0);
-  ledger_before_removal_ = d.get("ledger_before_removal", -std::numeric_limits<double>::infinity());
-  release_broken_ = d.get("release_broken", 0.0);
   for (std::size_t i = 0; i < release_dissipated_.size(); ++i)
     release_dissipated_[i] = d.get(fmt::format("release_dissipated{}", i), 0.0);
   impacts_.clear();
@@ -198,41 +211,11 @@ void RockfallDriver::restore(const DriverState& d) {
 
 DriverState RockfallDriver::state() const {
   DriverState d;
+  for_each_saved(*this, [&](const char* name, const double& v, double) { d.set(name, v); });
   d.set("phase", static_cast<double>(phase_));
-  d.set("next_sag_check", next_sag_check_);
-  d.set("sag_end_time", sag_end_time_);
-  d.set("contact_time", contact_time_);
-  d.set("ledger_start", ledger_start_);
-  d.set("energy_added", energy_added_);
-  d.set("contact_z", contact_z_);
-  d.set("net_top_initial", net_top_initial_);
-  d.set("net_top_sagged", net_top_sagged_);
-  d.set("drop_x", drop_x_);
-  d.set("drop_y", drop_y_);
-  d.set("next_record", next_record_);
-  d.set("peak_acceleration", peak_acceleration_);
-  d.set("time_of_peak", time_of_peak_);
-  d.set("peak_instant", peak_instant_);
-  d.set("lowest_z", lowest_z_);
-  d.set("stopping_time", stopping_time_);
-  d.set("max_frame_force", max_frame_force_);
-  d.set("max_balance_error", max_balance_error_);
-  d.set("free_fall_time", free_fall_time_);
-  d.set("peak_sag_kinetic", peak_sag_kinetic_);
-  d.set("no_contact_limit", no_contact_limit_);
-  d.set("sum_steps", sum_steps_);
-  d.set("sum_fx", sum_force_.x);
-  d.set("sum_fy", sum_force_.y);
-  d.set("sum_fz", sum_force_.z);
   d.set("sag_wall", phase_ == kSag ? sag_wall_ + seconds_since(segment_start_) : sag_wall_);
   d.set("finished", finished_ ? 1.0 : 0.0);
   d.set("impact", static_cast<double>(impact_));
-  d.set("rest_start", rest_start_);
-  d.set("rebound_speed", rebound_speed_);
-  d.set("release_time", release_time_);
-  d.set("release_top", release_top_);
-  d.set("ledger_before_removal", ledger_before_removal_);
-  d.set("release_broken", release_broken_);
   for (std::size_t i = 0; i < release_dissipated_.size(); ++i)
     d.set(fmt::format("release_dissipated{}", i), release_dissipated_[i]);
   d.set("impacts_ended", static_cast<double>(impacts_.size()));
@@ -326,7 +309,7 @@ void RockfallDriver::release(Simulation& sim) {
   release_top_ = top;
   const Energies before = sim.energies();
   release_dissipated_ = {before.plastic_work, before.friction, before.contact_damping,
-                         before.global_damping};
+                         before.global_damping, before.brake_work};
   release_broken_ = static_cast<double>(sim.global_broken_bonds());
   if (rf_.impact_damping) sim.set_group_damping(net_, *rf_.impact_damping);
   const double bottom_at_rest = top + rf_.drop_height;
@@ -342,6 +325,7 @@ void RockfallDriver::release(Simulation& sim) {
     vz = -std::sqrt(2.0 * g_ * fall);
     free_fall_time_ = -vz / g_;
   }
+  sim.hold_braked_bodies(false);
   sim.place_body(boulder_, {drop_x_, drop_y_, z_centre}, {0, 0, vz}, Motion::kFree);
   sim.model().bodies[boulder_].active = true;
   energy_added_ += sim.energies().ledger() - before.ledger();
@@ -393,6 +377,7 @@ ImpactRecord RockfallDriver::impact_record(const Energies& e, std::int64_t broke
   r.friction = e.friction - release_dissipated_[1];
   r.contact_damping = e.contact_damping - release_dissipated_[2];
   r.global_damping = e.global_damping - release_dissipated_[3];
+  r.brake_work = e.brake_work - release_dissipated_[4];
   return r;
 }
 
@@ -414,6 +399,7 @@ bool RockfallDriver::close_impact(Simulation& sim) {
   // contact forces drop at the next step. after_steps() books the difference then.
   ledger_before_removal_ = e.ledger();
   sim.place_body(boulder_, config_.rigid_bodies.back().position, {0, 0, 0}, Motion::kPrescribed);
+  sim.hold_braked_bodies(true);
   sim.model().bodies[boulder_].active = false;
   phase_ = kResettle;
   apply_phase_time_step(sim);
@@ -518,7 +504,7 @@ void RockfallDriver::record(Simulation& sim) {
   sum_steps_ = 0;
   const double accel = norm(mean_force) / rf_.boulder_mass;
   const double az = mean_force.z / rf_.boulder_mass - g_;
-  const Vec3 frame_load = group_contact_load(sim, frame_, sim.settings().gravity);
+  const Vec3 frame = frame_load(sim, frame_, sim.settings().gravity);
   const std::int64_t broken = sim.global_broken_bonds();
   const double balance = e.ledger() - (ledger_start_ + energy_added_);
   max_balance_error_ = std::max(max_balance_error_, std::abs(balance));
@@ -527,7 +513,7 @@ void RockfallDriver::record(Simulation& sim) {
       peak_acceleration_ = accel;
       time_of_peak_ = sim.time() - contact_time_;
     }
-    max_frame_force_ = std::max(max_frame_force_, norm(frame_load));
+    max_frame_force_ = std::max(max_frame_force_, norm(frame));
   }
   if (!sim.comm().is_root() || output_dir_.empty()) return;
   series_.row({sim.time(),
@@ -540,8 +526,8 @@ void RockfallDriver::record(Simulation& sim) {
                accel,
                accel / g_,
                az,
-               norm(frame_load),
-               frame_load.z,
+               norm(frame),
+               frame.z,
                static_cast<double>(broken),
                e.kinetic,
                e.potential,
@@ -554,7 +540,9 @@ void RockfallDriver::record(Simulation& sim) {
                e.boundary_work,
                balance,
                e.plastic_work,
-               static_cast<double>(impact_)});
+               static_cast<double>(impact_),
+               e.brake_work,
+               e.brake_elastic});
 }
 
 std::string RockfallDriver::progress(const Simulation& sim, double rate) const {
@@ -588,6 +576,7 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
           : 0.0;
   // Collective calls first: never inside rank-0-only code.
   const Energies e = sim.energies();
+  const BrakeTotals brakes = brake_totals(sim.model().brakes, sim.model().bodies);
   const std::int64_t broken = sim.global_broken_bonds();
   const std::int64_t n_bonds = sim.global_bonds();
   const FrameWriter* frames = control_->frames();
@@ -633,9 +622,11 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("stopped_at_end_time", reached_end_time_)
         .set("energy_dissipated_J",
              std::vector<double>{e.contact_damping, e.friction, e.global_damping, e.broken_bonds,
-                                 e.plastic_work})
+                                 e.plastic_work, e.brake_work})
         .set("energy_dissipated_order",
-             "contact_damping, friction, global_damping, broken_bonds, plastic_work")
+             "contact_damping, friction, global_damping, broken_bonds, plastic_work, brake_work")
+        .set("brake_largest_travel_m", brakes.largest_travel)
+        .set("brakes_used_up", brakes.used_up)
         .set("ranks", comm.size())
         .set("particles", static_cast<long long>(n_particles))
         .set("bonds", static_cast<long long>(n_bonds))

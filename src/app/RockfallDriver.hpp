@@ -76,6 +76,10 @@ class RockfallDriver : public ScenarioDriver {
   /// One row of series.csv (means of the boulder load since the last row) and the peaks.
   void record(Simulation& sim);
   void restore(const DriverState& restored);
+  /// The saved double values with their names and their values where a checkpoint lacks them:
+  /// f(name, member, absent), one list for state() and restore().
+  template <class Self, class F>
+  static void for_each_saved(Self& self, F&& f);
 
   CaseConfig config_;
   const RockfallConfig& rf_;
@@ -122,8 +126,9 @@ class RockfallDriver : public ScenarioDriver {
   double rebound_speed_ = 0.0;
   double release_time_ = 0.0, release_top_ = 0.0;  ///< of the impact in progress
   double release_broken_ = 0.0;                    ///< broken bonds at the release
-  /// Dissipated energies at the release: plastic, friction, contact damping, global damping.
-  std::array<double, 4> release_dissipated_{};
+  /// Dissipated energies at the release: plastic, friction, contact damping, global damping,
+  /// brakes.
+  std::array<double, 5> release_dissipated_{};
   std::vector<ImpactRecord> impacts_;  ///< impacts that have ended
   /// Ledger before the boulder was removed, until the step after (-inf: none pending).
   double ledger_before_removal_ = -std::numeric_limits<double>::infinity();
