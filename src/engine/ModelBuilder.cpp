@@ -187,7 +187,8 @@ ModelPlan plan_model(const CaseConfig& c) {
     plan.sources.push_back(std::make_unique<RingSource>("rings", std::move(rings)));
   }
 
-  // Nets: each ring is a `rings` entry; the shackles are fixed rings without bonds.
+  // Nets: each ring is a `rings` entry; the shackles are fixed rings without bonds, or braked
+  // rigid tori.
   for (const auto& net : c.nets) {
     const RingNetLayout layout = generate_ring_net(net_parameters(net));
     const int bond_type = bond_type_of(net.bond);
@@ -208,23 +209,22 @@ ModelPlan plan_model(const CaseConfig& c) {
     }
     if (net.shackles.brake) {
       add_braked_shackles(model, net, layout);
-      ensure_group(model,
-                   net.shackles.group);  // the rockfall's frame group, then without particles
-      plan.sources.push_back(std::make_unique<RingSource>("net", std::move(rings)));
-      continue;
-    }
-    for (const ShacklePlacement& placement : layout.shackles) {
-      RingConfig shackle;
-      shackle.group = net.shackles.group;
-      shackle.centre = placement.centre;
-      shackle.normal = placement.normal;
-      shackle.reference = placement.reference;
-      shackle.internal_diameter = net.shackles.internal_diameter;
-      shackle.n_particles = net.shackles.n_particles;
-      shackle.particle_radius = net.shackles.particle_radius;
-      shackle.material = net.shackles.material;
-      shackle.motion = Motion::kFixed;
-      rings.push_back(ring_spec(model, c, shackle, RingSpec::kNoBond, 0));
+      // The group stays: the rockfall's frame group, without particles, its load the brakes'.
+      ensure_group(model, net.shackles.group);
+    } else {
+      for (const ShacklePlacement& placement : layout.shackles) {
+        RingConfig shackle;
+        shackle.group = net.shackles.group;
+        shackle.centre = placement.centre;
+        shackle.normal = placement.normal;
+        shackle.reference = placement.reference;
+        shackle.internal_diameter = net.shackles.internal_diameter;
+        shackle.n_particles = net.shackles.n_particles;
+        shackle.particle_radius = net.shackles.particle_radius;
+        shackle.material = net.shackles.material;
+        shackle.motion = Motion::kFixed;
+        rings.push_back(ring_spec(model, c, shackle, RingSpec::kNoBond, 0));
+      }
     }
     plan.sources.push_back(std::make_unique<RingSource>("net", std::move(rings)));
   }
