@@ -11,49 +11,16 @@ namespace ringdem {
 namespace {
 
 constexpr std::int64_t kDigit = std::int64_t{1} << 32;
-constexpr std::uint64_t kDigitMask = 0xffffffffu;
-/// Terms between carry propagations: a limb then stays below 2^32 (1 + 2^24) < 2^57.
-constexpr std::int64_t kMaxPending = std::int64_t{1} << 24;
 
 }  // namespace
 
-void ExactSum::add(double x) {
-  const auto bits = std::bit_cast<std::uint64_t>(x);
-  const auto exponent = static_cast<int>((bits >> 52) & 0x7ff);
-  std::uint64_t mantissa = bits & ((std::uint64_t{1} << 52) - 1);
-  if (exponent == 0x7ff) {
-    if (mantissa != 0)
-      ++nan_;
-    else if (x > 0)
-      ++pos_inf_;
-    else
-      ++neg_inf_;
-    return;
-  }
-  if (exponent == 0 && mantissa == 0) return;  // +-0
-  // x = mantissa 2^(exponent - 1075) (normal) or mantissa 2^-1074 (subnormal); its lowest bit
-  // lies at `position` counted from 2^-1074.
-  int position = 0;
-  if (exponent != 0) {
-    mantissa |= std::uint64_t{1} << 52;
-    position = exponent - 1;
-  }
-  const int first = position / 32, shift = position % 32;
-  // mantissa 2^shift < 2^85, cut into three 32-bit digits.
-  const std::uint64_t d0 = (mantissa << shift) & kDigitMask;
-  const std::uint64_t d1 = (shift == 0 ? mantissa >> 32 : mantissa >> (32 - shift)) & kDigitMask;
-  const std::uint64_t d2 = shift == 0 ? 0 : mantissa >> (64 - shift);
-  const auto i = static_cast<std::size_t>(first);
-  if (std::signbit(x)) {
-    limb_[i] -= static_cast<std::int64_t>(d0);
-    limb_[i + 1] -= static_cast<std::int64_t>(d1);
-    limb_[i + 2] -= static_cast<std::int64_t>(d2);
-  } else {
-    limb_[i] += static_cast<std::int64_t>(d0);
-    limb_[i + 1] += static_cast<std::int64_t>(d1);
-    limb_[i + 2] += static_cast<std::int64_t>(d2);
-  }
-  if (++pending_ >= kMaxPending) normalise();
+void ExactSum::add_non_finite(double x) {
+  if (std::isnan(x))
+    ++nan_;
+  else if (x > 0)
+    ++pos_inf_;
+  else
+    ++neg_inf_;
 }
 
 ExactSum& ExactSum::operator+=(const ExactSum& o) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -25,7 +26,37 @@ class ExactSum {
   /// Words of export(): the limbs, then the NaN, +inf and -inf counts.
   static constexpr int kWords = kLimbs + 3;
 
-  void add(double x);
+  /// Inline, and without a branch on the sign (the sign of a contact's power is not
+  /// predictable): the ledger adds a few terms a particle every step.
+  void add(double x) {
+    const auto bits = std::bit_cast<std::uint64_t>(x);
+    const auto exponent = static_cast<int>((bits >> 52) & 0x7ff);
+    if (exponent == 0x7ff) [[unlikely]] {
+      add_non_finite(x);
+      return;
+    }
+    if ((bits << 1) == 0) return;  // +-0: free (a tally that books nothing at a call site)
+    std::uint64_t mantissa = bits & ((std::uint64_t{1} << 52) - 1);
+    // x = mantissa 2^(exponent - 1075) (normal) or mantissa 2^-1074 (subnormal); its lowest
+    // bit lies at `position` counted from 2^-1074.
+    const bool normal = exponent != 0;
+    mantissa |= static_cast<std::uint64_t>(normal) << 52;
+    const int position = exponent - static_cast<int>(normal);
+    const auto first = static_cast<unsigned>(position) / 32,
+               shift = static_cast<unsigned>(position) % 32;
+    // mantissa 2^shift < 2^85, cut into three 32-bit digits: the low 64 bits and what a shift
+    // by 64 - shift moves out of them (in two shifts, as a shift by 64 is undefined).
+    const std::uint64_t low = mantissa << shift;
+    const std::uint64_t high = (mantissa >> 1) >> (63 - shift);
+    // +1 or -1 from the sign bit, so that the three limbs are one add each.
+    const std::int64_t sign = 1 - 2 * static_cast<std::int64_t>(bits >> 63);
+    std::int64_t* const l = limb_.data() + first;
+    l[0] += sign * static_cast<std::int64_t>(low & 0xffffffffu);
+    l[1] += sign * static_cast<std::int64_t>(low >> 32);
+    l[2] += sign * static_cast<std::int64_t>(high);
+    if (++pending_ >= kMaxPending) [[unlikely]]
+      normalise();
+  }
   /// Adds another partial sum (exact).
   ExactSum& operator+=(const ExactSum& o);
   /// The sum of the negated terms (exact).
@@ -40,6 +71,9 @@ class ExactSum {
   static ExactSum from_words(const std::int64_t* words);
 
  private:
+  /// Terms between carry propagations: a limb then stays below 2^32 (1 + 2^24) < 2^57.
+  static constexpr std::int64_t kMaxPending = std::int64_t{1} << 24;
+  void add_non_finite(double x);
   void normalise();
 
   std::array<std::int64_t, kLimbs> limb_{};
