@@ -30,7 +30,10 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   torque[i] = {};
   radius[i] = p.radius;
   mass[i] = p.density * 4.0 / 3.0 * M_PI * p.radius * p.radius * p.radius;
-  damping[i] = p.damping;
+  if (tracks_damping_)
+    damping[i] = p.damping;
+  else if (p.damping != 0.0)
+    throw std::logic_error("a damped particle in a store that keeps no damping coefficients");
   material[i] = p.material;
   body[i] = p.body;
   group[i] = p.group;
@@ -51,7 +54,21 @@ void ParticleStore::set_tracks_orientation(bool on) {
 void ParticleStore::set_tracks_ledger(bool on) {
   if (on == tracks_ledger_) return;
   tracks_ledger_ = on;
+  resize_ledger_columns();
+}
+
+void ParticleStore::set_tracks_damping(bool on) {
+  if (on == tracks_damping_) return;
+  tracks_damping_ = on;
   if (on)
+    damping.assign(n_total(), 0.0);
+  else
+    std::vector<double>().swap(damping);
+  resize_ledger_columns();
+}
+
+void ParticleStore::resize_ledger_columns() {
+  if (books_global_damping())
     for_each_ledger_field([n = n_total()](const FieldInfo&, auto& v) { v.assign(n, 0.0); });
   else  // the memory goes back, not only the size
     for_each_ledger_field([](const FieldInfo&, auto& v) { std::vector<double>().swap(v); });

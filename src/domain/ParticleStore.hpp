@@ -65,14 +65,16 @@ class ParticleStore {
   std::vector<Vec3> torque;
   std::vector<double> radius;
   std::vector<double> mass;
-  std::vector<double> damping;  ///< Cundall global damping coefficient of this particle
+  /// Cundall global damping coefficient of this particle; only while tracks_damping().
+  std::vector<double> damping;
   std::vector<std::int32_t> material;
   std::vector<std::int32_t> body;   ///< ring / clump id, -1 for none
   std::vector<std::int32_t> group;  ///< particle group (case-file name table)
   std::vector<Motion> motion;
-  // --- energy ledger (docs/physics.md "Energy ledger"); only while tracks_ledger(). The
-  // contact terms' tallies are kept per rank in exact sums (engine/EnergyLedger); what a
-  // particle carries is what is its own. Owned state (migrated and checkpointed, never sent to
+  // --- energy ledger (docs/physics.md "Energy ledger"); only while books_global_damping().
+  // The contact terms' tallies and the energy the contacts hold are kept per rank in exact
+  // sums (engine/EnergyLedger); what a particle carries is its global damping, which the
+  // integrator books in its vector pass. Owned state (migrated and checkpointed, never sent to
   // ghosts), summed exactly over the ranks (comm/ExactSum) so the totals do not depend on the
   // rank count.
   /// Cundall global damping (the integrator books it per particle): dissipated_global holds
@@ -80,16 +82,13 @@ class ParticleStore {
   /// the current step is dissipated_global - dt/2 power_global (global_damping_tally()).
   std::vector<double> dissipated_global;
   std::vector<double> power_global;
-  /// This particle's share of the tangential spring energy of its contacts at the last step.
-  std::vector<double> tangential_energy;
-  /// This particle's share of the elastic energy of its contacts (half of a pair's, all of a
-  /// contact with a rigid body), for the rank-count independent sum of contact energy.
-  std::vector<double> contact_energy;
 
   /// The trapezoidal tally of an accumulator and its last power (see dissipated_global).
   static double ledger_value(double accumulated, double last_power, double dt) {
     return accumulated - 0.5 * dt * last_power;
   }
+  /// Particle k's Cundall coefficient (0 where the store keeps none).
+  double damping_of(std::size_t k) const { return tracks_damping_ ? damping[k] : 0.0; }
   /// Particle k's global-damping tally up to the current step.
   double global_damping_tally(std::size_t k, double dt) const {
     return ledger_value(dissipated_global[k], power_global[k], dt);
@@ -120,31 +119,41 @@ class ParticleStore {
     f(FieldInfo{"torque", kState}, torque);
     f(FieldInfo{"radius", kState | kGhostOnce | kOutput}, radius);
     f(FieldInfo{"mass", kState | kGhostOnce}, mass);
-    f(FieldInfo{"damping", kState}, damping);
+    if (tracks_damping_) f(FieldInfo{"damping", kState | kZeroIfAbsent}, damping);
     f(FieldInfo{"material", kState | kGhostOnce}, material);
     f(FieldInfo{"body", kState | kGhostOnce | kOutput}, body);
     f(FieldInfo{"group", kState | kGhostOnce | kOutput}, group);
     f(FieldInfo{"motion", kState | kGhostOnce}, motion);
-    if (tracks_ledger_) for_each_ledger_field(f);
+    if (books_global_damping()) for_each_ledger_field(f);
   }
 
-  /// Whether the store keeps the energy ledger's four columns (32 B a particle). Off
-  /// (simulation.energy_ledger: false) they are empty: in memory, migration and checkpoints a
-  /// particle carries only what moves it. On by default.
+  /// Whether the energy ledger is kept (simulation.energy_ledger). Off, the store keeps none of
+  /// its columns: in memory, migration and checkpoints a particle carries only what moves it.
+  /// On by default.
   bool tracks_ledger() const { return tracks_ledger_; }
-  /// Turns the columns on (every particle's tallies at zero) or off (emptied).
+  /// Turns the ledger on (every particle's tallies at zero) or off (its columns emptied).
   void set_tracks_ledger(bool on);
+  /// Whether the store keeps a Cundall damping coefficient per particle. Off where nothing in
+  /// the model is damped (ModelBuilder: no damping in the case, as in a debris flow's grains):
+  /// the column and the ledger's two global-damping columns are empty (24 B a particle), the
+  /// integrator takes its undamped path, and migration and checkpoints carry none of them.
+  /// Simulation::set_group_damping() turns it on where a coefficient is set later (on every
+  /// rank alike), and a checkpoint with the column does on restore. On by default.
+  bool tracks_damping() const { return tracks_damping_; }
+  /// Turns the coefficients on (every particle at 0, undamped) or off (emptied).
+  void set_tracks_damping(bool on);
+  /// Whether the particles carry global-damping tallies: the ledger is kept and some
+  /// particle can be damped.
+  bool books_global_damping() const { return tracks_ledger_ && tracks_damping_; }
 
  private:
-  /// The ledger's part of the registry (for_each_field() while tracks_ledger()).
+  /// The ledger's part of the registry (for_each_field() while books_global_damping()).
   template <class F>
   void for_each_ledger_field(F&& f) {
     using namespace field_flag;
     constexpr unsigned kLedger = kMigrate | kCheckpoint | kZeroIfAbsent;
     f(FieldInfo{"dissipated_global", kLedger}, dissipated_global);
     f(FieldInfo{"power_global", kLedger}, power_global);
-    f(FieldInfo{"tangential_energy", kLedger}, tangential_energy);
-    f(FieldInfo{"contact_energy", kLedger}, contact_energy);
   }
 
  public:
@@ -200,9 +209,13 @@ class ParticleStore {
 
  private:
   void resize_all(std::size_t n);
+  /// Sizes the ledger's columns to the particles (zeros) while books_global_damping(), frees
+  /// them otherwise.
+  void resize_ledger_columns();
 
   bool tracks_orientation_ = true;
   bool tracks_ledger_ = true;
+  bool tracks_damping_ = true;
   std::size_t n_local_ = 0;
   std::size_t n_ghost_ = 0;
   GidIndex index_;

@@ -21,7 +21,6 @@ void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
   record_of_slot_.assign(n_slots, static_cast<std::uint32_t>(ledger_slots.size()));
   for (std::size_t e = 0; e < ledger_slots.size(); ++e)
     record_of_slot_[ledger_slots[e]] = static_cast<std::uint32_t>(e);
-  active_valid_ = false;  // particle indices may have changed
 }
 
 void EnergyLedger::begin_step(std::size_t n_local) {
@@ -41,22 +40,12 @@ void EnergyLedger::clear_moments() {
   moments_.clear();
 }
 
-namespace {
-
-/// A particle whose contacts hold no energy: nothing of it changes unless a load books
-/// something now (a power that was not zero last step is in the rank's last-step sums).
-bool idle(const ParticleStore& p, std::size_t k) {
-  return p.tangential_energy[k] == 0.0 && p.contact_energy[k] == 0.0;
-}
-
-}  // namespace
-
 void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bodies,
                               const ForceSlots& slots, const GatherMap& gather, double dt,
                               bool initial, const LeavingTest& leaving) {
   start_accumulation(p, gather);
   accumulate_below(p.n_local(), p, bodies, slots, gather, initial, leaving);
-  finish_accumulation(p, gather, dt, initial);
+  finish_accumulation(gather, dt, initial);
 }
 
 void EnergyLedger::close_intervals(const std::array<double, kTallies>& intervals_totals,
@@ -71,18 +60,25 @@ std::vector<ExactSum> EnergyLedger::state() const {
   std::vector<ExactSum> s(intervals_.begin(), intervals_.end());
   s.insert(s.end(), last_.begin(), last_.end());
   s.insert(s.end(), direct_.begin(), direct_.end());
+  s.insert(s.end(), held_.begin(), held_.end());
+  s.insert(s.end(), held_leaving_.begin(), held_leaving_.end());
   return s;
 }
 
 void EnergyLedger::restore(const std::vector<ExactSum>& totals, bool root) {
   intervals_ = direct_ = now_ = closing_ = last_ = {};
+  held_ = held_leaving_ = {};
   if (totals.empty() || !root) return;
-  if (totals.size() != 3 * kTallies)
+  if (totals.size() != kStateSums)
     throw std::runtime_error("checkpoint: energy ledger state of the wrong size");
   for (int t = 0; t < kTallies; ++t) {
     intervals_[t] = totals[t];
     last_[t] = totals[kTallies + t];
     direct_[t] = totals[2 * kTallies + t];
+  }
+  for (int h = 0; h < kHeldSums; ++h) {
+    held_[h] = totals[3 * kTallies + h];
+    held_leaving_[h] = totals[3 * kTallies + kHeldSums + h];
   }
 }
 
@@ -90,29 +86,24 @@ void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& g
   if (!enabled_) return;
   const std::size_t n_local = p.n_local();
   const bool have_moments = entry_of_.size() == n_local;  // begin_step() ran on this store
-  // A particle with no load to book now and no energy in its contacts after the last step adds
-  // nothing and keeps its columns, so only the particles with contacts or records now, the
-  // driven ones, and those whose contacts held energy after the last step (the active list)
-  // are visited.
-  // After a rebuild (indices changed) and whenever that union is not small, every owned
-  // particle is, in index order; accumulate_below() then skips the idle ones.
+  // Only the particles with a load to book now: contacts summed per particle, records, or a
+  // driver's power. Where they are not few, every owned particle is visited in index order
+  // and accumulate_below() skips the others.
   const auto& particles = gather.ledger_particles();
   const auto& driven = gather.driven_powers();
   visit_.clear();
   const std::size_t listed =
-      (have_moments ? touched_list_.size() : 0) + particles.size() + driven.size() + active_.size();
-  scan_all_ = !active_valid_ || active_n_local_ != n_local || 4 * listed > n_local;
+      (have_moments ? touched_list_.size() : 0) + particles.size() + driven.size();
+  scan_all_ = 4 * listed > n_local;
   if (!scan_all_) {
     if (have_moments) visit_.insert(visit_.end(), touched_list_.begin(), touched_list_.end());
     visit_.insert(visit_.end(), particles.begin(), particles.end());
     for (const auto& x : driven)
       visit_.push_back(x.particle);
-    visit_.insert(visit_.end(), active_.begin(), active_.end());
     std::sort(visit_.begin(), visit_.end());
     visit_.erase(std::unique(visit_.begin(), visit_.end()), visit_.end());
   }
-  active_.clear();
-  active_valid_next_ = true;
+  held_ = held_leaving_ = {};
   n_visit_ = scan_all_ ? n_local : visit_.size();
   next_visit_ = next_records_ = next_driven_ = 0;
 }
@@ -147,7 +138,7 @@ void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
     const bool has_moments = have_moments && entry_of_[k] != kNoEntry;
     const bool has_records = i < particles.size() && particles[i] == k;
     const bool is_driven = d < driven.size() && driven[d].particle == k;
-    if (!has_moments && !has_records && !is_driven && idle(p, k)) continue;
+    if (!has_moments && !has_records && !is_driven) continue;
     const Vec3 v = p.velocity[k];
     const Vec3 w = p.omega[k];
     double damping = 0.0, friction = 0.0, boundary = 0.0, tangential = 0.0, elastic = 0.0;
@@ -188,22 +179,22 @@ void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
     }
     // A driven particle: whatever its interactions push against, the driver supplies.
     if (is_driven) boundary -= driven[d++].power;
-    // A particle that leaves before the next step ends its trapezoid with this step.
-    std::array<ExactSum, kTallies>& powers = leaving && leaving(k) ? closing_ : now_;
+    // A particle that leaves before the next step ends its trapezoid with this step, and
+    // what its contacts hold leaves with it.
+    const bool leaves = leaving && leaving(k);
+    std::array<ExactSum, kTallies>& powers = leaves ? closing_ : now_;
     powers[kDamping].add(damping);  // adding 0 is free (ExactSum::add)
     powers[kFriction].add(friction);
     powers[kBoundary].add(boundary);
     // Friction is what the tangential springs took in and do not hold any more: the tally is
-    // the friction work less the tangential energy held now (the caller's sum over the
-    // particles), plus that held when the ledger started.
+    // the friction work less the tangential energy held now (held()), plus that held when the
+    // ledger started.
     if (initial) direct_[kFriction].add(tangential);
-    p.tangential_energy[k] = tangential;
-    p.contact_energy[k] = elastic;  // summed in a fixed order: the same bits on any rank count
-    if (!idle(p, k) && active_valid_next_) {
-      if (4 * (active_.size() + 1) > p.n_local())
-        active_valid_next_ = false;  // the next accumulate() visits every particle anyway
-      else
-        active_.push_back(static_cast<std::uint32_t>(k));
+    held_[kTangentialHeld].add(tangential);  // summed in a fixed order: the same bits on any
+    held_[kContactHeld].add(elastic);        // rank count
+    if (leaves) {
+      held_leaving_[kTangentialHeld].add(tangential);
+      held_leaving_[kContactHeld].add(elastic);
     }
   }
   next_visit_ = v_index;
@@ -211,11 +202,8 @@ void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
   next_driven_ = d;
 }
 
-void EnergyLedger::finish_accumulation(ParticleStore& p, const GatherMap& gather, double dt,
-                                       bool initial) {
+void EnergyLedger::finish_accumulation(const GatherMap& gather, double dt, bool initial) {
   if (!enabled_) return;
-  active_valid_ = active_valid_next_;
-  active_n_local_ = p.n_local();
   // External forces: F_ext . (x^{n+1} - x^n), exact for a constant force.
   if (!initial)
     for (const auto& x : gather.external_powers())

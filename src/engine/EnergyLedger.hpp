@@ -7,6 +7,7 @@
 
 #include "comm/ExactSum.hpp"
 #include "core/Vec3.hpp"
+#include "core/Vec3f.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
 #include "engine/ForceSlots.hpp"
@@ -30,29 +31,36 @@ struct DissipationRecord {
 /// particle (ParticleLoads): the work of a load F at arm r is F . (v + w x r) = F . v +
 /// (r x F) . w, so the sums of F and of r x F over the contacts give the power at the
 /// end-of-step velocities v, w without a record per contact (physics.md §3 for the loads).
-struct ContactMoments {
+struct alignas(64) ContactMoments {
   /// Provided, so that a new entry (moments_.emplace_back()) is made by the members' zero
-  /// initialisers, not value-initialised: that became a 112-byte rep stos, 8 % of a dense
-  /// packing's pair loop.
+  /// initialisers, not value-initialised: that became a rep stos, 8 % of a dense packing's
+  /// pair loop.
   ContactMoments() {}
-  Vec3 damping;                    ///< sum of the viscous forces (Eq. 7 + Eq. 9)
-  Vec3 damping_moment;             ///< sum of arm x viscous force
-  Vec3 friction;                   ///< sum of the tangential spring forces (Coulomb-capped)
-  Vec3 friction_moment;            ///< sum of arm x spring force, plus the rolling-friction torques
+  // The four sums in float, each added in double and rounded once (Vec3f): a power from them
+  // is off by about 1e-7 of each load's, far below the ledger's O(dt^2) closure, and an entry
+  // is one cache line (64 bytes, 112 in double: 48 bytes a grain in contact at 10^6 grains).
+  Vec3f damping;                   ///< sum of the viscous forces (Eq. 7 + Eq. 9)
+  Vec3f damping_moment;            ///< sum of arm x viscous force
+  Vec3f friction;                  ///< sum of the tangential spring forces (Coulomb-capped)
+  Vec3f friction_moment;           ///< sum of arm x spring force, plus the rolling-friction torques
   double tangential_energy = 0.0;  ///< this particle's shares of |F_t|^2 / 2 S_t
   double elastic_energy = 0.0;     ///< this particle's shares of the contacts' elastic energy
 };
+static_assert(sizeof(ContactMoments) == 64, "a ledger entry is one cache line");
 
 /// The energy ledger, written once for every force term: the work of the dissipative contact
 /// loads and of driven bodies and particles, from the records the terms write and the gather
 /// order, kept per rank and per tally in exact sums (docs/physics.md "Energy ledger"). Each
 /// particle's power is computed as before, in a fixed order of its contacts; the exact sums
 /// make the totals over the ranks independent of which rank held which particle, without a
-/// column per particle. (Global damping, booked by the integrator, keeps its columns.)
+/// column per particle. The energy the contacts hold (tangential springs, elastic) is summed
+/// the same way each step. (Global damping, booked by the integrator, keeps its columns.)
 class EnergyLedger {
  public:
   /// The tallies kept here.
   enum Tally { kDamping, kFriction, kBoundary, kTallies };
+  /// The energies the contacts hold after a step, summed per rank (held(), held_by_leaving()).
+  enum Held { kTangentialHeld, kContactHeld, kHeldSums };
   /// A tally over the ranks, from the exact totals of intervals() and direct():
   /// dt/2 * intervals + direct (for friction, less the tangential energy the springs hold now,
   /// which the caller sums over the particles' tangential_energy).
@@ -65,14 +73,25 @@ class EnergyLedger {
   /// This rank's part of what is booked as it is: a friction tally's tangential energy at the
   /// ledger's start, the exact work of external forces, and the intervals of earlier time steps.
   const std::array<ExactSum, kTallies>& direct() const { return direct_; }
+  /// This rank's sums of its particles' shares of the tangential spring energy and of the
+  /// contacts' elastic energy after the last accumulate(), each particle's summed in a fixed
+  /// order of its contacts: friction counts the first as not yet dissipated, the energy
+  /// balance the second as contact energy.
+  const std::array<ExactSum, kHeldSums>& held() const { return held_; }
+  /// The part of held() of particles that an outflow box takes out before the next step: it
+  /// leaves the model with them (OutflowSink::remove_leaving()).
+  const std::array<ExactSum, kHeldSums>& held_by_leaving() const { return held_leaving_; }
   /// Before the time step changes from `dt_old`: the intervals so far, totalled over the ranks
   /// (`intervals_totals`, the same on every rank), move into direct() (on the root rank only,
   /// so they count once), so that the next intervals take the new step.
   void close_intervals(const std::array<double, kTallies>& intervals_totals, double dt_old,
                        bool root);
   /// The tallies as exact sums to reduce over the ranks and write to a checkpoint: intervals,
-  /// the last step's powers, direct, in that order (3 kTallies sums).
+  /// the last step's powers, direct (kTallies sums each), then held() and held_by_leaving()
+  /// (kHeldSums each), in that order.
   std::vector<ExactSum> state() const;
+  /// How many sums state() holds.
+  static constexpr std::size_t kStateSums = 3 * kTallies + 2 * kHeldSums;
   /// From a checkpoint's totals (root rank; the others start from zero), or all zero (empty).
   void restore(const std::vector<ExactSum>& totals, bool root);
 
@@ -140,8 +159,7 @@ class EnergyLedger {
   void accumulate_below(std::size_t end, ParticleStore& p, const std::vector<RigidBody>& bodies,
                         const ForceSlots& slots, const GatherMap& gather, bool initial = false,
                         const LeavingTest& leaving = {});
-  void finish_accumulation(ParticleStore& p, const GatherMap& gather, double dt,
-                           bool initial = false);
+  void finish_accumulation(const GatherMap& gather, double dt, bool initial = false);
 
  private:
   /// No particle has moments (every entry taken is given back).
@@ -151,6 +169,7 @@ class EnergyLedger {
   /// This rank's exact tallies (see intervals(), direct()): the powers of the step being booked,
   /// those of particles that leave after it, and those of the last step.
   std::array<ExactSum, kTallies> intervals_, direct_, now_, closing_, last_;
+  std::array<ExactSum, kHeldSums> held_, held_leaving_;
   std::vector<DissipationRecord> records_;
   DissipationRecord unbooked_;  ///< what record() gives while the ledger is off
   std::vector<std::uint32_t> record_of_slot_;
@@ -158,14 +177,7 @@ class EnergyLedger {
   std::vector<ContactMoments> moments_;      ///< one per particle touched in this evaluation
   std::vector<std::uint32_t> entry_of_;      ///< owned particle -> its moments_, or kNoEntry
   std::vector<std::uint32_t> touched_list_;  ///< the k with an entry, to clear them
-  /// Owned particles with a nonzero tangential or contact energy after the last accumulate(),
-  /// valid until a rebuild changes the indices; not kept (invalid) once they are a quarter of
-  /// the particles, when the next accumulate() visits every particle anyway.
-  std::vector<std::uint32_t> active_;
-  bool active_valid_ = false;
-  bool active_valid_next_ = true;  ///< active_ is being kept for the next accumulate()
-  std::size_t active_n_local_ = 0;
-  std::vector<std::uint32_t> visit_;  ///< scratch: the particles accumulate() visits
+  std::vector<std::uint32_t> visit_;         ///< scratch: the particles accumulate() visits
   /// Where accumulate_below() stands: every owned particle or visit_, the next of them, the
   /// next particle with records (GatherMap::ledger_particles) and the next driven one.
   bool scan_all_ = false;

@@ -29,6 +29,13 @@ double group_damping(const CaseConfig& c, const std::string& group) {
   return c.damping.global;
 }
 
+bool case_damps_particles(const CaseConfig& c) {
+  bool any = c.damping.global != 0.0;
+  for (const auto& g : c.damping.groups)
+    any = any || g.coefficient != 0.0;
+  return any;
+}
+
 namespace {
 
 int material_index(const MaterialTable& t, const std::string& name) {
@@ -301,6 +308,9 @@ ModelPlan plan_model(const CaseConfig& c) {
   // The ledger's columns only where it is booked (set before the store is reserved, and
   // before a checkpoint is read into it).
   model.particles.set_tracks_ledger(c.simulation.energy_ledger);
+  // Damping coefficients only where the case damps something: the grains of a debris flow
+  // carry none (a scenario that sets one later turns them on: Simulation::set_group_damping).
+  model.particles.set_tracks_damping(case_damps_particles(c));
 
   // Inlets: gids above every start-up source's, 2^48 apart per inlet (batches of a million
   // items each leave room for 2.8e8 batches).

@@ -32,6 +32,8 @@ Model build_model_without_particles(const CaseConfig& config);
 /// The Cundall coefficient the case gives particle group `group` (damping.groups, else
 /// damping.global).
 double group_damping(const CaseConfig& config, const std::string& group);
+/// Whether the case's damping section gives some particle group a nonzero coefficient.
+bool case_damps_particles(const CaseConfig& config);
 
 /// Adds bond `id` between two particles of the model's bond law, strengths drawn by
 /// (seed, gid pair).

@@ -46,7 +46,9 @@ bool OutflowSink::any_leaving(const ParticleStore& p) const {
   return false;
 }
 
-std::size_t OutflowSink::remove_leaving(ParticleStore& p, const Vec3& gravity, double dt) {
+std::size_t OutflowSink::remove_leaving(ParticleStore& p, const Vec3& gravity, double dt,
+                                        const ExactSum& contact_energy,
+                                        const ExactSum& tangential_energy) {
   const std::size_t n = p.n_local();
   std::vector<char> keep(n, 1);
   std::size_t removed = 0;
@@ -64,12 +66,13 @@ std::size_t OutflowSink::remove_leaving(ParticleStore& p, const Vec3& gravity, d
     // The same terms as Simulation::energies() sums for a particle still in the model.
     partial_[kEnergy].add(p.kinetic_energy(k));
     partial_[kEnergy].add(p.potential_energy(k, gravity));
-    if (!p.tracks_ledger()) continue;  // nothing booked (simulation.energy_ledger: false)
-    partial_[kEnergy].add(p.contact_energy[k]);
-    partial_[kTangentialEnergy].add(p.tangential_energy[k]);
+    if (!p.books_global_damping()) continue;  // nothing booked (no ledger, or nothing damped)
     partial_[kGlobalDamping].add(p.global_damping_tally(k, dt));
   }
   if (removed == 0) return 0;
+  // What their contacts held after the last step (zero where the ledger is off).
+  partial_[kEnergy] += contact_energy;
+  partial_[kTangentialEnergy] += tangential_energy;
   return p.remove_owned(keep);
 }
 

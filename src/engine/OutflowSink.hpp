@@ -50,8 +50,11 @@ class OutflowSink {
   /// Some owned particle is leaving (this rank).
   bool any_leaving(const ParticleStore& p) const;
   /// Takes the owned grains that are leaving out of `p`, adding what they carry to this rank's
-  /// sums. Owned indices change: a neighbour-list rebuild must follow. Returns how many left.
-  std::size_t remove_leaving(ParticleStore& p, const Vec3& gravity, double dt);
+  /// sums, with the elastic and the tangential spring energy that their contacts held after
+  /// the last step (EnergyLedger::held_by_leaving(), this rank's sums over them). Owned
+  /// indices change: a neighbour-list rebuild must follow. Returns how many left.
+  std::size_t remove_leaving(ParticleStore& p, const Vec3& gravity, double dt,
+                             const ExactSum& contact_energy, const ExactSum& tangential_energy);
 
   /// This rank's partial sums, by Column.
   const std::vector<ExactSum>& partial() const { return partial_; }

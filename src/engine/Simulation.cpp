@@ -159,7 +159,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   // none.
   if (ledger_.enabled())
     ledger_.restore(
-        sums_of_words(restart.energy_ledger, 3 * EnergyLedger::kTallies, "energy ledger state"),
+        sums_of_words(restart.energy_ledger, EnergyLedger::kStateSums, "energy ledger state"),
         comm_.is_root());
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("restart state has no valid time step");
@@ -237,7 +237,7 @@ void Simulation::change_time_step(double dt) {
   // ranks and booked at the old dt (collective: every rank changes the step together).
   ParticleStore& p = model_.particles;
   const double shift = 0.5 * (dt - dt_);
-  for (std::size_t k = 0; p.tracks_ledger() && k < p.n_local(); ++k)
+  for (std::size_t k = 0; p.books_global_damping() && k < p.n_local(); ++k)
     p.dissipated_global[k] += shift * p.power_global[k];
   if (ledger_.enabled()) {
     const auto& steps = ledger_.intervals();
@@ -526,7 +526,7 @@ void Simulation::finish_step_and_start_next(const BodyObserver& observe_bodies) 
         [this, &p](std::size_t end) {
           ledger_.accumulate_below(end, p, model_.bodies, slots_, gather_);
         });
-    ledger_.finish_accumulation(p, gather_, dt_);
+    ledger_.finish_accumulation(gather_, dt_);
     momentum_.book_first_half();
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);
   }
@@ -565,7 +565,9 @@ bool Simulation::exchange_grains() {
     before_change();
     for (std::size_t k = 0; k < p.n_local() && momentum_.enabled(); ++k)
       if (outflow_.leaving(p, k)) momentum_.book_leaving(p, k, 0.5 * dt_);
-    outflow_.remove_leaving(p, settings_.gravity, dt_);
+    const auto& held = ledger_.held_by_leaving();
+    outflow_.remove_leaving(p, settings_.gravity, dt_, held[EnergyLedger::kContactHeld],
+                            held[EnergyLedger::kTangentialHeld]);
     outflow_pending_ = false;
   }
   for (std::size_t i = 0; i < inflow_.size(); ++i) {
@@ -598,6 +600,9 @@ void Simulation::hold_braked_bodies(bool held) {
 
 void Simulation::set_group_damping(int group, double coefficient) {
   ParticleStore& p = model_.particles;
+  // Every rank sets the same coefficients, so every rank turns the columns on alike.
+  if (coefficient != 0.0) p.set_tracks_damping(true);
+  if (!p.tracks_damping()) return;  // every particle is undamped already
   for (std::size_t k = 0; k < p.n_total(); ++k)
     if (p.group[k] == group) p.damping[k] = coefficient;
 }

@@ -245,12 +245,13 @@ Energies Simulation::energies() {
   partial[kFriction] += gone[OutflowSink::kTangentialEnergy].negated();
   partial[kOutflow] += gone[OutflowSink::kEnergy];
   partial[kInflow] += inflow_.partial()[InflowSource::kEnergy];
+  // What the contacts hold now: friction counts the tangential springs' energy as not yet
+  // dissipated (EnergyLedger::held()).
+  const auto& held = ledger_.held();
+  partial[kFriction] += held[EnergyLedger::kTangentialHeld].negated();
+  partial[kContact] += held[EnergyLedger::kContactHeld];
   for (std::size_t k = 0; k < p.n_local(); ++k) {
-    if (p.tracks_ledger()) {
-      partial[kGlobal].add(p.global_damping_tally(k, dt_));
-      partial[kFriction].add(-p.tangential_energy[k]);
-      partial[kContact].add(p.contact_energy[k]);
-    }
+    if (p.books_global_damping()) partial[kGlobal].add(p.global_damping_tally(k, dt_));
     if (p.motion[k] == Motion::kFree) {
       partial[kKinetic].add(p.kinetic_energy(k));
       partial[kPotential].add(p.potential_energy(k, settings_.gravity));

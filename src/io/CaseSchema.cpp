@@ -65,8 +65,8 @@ const Table<SimulationConfig>& simulation_table() {
                           "and global damping, the boundary work and the contacts' elastic "
                           "energy. `false` (free runs only) writes null in those series.csv "
                           "columns, turns the energy guard off, steps a flow of many grains "
-                          "faster and keeps 32 bytes a particle less (144 a grain in "
-                          "contact); the motion is the same bits"),
+                          "faster and keeps 72 bytes less a grain in contact (16 more a "
+                          "particle where something is damped); the motion is the same bits"),
       }};
   return table;
 }

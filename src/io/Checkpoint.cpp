@@ -36,9 +36,11 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // (/momentum/state: the exact totals of the impulses and the booked half kick); 10: the energy
 // ledger's contact tallies as the exact totals of the ranks' sums (/ledger/state) instead of
 // six particle columns (dissipated_damping, dissipated_friction, boundary_work and their last
-// powers). Only this version is read: an older file lacks what this one needs to go on bit for
+// powers); 11: the energy the contacts hold as the ranks' exact sums in /ledger/state (held and
+// held by leaving grains) instead of two particle columns (tangential_energy, contact_energy).
+// Only this version is read: an older file lacks what this one needs to go on bit for
 // bit.
-constexpr std::int64_t kFormatVersion = 10;
+constexpr std::int64_t kFormatVersion = 11;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
 /// global row index, so partial sums of blocks written by any number of ranks add up to the
@@ -500,6 +502,9 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
                      RowBlocks::block_begin(n, comm.rank() + 1, comm.size())};
   };
   const auto [p_first, p_end] = block_of(info.particles);
+  // Damping set while the run went on (Simulation::set_group_damping) is in the file although
+  // the case damps nothing: its coefficients and tallies come back (the same on every rank).
+  if (f.exists("/particles/damping")) p.set_tracks_damping(true);
   p.resize_local(static_cast<std::size_t>(p_end - p_first));
   p.for_each_field([&](const FieldInfo& field, auto& v) {
     if (!field.has(field_flag::kCheckpoint)) return;

@@ -234,13 +234,15 @@ namespace {
 /// The second half kick of owned particles [begin, end), one chunk of Integrator::kChunk.
 void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, double dt) {
   const double half = 0.5 * dt;
-  const double* const alpha = p.damping.data();
+  // No coefficients where nothing in the model is damped (ParticleStore::tracks_damping()).
+  const double* const alpha = p.tracks_damping() ? p.damping.data() : nullptr;
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
   Vec3* const v = p.velocity.data();
   Vec3* const w = p.omega.data();
-  // The ledger's columns, or null where the store keeps none (simulation.energy_ledger: false).
-  const bool ledger = p.tracks_ledger();
+  // The ledger's columns, or null where the store keeps none (simulation.energy_ledger: false,
+  // or nothing damped).
+  const bool ledger = p.books_global_damping();
   double* const dissipated = ledger ? p.dissipated_global.data() : nullptr;
   double* const power = ledger ? p.power_global.data() : nullptr;
   // Each chunk goes through one of two branch-free loops that vectorise: without
@@ -250,9 +252,10 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
   // which particles share its chunk, that is on the rank count.
   // Counted in doubles (select_bits), so that the check is a vector loop too.
   double damped_count = 0.0, stale_count = 0.0;
+  if (alpha)
 #pragma omp simd reduction(+ : damped_count)
-  for (std::size_t k = begin; k < end; ++k)
-    damped_count += select_bits(alpha[k] != 0.0, 1.0, 0.0);
+    for (std::size_t k = begin; k < end; ++k)
+      damped_count += select_bits(alpha[k] != 0.0, 1.0, 0.0);
   if (ledger)
 #pragma omp simd reduction(+ : stale_count)
     for (std::size_t k = begin; k < end; ++k)
@@ -366,12 +369,13 @@ void Integrator::second_half(std::vector<RigidBody>& bodies, double dt, const Ve
 }
 
 void apply_global_damping(ParticleStore& p, double dt) {
+  if (!p.tracks_damping()) return;  // nothing in the model is damped
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     const Vec3 damping_force = damping_load(p.force[k], p.velocity[k], p.damping[k]);
     const Vec3 damping_torque = damping_load(p.torque[k], p.omega[k], p.damping[k]);
     p.force[k] -= damping_force;
     p.torque[k] -= damping_torque;
-    if (!p.tracks_ledger()) continue;
+    if (!p.books_global_damping()) continue;
     // The ledger's first trapezoid weight: the tally so far is kept and the power of the
     // initial loads enters with dt/2 (see ParticleStore::ledger_value).
     const double q = p.motion[k] == Motion::kFree

@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 bool registers_ledger(ParticleStore& p) {
   bool found = false;
   p.for_each_field([&](const FieldInfo& f, auto&) {
-    found = found || f.name == "dissipated_global" || f.name == "contact_energy";
+    found = found || f.name == "dissipated_global" || f.name == "power_global";
   });
   return found;
 }
@@ -52,9 +52,12 @@ void expect_same_bits(const Simulation& a, const Simulation& b) {
   }
 }
 
+/// With a little global damping, so that the grains carry the ledger's columns (an undamped
+/// model keeps none: ParticleStore::tracks_damping()).
 CaseConfig with_ledger(bool on) {
   CaseConfig c = testing::grains_entering_and_leaving();
   c.simulation.energy_ledger = on;
+  c.damping.global = 0.02;
   return c;
 }
 
@@ -74,7 +77,7 @@ TEST(LedgerColumns, OnlyABookedLedgerKeepsThemAndTheMotionIsTheSame) {
   ASSERT_GT(without.outflow_totals().grains, 0) << "no grain left: the test checks less";
   ASSERT_GT(with.energies().contact_damping, 0.0) << "no contact dissipated: nothing booked";
   EXPECT_EQ(without.model().particles.dissipated_global.capacity(), 0u);
-  EXPECT_EQ(without.model().particles.contact_energy.capacity(), 0u);
+  EXPECT_EQ(without.model().particles.power_global.capacity(), 0u);
   expect_same_bits(without, with);
 }
 
@@ -135,6 +138,51 @@ TEST_F(LedgerSwitchAtRestart, WrittenWithThemRestartsWithout) {
 }
 TEST_F(LedgerSwitchAtRestart, WrittenWithThemRestartsWithThemExactly) {
   cross(true, true);
+}
+
+/// An undamped case keeps no damping columns. A coefficient set while it runs turns them on;
+/// the run is then the same bits as one that kept them (all zero) from the start, and a
+/// checkpoint written after that restarts into a model built from the undamped case with
+/// its coefficients and tallies.
+TEST_F(LedgerSwitchAtRestart, DampingColumnsOnlyOnceSomethingIsDamped) {
+  const Communicator self = testing::self_comm();
+  const CaseConfig c = testing::grains_entering_and_leaving();
+  ASSERT_EQ(c.damping.global, 0.0);
+  Model undamped = build_model(c, self);
+  EXPECT_FALSE(undamped.particles.tracks_damping());
+  EXPECT_EQ(undamped.particles.damping.capacity(), 0u);
+  EXPECT_EQ(undamped.particles.dissipated_global.capacity(), 0u);
+  Model kept = build_model(c, self);
+  kept.particles.set_tracks_damping(true);
+  ASSERT_EQ(kept.particles.damping.size(), kept.particles.n_local());
+  Simulation without(std::move(undamped), self, settings_from_case(c));
+  Simulation with(std::move(kept), self, settings_from_case(c));
+  without.run_steps(kFirst);
+  with.run_steps(kFirst);
+  expect_same_bits(without, with);
+  EXPECT_EQ(without.energies().total(), with.energies().total());
+  EXPECT_EQ(with.energies().global_damping, 0.0);
+  for (Simulation* sim : {&without, &with})
+    sim->set_group_damping(0, 0.3);
+  EXPECT_TRUE(without.model().particles.tracks_damping());
+  const std::string path =
+      CheckpointStore(dir_ + "/damped")
+          .write(self, without.model(), without.restart_state(), DriverState{}, 0, c);
+  without.run_steps(kSecond);
+  with.run_steps(kSecond);
+  expect_same_bits(without, with);
+  const double damped = with.energies().global_damping;
+  EXPECT_GT(damped, 0.0) << "the coefficient took nothing out: the test checks less";
+  EXPECT_EQ(without.energies().global_damping, damped);
+  Model model = build_model_without_particles(c);
+  EXPECT_FALSE(model.particles.tracks_damping());
+  DriverState d;
+  const RestartState state = read_checkpoint(self, path, c, model, d);
+  EXPECT_TRUE(model.particles.tracks_damping());
+  Simulation resumed(std::move(model), self, settings_from_case(c), state);
+  resumed.run_steps(kSecond);
+  expect_same_bits(resumed, with);
+  EXPECT_EQ(resumed.energies().global_damping, damped);
 }
 
 }  // namespace

@@ -62,7 +62,7 @@ void collect(const Model& m, std::map<std::int64_t, ParticleRow>& particles,
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     const bool fresh = particles
                            .emplace(p.gid[k], ParticleRow{p.position[k], p.velocity[k], p.radius[k],
-                                                          p.mass[k], p.damping[k], p.material[k],
+                                                          p.mass[k], p.damping_of(k), p.material[k],
                                                           p.body[k], p.group[k], p.motion[k]})
                            .second;
     EXPECT_TRUE(fresh) << "particle " << p.gid[k] << " emitted by two slices";

@@ -385,7 +385,7 @@ TEST(RingNetCase, NetEntryLoadsAndBuilds) {
     EXPECT_EQ(p.group[k], is_shackle ? shackle_group : net_group) << k;
     EXPECT_EQ(p.motion[k] == Motion::kFixed, is_shackle) << k;
     EXPECT_EQ(p.material[k], is_shackle ? 1 : 0) << k;
-    EXPECT_DOUBLE_EQ(p.damping[k], is_shackle ? 0.0 : 0.2) << k;
+    EXPECT_DOUBLE_EQ(p.damping_of(k), is_shackle ? 0.0 : 0.2) << k;
     fixed += is_shackle;
     if (p.body[k] == 0) ring_mass += p.mass[k];
     if (!is_shackle) sum += p.position[k];

@@ -232,7 +232,7 @@ TEST(Simulation, SwitchingGlobalDampingOffLeavesNoDampingPowerBehind) {
   ASSERT_GT(largest_power(), 0.0);
   sim.set_group_damping(0, 0.0);
   for (std::size_t k = 0; k < p.n_local(); ++k)
-    ASSERT_EQ(p.damping[k], 0.0) << "the rings are group 0";
+    ASSERT_EQ(p.damping_of(k), 0.0) << "the rings are group 0";
   sim.step();
   EXPECT_EQ(largest_power(), 0.0);
   const double tally = sim.energies().global_damping;
