@@ -8,6 +8,7 @@ namespace ringdem {
 void EnergyLedger::release_moments() {
   clear_moments();
   std::vector<ContactMoments>().swap(moments_);
+  own_entries_zeroed_ = false;
 }
 
 void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
@@ -26,14 +27,29 @@ void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
 void EnergyLedger::begin_step(std::size_t n_local) {
   if (!enabled_) return;
   clear_moments();
-  // Room for every owned particle: pages never written are never resident, and entries
-  // taken one by one would otherwise double the vector (both copies at once) in the pair loop.
-  moments_.reserve(n_local);
-  touched_list_.reserve(n_local);
-  entry_of_.resize(n_local, kNoEntry);
+  const bool direct = entry_choice_.value_or(8 * touched_last_ > 7 * n_local);
+  if (direct) {
+    std::vector<std::uint32_t>().swap(entry_of_);
+    std::vector<std::uint32_t>().swap(touched_list_);
+    if (!own_entries_ || !own_entries_zeroed_ || moments_.size() != n_local) {
+      moments_.clear();
+      moments_.resize(n_local);
+    }
+  } else {
+    if (own_entries_) moments_.clear();
+    // Room for every owned particle: pages never written are never resident, and entries
+    // taken one by one would otherwise double the vector (both copies at once) in the pair
+    // loop.
+    moments_.reserve(n_local);
+    touched_list_.reserve(n_local);
+    entry_of_.resize(n_local, kNoEntry);
+  }
+  own_entries_ = direct;
+  own_entries_zeroed_ = false;  // the evaluation adds to them
 }
 
 void EnergyLedger::clear_moments() {
+  if (own_entries_) return;
   for (const std::uint32_t k : touched_list_)
     if (k < entry_of_.size()) entry_of_[k] = kNoEntry;
   touched_list_.clear();
@@ -85,18 +101,21 @@ void EnergyLedger::restore(const std::vector<ExactSum>& totals, bool root) {
 void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& gather) {
   if (!enabled_) return;
   const std::size_t n_local = p.n_local();
-  const bool have_moments = entry_of_.size() == n_local;  // begin_step() ran on this store
+  const bool moments = have_moments(n_local);
   // Only the particles with a load to book now: contacts summed per particle, records, or a
   // driver's power. Where they are not few, every owned particle is visited in index order
   // and accumulate_below() skips the others.
   const auto& particles = gather.ledger_particles();
   const auto& driven = gather.driven_powers();
   visit_.clear();
-  const std::size_t listed =
-      (have_moments ? touched_list_.size() : 0) + particles.size() + driven.size();
+  // Direct entries are all visited (each is cleared after it is read).
+  const std::size_t touched = !moments ? 0 : own_entries_ ? n_local : touched_list_.size();
+  const std::size_t listed = touched + particles.size() + driven.size();
   scan_all_ = 4 * listed > n_local;
+  if (!own_entries_) touched_last_ = touched;
+  touched_now_ = 0;
   if (!scan_all_) {
-    if (have_moments) visit_.insert(visit_.end(), touched_list_.begin(), touched_list_.end());
+    if (moments) visit_.insert(visit_.end(), touched_list_.begin(), touched_list_.end());
     visit_.insert(visit_.end(), particles.begin(), particles.end());
     for (const auto& x : driven)
       visit_.push_back(x.particle);
@@ -130,12 +149,12 @@ void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
   const auto& offsets = gather.ledger_offsets();
   const auto& ledger_slots = gather.ledger_slots();
   const auto& driven = gather.driven_powers();
-  const bool have_moments = entry_of_.size() == p.n_local();
+  const bool moments = have_moments(p.n_local());
   std::size_t i = next_records_, d = next_driven_, v_index = next_visit_;
   for (; v_index < n_visit_; ++v_index) {
     const std::size_t k = scan_all_ ? v_index : visit_[v_index];
     if (k >= end) break;
-    const bool has_moments = have_moments && entry_of_[k] != kNoEntry;
+    const bool has_moments = moments && (own_entries_ || entry_of_[k] != kNoEntry);
     const bool has_records = i < particles.size() && particles[i] == k;
     const bool is_driven = d < driven.size() && driven[d].particle == k;
     if (!has_moments && !has_records && !is_driven) continue;
@@ -145,11 +164,16 @@ void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
     // Contacts summed per particle by their term, in partner order (ContactMoments): the power
     // of the loads at the end-of-step velocities.
     if (has_moments) {
-      const ContactMoments& m = moments_[entry_of_[k]];
+      ContactMoments& m = moments_[own_entries_ ? k : entry_of_[k]];
       damping -= dot(m.damping, v) + dot(m.damping_moment, w);
       friction -= dot(m.friction, v) + dot(m.friction_moment, w);
       tangential = m.tangential_energy;
       elastic = m.elastic_energy;
+      if (own_entries_) {
+        // A touching contact holds elastic energy: counted for the next begin_step()'s choice.
+        touched_now_ += elastic != 0.0;
+        m = ContactMoments{};  // in cache now; the next evaluation adds to zeros
+      }
     }
     // Contacts with a record per slot, in gather order (the same sum on any rank count). Each
     // particle books the work its own contact loads do; over both ends of a pair this is the
@@ -204,6 +228,10 @@ void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
 
 void EnergyLedger::finish_accumulation(const GatherMap& gather, double dt, bool initial) {
   if (!enabled_) return;
+  if (own_entries_ && scan_all_) {  // every entry was read and cleared
+    touched_last_ = touched_now_;
+    own_entries_zeroed_ = true;
+  }
   // External forces: F_ext . (x^{n+1} - x^n), exact for a constant force.
   if (!initial)
     for (const auto& x : gather.external_powers())

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "comm/ExactSum.hpp"
@@ -116,8 +117,12 @@ class EnergyLedger {
   /// moments_at(): a zeroed entry taken at the first call of a force evaluation, so that
   /// particles without contacts cost nothing here, neither time nor memory. An entry is an
   /// index (moments_at() of it holds until the next entry is taken), so that a kernel can take
-  /// the entries of a chunk of contacts first, prefetch them, and add to them after.
+  /// the entries of a chunk of contacts first, prefetch them, and add to them after. Where
+  /// nearly every owned particle had contacts in the last evaluation (a packing), entry k is
+  /// particle k's own (direct): no index to look up, no list, and the pass after the step
+  /// reads the entries in particle order.
   std::uint32_t moments_entry(std::uint32_t k) {
+    if (own_entries_) return k;
     std::uint32_t& entry = entry_of_[k];
     if (entry == kNoEntry) {
       entry = static_cast<std::uint32_t>(moments_.size());
@@ -128,8 +133,17 @@ class EnergyLedger {
   }
   ContactMoments& moments_at(std::uint32_t entry) { return moments_[entry]; }
   /// Asks the cache for what moments_entry(k) will read (for a particle some contacts ahead).
-  void prefetch_entry(std::uint32_t k) const { __builtin_prefetch(&entry_of_[k]); }
+  void prefetch_entry(std::uint32_t k) const {
+    if (!own_entries_) __builtin_prefetch(&entry_of_[k]);
+  }
   void prefetch_moments(std::uint32_t entry) const { __builtin_prefetch(&moments_[entry], 1); }
+  /// How begin_step() keeps the entries: per particle (true), per touched particle (false), or
+  /// chosen at each evaluation from how many were touched (nullopt, the default). The ledger
+  /// is the same bits either way (tests/unit/test_ledger_entries.cpp); only memory and speed
+  /// differ.
+  void set_entry_choice(std::optional<bool> per_particle) { entry_choice_ = per_particle; }
+  /// Whether this evaluation keeps an entry for every owned particle at its own index.
+  bool entries_per_particle() const { return own_entries_; }
   /// Before a neighbour-list rebuild: the last evaluation's moments are booked (after the
   /// kick), so their memory goes back while the rebuild holds the keyed springs (112 bytes a
   /// touched particle at 10^6 grains in contact, the run's peak otherwise); the next
@@ -162,8 +176,14 @@ class EnergyLedger {
   void finish_accumulation(const GatherMap& gather, double dt, bool initial = false);
 
  private:
-  /// No particle has moments (every entry taken is given back).
+  /// No particle has moments (every entry taken is given back; direct entries stay, zeroed
+  /// by the pass that booked them or by the next begin_step()).
   void clear_moments();
+  /// Whether begin_step() ran on a store of `n_local` owned particles since the moments were
+  /// last released.
+  bool have_moments(std::size_t n_local) const {
+    return own_entries_ ? moments_.size() == n_local : entry_of_.size() == n_local;
+  }
 
   bool enabled_ = true;
   /// This rank's exact tallies (see intervals(), direct()): the powers of the step being booked,
@@ -177,7 +197,15 @@ class EnergyLedger {
   std::vector<ContactMoments> moments_;      ///< one per particle touched in this evaluation
   std::vector<std::uint32_t> entry_of_;      ///< owned particle -> its moments_, or kNoEntry
   std::vector<std::uint32_t> touched_list_;  ///< the k with an entry, to clear them
-  std::vector<std::uint32_t> visit_;         ///< scratch: the particles accumulate() visits
+  /// Entry k is particle k's (moments_entry()): chosen at begin_step() when more than 7/8 of
+  /// the owned particles had contacts in the last evaluation (touched_last_), where n_local
+  /// entries take less memory than the touched ones with their index and list.
+  bool own_entries_ = false;
+  bool own_entries_zeroed_ = false;  ///< every direct entry is zero (the booking pass cleared it)
+  std::size_t touched_last_ = 0;
+  std::size_t touched_now_ = 0;       ///< direct entries with contacts, counted by the booking pass
+  std::optional<bool> entry_choice_;  ///< set_entry_choice()
+  std::vector<std::uint32_t> visit_;  ///< scratch: the particles accumulate() visits
   /// Where accumulate_below() stands: every owned particle or visit_, the next of them, the
   /// next particle with records (GatherMap::ledger_particles) and the next driven one.
   bool scan_all_ = false;

@@ -161,6 +161,8 @@ class Simulation {
   const SimulationSettings& settings() const { return settings_; }
   Model& model() { return model_; }
   const Model& model() const { return model_; }
+  /// The energy ledger's bookkeeping (tests set its choices; energies() reports it).
+  EnergyLedger& energy_ledger() { return ledger_; }
   /// Contact candidates of the particle-pair term at the last rebuild (this rank).
   std::size_t n_contact_candidates() const;
   const Communicator& comm() const { return comm_; }
