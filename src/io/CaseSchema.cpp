@@ -65,7 +65,7 @@ const Table<SimulationConfig>& simulation_table() {
                           "and global damping, the boundary work and the contacts' elastic "
                           "energy. `false` (free runs only) writes null in those series.csv "
                           "columns, turns the energy guard off, steps a flow of many grains "
-                          "faster and keeps 72 bytes less a grain in contact (16 more a "
+                          "faster and keeps 64-72 bytes less a grain in contact (16 more a "
                           "particle where something is damped); the motion is the same bits"),
       }};
   return table;
