@@ -56,7 +56,7 @@ void EnergyLedger::clear_moments() {
   moments_.clear();
 }
 
-void EnergyLedger::accumulate(ParticleStore& p, const std::vector<RigidBody>& bodies,
+void EnergyLedger::accumulate(const ParticleStore& p, const std::vector<RigidBody>& bodies,
                               const ForceSlots& slots, const GatherMap& gather, double dt,
                               bool initial, const LeavingTest& leaving) {
   start_accumulation(p, gather);
@@ -127,7 +127,7 @@ void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& g
   next_visit_ = next_records_ = next_driven_ = 0;
 }
 
-void EnergyLedger::accumulate_below(std::size_t end, ParticleStore& p,
+void EnergyLedger::accumulate_below(std::size_t end, const ParticleStore& p,
                                     const std::vector<RigidBody>& bodies, const ForceSlots& slots,
                                     const GatherMap& gather, bool initial,
                                     const LeavingTest& leaving) {

@@ -159,8 +159,8 @@ class EnergyLedger {
   /// After the second half kick of particles and rigid bodies, with the velocities of the end
   /// of the step: adds the work of the last force evaluation to the tallies.
   /// `initial`: the loads of the initial state, which begin the first interval.
-  void accumulate(ParticleStore& p, const std::vector<RigidBody>& bodies, const ForceSlots& slots,
-                  const GatherMap& gather, double dt, bool initial = false,
+  void accumulate(const ParticleStore& p, const std::vector<RigidBody>& bodies,
+                  const ForceSlots& slots, const GatherMap& gather, double dt, bool initial = false,
                   const LeavingTest& leaving = {});
 
   /// accumulate() in three parts, so that the integrator can book each particle between its
@@ -170,8 +170,9 @@ class EnergyLedger {
   /// (called with growing ends); finish_accumulation() books the external loads and closes
   /// the step's interval.
   void start_accumulation(const ParticleStore& p, const GatherMap& gather);
-  void accumulate_below(std::size_t end, ParticleStore& p, const std::vector<RigidBody>& bodies,
-                        const ForceSlots& slots, const GatherMap& gather, bool initial = false,
+  void accumulate_below(std::size_t end, const ParticleStore& p,
+                        const std::vector<RigidBody>& bodies, const ForceSlots& slots,
+                        const GatherMap& gather, bool initial = false,
                         const LeavingTest& leaving = {});
   void finish_accumulation(const GatherMap& gather, double dt, bool initial = false);
 
