@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <limits>
 
+#include "core/Lanes4.hpp"
 #include "core/Select.hpp"
 
 namespace ringdem {
@@ -50,29 +51,28 @@ inline void kick_rotation(RigidBody& b, double half_dt) {
 
 }  // namespace
 
-// The particle loops are branch-free (motion kinds become 0/1 factors) so they vectorise.
-// A fixed particle has zero velocity and angular velocity (the model builder sets them), so
-// scaling its drift by 0 only guards against stray values.
+// The particle passes run four particles at a time (core/Lanes4.hpp): the Vec3 columns are
+// loaded as they lie, each particle's factors (dt/2m, ...) are spread over its components in
+// registers, and only the norms and the quaternion update see the rows as columns. Motion
+// kinds become 0/1 factors, so that nothing branches per particle. A fixed particle has zero
+// velocity and angular velocity (the model builder sets them), so scaling its drift by 0 only
+// guards against stray values. A pass's last particles, fewer than four, are copied into four
+// lanes padded with fixed particles at rest (TailLanes), so that every particle goes through
+// the same operations.
 
 namespace {
+
+using lanes::Columns3;
+using lanes::Columns4;
+using lanes::Rows3;
+using lanes::V4;
 
 struct DriftMaxima {
   double max_v2 = 0.0;  ///< infinite for a non-finite velocity
   double max_w2 = 0.0;
 };
 
-// The kicks and the drift read and write rows of Vec3 (x, y, z of a particle side by side).
-// A vector loop over particles has to take such rows apart into x, y and z lanes and put them
-// back together, a shuffle per register on the way in and out, and that, not arithmetic or
-// memory, was most of the integrator's time. So within a chunk the per-particle factors
-// (kick = dt/2m, ...) are spread over the three components once, and the updates run over the
-// chunk's rows as one run of doubles, lane for lane: the same operation on each component as
-// the Vec3 arithmetic, so the same bits.
-static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 rows must be runs of 3 doubles");
-
-/// 1 for a free particle, else 0; 1 for one that moves (free or driven), else 0. In integer
-/// arithmetic, not as a select: GCC does not vectorise a select on a byte compare for AVX2
-/// (-march=x86-64-v3), only with AVX-512 masks, and the loops that read these stayed scalar.
+/// 1 for a free particle, else 0; 1 for one that moves (free or driven), else 0.
 static_assert(static_cast<int>(Motion::kFree) == 0 && static_cast<int>(Motion::kFixed) == 1 &&
               static_cast<int>(Motion::kPrescribed) == 2);
 inline double is_free(Motion m) {
@@ -82,111 +82,186 @@ inline double is_moving(Motion m) {
   return static_cast<double>(std::min(std::abs(static_cast<int>(m) - 1), 1));
 }
 
-double* run_of(Vec3* rows) {
-  return &rows->x;
+/// The columns the passes read and write, from some particle on.
+struct ParticleRows {
+  Vec3* x;
+  Vec3* v;
+  Vec3* w;
+  Quat* q;  ///< null where the store keeps no orientations (nothing bonded)
+  Vec3* force;
+  Vec3* torque;
+  const double* mass;
+  const double* radius;
+  const Motion* motion;
+  const double* alpha;  ///< null where nothing in the model is damped
+  double* dissipated;   ///< the ledger's global-damping columns, null where it keeps none
+  double* power;
+};
+
+ParticleRows rows_of(ParticleStore& p) {
+  const bool ledger = p.books_global_damping();
+  return {p.position.data(),
+          p.velocity.data(),
+          p.omega.data(),
+          p.tracks_orientation() ? p.orientation.data() : nullptr,
+          p.force.data(),
+          p.torque.data(),
+          p.mass.data(),
+          p.radius.data(),
+          p.motion.data(),
+          p.tracks_damping() ? p.damping.data() : nullptr,
+          ledger ? p.dissipated_global.data() : nullptr,
+          ledger ? p.power_global.data() : nullptr};
 }
 
-/// out[3 i + c] = f[i] for c = 0, 1, 2 and i < n: a factor per particle for each component.
-inline void spread3(const double* __restrict f, std::size_t n, double* __restrict out) {
-  for (std::size_t i = 0; i < n; ++i) {
-    out[3 * i] = f[i];
-    out[3 * i + 1] = f[i];
-    out[3 * i + 2] = f[i];
+/// The last n < 4 particles of a pass in four lanes; the others are fixed particles at rest
+/// with unit mass and radius, which neither move nor raise the largest speeds.
+struct TailLanes {
+  Vec3 x[4]{}, v[4]{}, w[4]{}, force[4]{}, torque[4]{};
+  Quat q[4]{};
+  double mass[4]{1.0, 1.0, 1.0, 1.0}, radius[4]{1.0, 1.0, 1.0, 1.0};
+  Motion motion[4]{Motion::kFixed, Motion::kFixed, Motion::kFixed, Motion::kFixed};
+  double alpha[4]{}, dissipated[4]{}, power[4]{};
+
+  TailLanes(const ParticleRows& r, std::size_t k, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) {
+      x[i] = r.x[k + i];
+      v[i] = r.v[k + i];
+      w[i] = r.w[k + i];
+      if (r.q) q[i] = r.q[k + i];
+      force[i] = r.force[k + i];
+      torque[i] = r.torque[k + i];
+      mass[i] = r.mass[k + i];
+      radius[i] = r.radius[k + i];
+      motion[i] = r.motion[k + i];
+      if (r.alpha) alpha[i] = r.alpha[k + i];
+      if (r.dissipated) dissipated[i] = r.dissipated[k + i];
+      if (r.power) power[i] = r.power[k + i];
+    }
   }
-}
-
-/// a[j] += b[j] s[j], j < n: Vec3 rows a += b * factor, component by component.
-inline void add_scaled(double* __restrict a, const double* __restrict b, const double* __restrict s,
-                       std::size_t n) {
-#pragma omp simd
-  for (std::size_t j = 0; j < n; ++j)
-    a[j] += b[j] * s[j];
-}
-
-/// The half-kick factors of particles [begin, begin + n), n <= Integrator::kChunk: free[i] (1
-/// for a free particle, else 0), kick[i] = free dt/2m and turn[i] = free dt/2I. The motion
-/// kinds are read in a loop of their own: GCC sizes a loop's vectors by its narrowest type, so
-/// a byte column among doubles makes it run 64 particles at a time, eight registers a double,
-/// and spill them.
-inline void kick_factors(const ParticleStore& p, std::size_t begin, std::size_t n, double half,
-                         double* __restrict free, double* __restrict kick,
-                         double* __restrict turn) {
-  const Motion* const motion = p.motion.data() + begin;
-  const double* const mass = p.mass.data() + begin;
-  const double* const radius = p.radius.data() + begin;
-#pragma omp simd
-  for (std::size_t i = 0; i < n; ++i)
-    free[i] = is_free(motion[i]);
-#pragma omp simd
-  for (std::size_t i = 0; i < n; ++i) {
-    kick[i] = free[i] * half / mass[i];
-    turn[i] = free[i] * half / ParticleStore::sphere_inertia(mass[i], radius[i]);
+  ParticleRows rows(const ParticleRows& like) {
+    return {x,
+            v,
+            w,
+            like.q ? q : nullptr,
+            force,
+            torque,
+            mass,
+            radius,
+            motion,
+            like.alpha ? alpha : nullptr,
+            like.dissipated ? dissipated : nullptr,
+            like.power ? power : nullptr};
   }
+  void write_back(const ParticleRows& r, std::size_t k, std::size_t n) const {
+    for (std::size_t i = 0; i < n; ++i) {
+      r.x[k + i] = x[i];
+      r.v[k + i] = v[i];
+      r.w[k + i] = w[i];
+      if (r.q) r.q[k + i] = q[i];
+      r.force[k + i] = force[i];
+      r.torque[k + i] = torque[i];
+      if (r.dissipated) r.dissipated[k + i] = dissipated[i];
+      if (r.power) r.power[k + i] = power[i];
+    }
+  }
+};
+
+/// Runs kernel(rows, k) over particles [begin, end) four at a time, the last ones in
+/// TailLanes.
+template <class Kernel>
+void for_each_four(const ParticleRows& r, std::size_t begin, std::size_t end, Kernel&& kernel) {
+  std::size_t k = begin;
+  for (; k + 4 <= end; k += 4)
+    kernel(r, k);
+  if (k == end) return;
+  TailLanes tail(r, k, end - k);
+  kernel(tail.rows(r), 0);
+  tail.write_back(r, k, end - k);
 }
 
-/// The drift loop over owned particles [begin, end), chunk by chunk, with the orientation
-/// update compiled in or out; raises `m` to the largest squared speeds it saw.
+/// The half-kick factors of four particles: free (1 for a free particle, else 0),
+/// kick = free dt/2m and turn = free dt/2I.
+struct KickFactors {
+  V4 free, kick, turn;
+};
+inline KickFactors kick_factors(const ParticleRows& r, std::size_t k, double half) {
+  const V4 free{is_free(r.motion[k]), is_free(r.motion[k + 1]), is_free(r.motion[k + 2]),
+                is_free(r.motion[k + 3])};
+  const V4 mass = lanes::load(r.mass + k), radius = lanes::load(r.radius + k);
+  const V4 free_half = free * half;
+  // ParticleStore::sphere_inertia, 0.4 m r^2, in its order.
+  return {free, free_half / mass, free_half / (0.4 * mass * radius * radius)};
+}
+
+/// a += b s, register by register: Vec3 rows a += b * factor, component by component.
+inline void add_scaled(Rows3& a, const Rows3& b, const Rows3& s) {
+  a.a += b.a * s.a;
+  a.b += b.b * s.b;
+  a.c += b.c * s.c;
+}
+
+/// The drift of four particles from k: v += F dt/2m, omega += T dt/2I, x += v dt, the next
+/// step's initial loads (F = m g, T = 0; GatherMap::initialise_loads), the orientation update
+/// (compiled in or out) and the largest squared speeds per lane.
+template <bool kTurn>
+inline void drift_four(const ParticleRows& r, std::size_t k, double dt, const Rows3& gravity,
+                       V4& max_v2, V4& max_w2) {
+  const double half = 0.5 * dt;
+  const KickFactors f = kick_factors(r, k, half);
+  const V4 moving{is_moving(r.motion[k]), is_moving(r.motion[k + 1]), is_moving(r.motion[k + 2]),
+                  is_moving(r.motion[k + 3])};
+  Rows3 v = lanes::load_rows(r.v + k), w = lanes::load_rows(r.w + k);
+  Rows3 x = lanes::load_rows(r.x + k);
+  add_scaled(v, lanes::load_rows(r.force + k), lanes::spread(f.kick));   // v += F dt/2m
+  add_scaled(w, lanes::load_rows(r.torque + k), lanes::spread(f.turn));  // omega += T dt/2I
+  add_scaled(x, v, lanes::spread(moving * dt));                          // x += v dt
+  lanes::store_rows(r.v + k, v);
+  lanes::store_rows(r.w + k, w);
+  lanes::store_rows(r.x + k, x);
+  const Rows3 mass = lanes::spread(lanes::load(r.mass + k));
+  lanes::store_rows(r.force + k, {gravity.a * mass.a, gravity.b * mass.b, gravity.c * mass.c});
+  const V4 zero{};
+  lanes::store_rows(r.torque + k, {zero, zero, zero});
+  const Columns3 wc = lanes::columns(w);
+  if constexpr (kTurn) {
+    // rotated(q, omega * moving, dt): q <- dq(omega dt) q, the Cayley form with its scale
+    // s = 1/sqrt(1 + |h|^2), then renormalized(), each in its scalar order.
+    const V4 hx = wc.x * moving * half, hy = wc.y * moving * half, hz = wc.z * moving * half;
+    const V4 s = 1.0 / lanes::sqrt(1.0 + (hx * hx + hy * hy + hz * hz));
+    const V4 aw = s, ax = hx * s, ay = hy * s, az = hz * s;
+    const Columns4 b = lanes::load_quats(r.q + k);
+    const V4 pw = aw * b.w - ax * b.x - ay * b.y - az * b.z;
+    const V4 px = aw * b.x + ax * b.w + ay * b.z - az * b.y;
+    const V4 py = aw * b.y - ax * b.z + ay * b.w + az * b.x;
+    const V4 pz = aw * b.z + ax * b.y - ay * b.x + az * b.w;
+    const V4 n2 = pw * pw + px * px + py * py + pz * pz;
+    const V4 scale = 0.5 * (3.0 - n2);
+    lanes::store_quats(r.q + k, {pw * scale, px * scale, py * scale, pz * scale});
+  }
+  // The largest squared speeds, scaled after the pass: scaling by a positive constant keeps the
+  // order, so max(scaled) is the scaled max. NaN compares false: it counts as infinite.
+  const V4 infinite = lanes::splat(std::numeric_limits<double>::infinity());
+  const V4 v2 = lanes::norm2(lanes::columns(v)), w2 = lanes::norm2(wc);
+  max_v2 = lanes::select(v2 <= max_v2, max_v2, lanes::select(v2 == v2, v2, infinite));
+  max_w2 = lanes::select(w2 <= max_w2, max_w2, lanes::select(w2 == w2, w2, infinite));
+}
+
+/// The drift over owned particles [begin, end), with the orientation update compiled in or
+/// out; raises `m` to the largest squared speeds it saw.
 template <bool kTurn>
 void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt,
                  const Vec3& gravity, DriftMaxima& m) {
-  constexpr std::size_t kChunk = Integrator::kChunk;
-  const double half = 0.5 * dt;
-  const Motion* const motion = p.motion.data();
-  const double* const mass = p.mass.data();
-  Vec3* const v = p.velocity.data();
-  Vec3* const w = p.omega.data();
-  Quat* const q = p.orientation.data();
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
-  // The components of gravity, repeated along a run.
-  double gravity_run[3 * kChunk];
-  for (std::size_t j = 0; j < 3 * kChunk; j += 3) {
-    gravity_run[j] = gravity.x;
-    gravity_run[j + 1] = gravity.y;
-    gravity_run[j + 2] = gravity.z;
-  }
-  double free[kChunk], kick[kChunk], turn[kChunk], step[kChunk], moving[kChunk];
-  double kick_run[3 * kChunk], turn_run[3 * kChunk], step_run[3 * kChunk], mass_run[3 * kChunk];
-  double max_v2 = m.max_v2, max_w2 = m.max_w2;
-  for (std::size_t c = begin; c < end; c += kChunk) {
-    const std::size_t n = std::min(end - c, kChunk), n3 = 3 * n;
-    kick_factors(p, c, n, half, free, kick, turn);
-#pragma omp simd
-    for (std::size_t i = 0; i < n; ++i)
-      moving[i] = is_moving(motion[c + i]);  // a loop of its own, as in kick_factors()
-#pragma omp simd
-    for (std::size_t i = 0; i < n; ++i)
-      step[i] = moving[i] * dt;
-    spread3(kick, n, kick_run);
-    spread3(turn, n, turn_run);
-    spread3(step, n, step_run);
-    spread3(mass + c, n, mass_run);
-    double* const vr = run_of(v + c);
-    double* const wr = run_of(w + c);
-    double* const fr = run_of(p.force.data() + c);
-    double* const tr = run_of(p.torque.data() + c);
-    add_scaled(vr, fr, kick_run, n3);                             // v += F dt/2m
-    add_scaled(wr, tr, turn_run, n3);                             // omega += T dt/2I
-    add_scaled(run_of(p.position.data() + c), vr, step_run, n3);  // x += v dt
-    // The next step's initial load (GatherMap::initialise_loads): F = m g, T = 0.
-#pragma omp simd
-    for (std::size_t j = 0; j < n3; ++j) {
-      fr[j] = gravity_run[j] * mass_run[j];
-      tr[j] = 0.0;
-    }
-    if constexpr (kTurn)
-      for (std::size_t i = 0; i < n; ++i)
-        q[c + i] = rotated(q[c + i], w[c + i] * moving[i], dt);
-        // The largest squared speeds, scaled after the loop: scaling by a positive constant keeps
-        // the order, so max(scaled) is the scaled max. NaN compares false: it counts as infinite.
-#pragma omp simd reduction(max : max_v2, max_w2)
-    for (std::size_t k = c; k < c + n; ++k) {
-      const double v2 = norm2(v[k]), w2 = norm2(w[k]);
-      max_v2 = v2 <= max_v2 ? max_v2 : (v2 == v2 ? v2 : kInfinity);
-      max_w2 = w2 <= max_w2 ? max_w2 : (w2 == w2 ? w2 : kInfinity);
-    }
-  }
-  m.max_v2 = max_v2;
-  m.max_w2 = max_w2;
+  // The components of gravity in the layout of four rows.
+  const Rows3 gravity_rows{V4{gravity.x, gravity.y, gravity.z, gravity.x},
+                           V4{gravity.y, gravity.z, gravity.x, gravity.y},
+                           V4{gravity.z, gravity.x, gravity.y, gravity.z}};
+  V4 max_v2 = lanes::splat(m.max_v2), max_w2 = lanes::splat(m.max_w2);
+  for_each_four(rows_of(p), begin, end, [&](const ParticleRows& r, std::size_t k) {
+    drift_four<kTurn>(r, k, dt, gravity_rows, max_v2, max_w2);
+  });
+  m.max_v2 = lanes::max_lane(max_v2);
+  m.max_w2 = lanes::max_lane(max_w2);
 }
 
 void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt,
@@ -210,8 +285,9 @@ Integrator::Drift drift_result(const ParticleStore& p, const DriftMaxima& m, dou
   if (worst > 1.0)
     for (std::size_t k = 0; k < p.n_local(); ++k) {
       const double sk = norm2(p.velocity[k]) * step_scale, tk = norm2(p.omega[k]) * turn_scale;
+      // A non-finite speed is a runaway (NaN compares false, and would lose against tk).
       double r = sk > tk ? sk : tk;
-      r = r <= Integrator::kRunaway ? r : Integrator::kRunaway;
+      r = sk == sk && tk == tk && r <= Integrator::kRunaway ? r : Integrator::kRunaway;
       if (r == worst) {
         d.worst_index = k;
         break;
@@ -231,91 +307,94 @@ Integrator::Drift Integrator::first_half(ParticleStore& p, double dt, const Vec3
 
 namespace {
 
+/// The Cundall load of each component of four rows of loads against their velocities
+/// (damping_component, lane by lane), taken off where the particle is damped; the velocities
+/// take their kick from the damped loads, and `power` gets each component's damping power at
+/// the new velocity.
+inline void damp_and_kick(V4& load, V4& velocity, const V4& alpha, const V4& factor, V4& power) {
+  const V4 zero{}, one = lanes::splat(1.0);
+  const V4 sign =
+      lanes::select(velocity > zero, one, zero) - lanes::select(velocity < zero, one, zero);
+  const V4 df = alpha * lanes::abs(load) * sign;
+  const V4 g = lanes::select(alpha != zero, load - df, load);
+  load = g;
+  velocity = velocity + g * factor;
+  power = df * velocity;
+}
+
+/// The damped second half kick of four particles from k, with the ledger's global-damping
+/// columns where the store keeps them.
+inline void damped_kick_four(const ParticleRows& r, std::size_t k, double dt) {
+  const KickFactors f = kick_factors(r, k, 0.5 * dt);
+  const V4 alpha_lanes = lanes::load(r.alpha + k);
+  const Rows3 alpha = lanes::spread(alpha_lanes), kick = lanes::spread(f.kick),
+              turn = lanes::spread(f.turn);
+  Rows3 force = lanes::load_rows(r.force + k), v = lanes::load_rows(r.v + k);
+  Rows3 torque = lanes::load_rows(r.torque + k), w = lanes::load_rows(r.w + k);
+  Rows3 force_power, torque_power;
+  damp_and_kick(force.a, v.a, alpha.a, kick.a, force_power.a);
+  damp_and_kick(force.b, v.b, alpha.b, kick.b, force_power.b);
+  damp_and_kick(force.c, v.c, alpha.c, kick.c, force_power.c);
+  damp_and_kick(torque.a, w.a, alpha.a, turn.a, torque_power.a);
+  damp_and_kick(torque.b, w.b, alpha.b, turn.b, torque_power.b);
+  damp_and_kick(torque.c, w.c, alpha.c, turn.c, torque_power.c);
+  // The damped loads stay for the next step.
+  lanes::store_rows(r.force + k, force);
+  lanes::store_rows(r.torque + k, torque);
+  lanes::store_rows(r.v + k, v);
+  lanes::store_rows(r.w + k, w);
+  if (r.dissipated == nullptr) return;
+  // Energy ledger: the power the Cundall loads take out, at the synchronised velocity v^{n+1}
+  // just computed (docs/physics.md "Energy ledger").
+  const V4 zero{};
+  const V4 q = f.free * (lanes::component_sum(force_power) + lanes::component_sum(torque_power));
+  const auto on = alpha_lanes != zero;
+  const V4 dissipated = lanes::load(r.dissipated + k), power = lanes::load(r.power + k);
+  lanes::store(r.dissipated + k, lanes::select(on, dissipated + q * dt, dissipated));
+  lanes::store(r.power + k, lanes::select(on, q, lanes::select(power != zero, zero, power)));
+}
+
+/// The undamped second half kick of four particles from k.
+inline void kick_four(const ParticleRows& r, std::size_t k, double dt) {
+  const KickFactors f = kick_factors(r, k, 0.5 * dt);
+  Rows3 v = lanes::load_rows(r.v + k), w = lanes::load_rows(r.w + k);
+  add_scaled(v, lanes::load_rows(r.force + k), lanes::spread(f.kick));   // v += F dt/2m
+  add_scaled(w, lanes::load_rows(r.torque + k), lanes::spread(f.turn));  // omega += T dt/2I
+  lanes::store_rows(r.v + k, v);
+  lanes::store_rows(r.w + k, w);
+}
+
 /// The second half kick of owned particles [begin, end), one chunk of Integrator::kChunk.
 void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, double dt) {
-  const double half = 0.5 * dt;
-  // No coefficients where nothing in the model is damped (ParticleStore::tracks_damping()).
-  const double* const alpha = p.tracks_damping() ? p.damping.data() : nullptr;
-  Vec3* const force = p.force.data();
-  Vec3* const torque = p.torque.data();
-  Vec3* const v = p.velocity.data();
-  Vec3* const w = p.omega.data();
-  // The ledger's columns, or null where the store keeps none (simulation.energy_ledger: false,
-  // or nothing damped).
-  const bool ledger = p.books_global_damping();
-  double* const dissipated = ledger ? p.dissipated_global.data() : nullptr;
-  double* const power = ledger ? p.power_global.data() : nullptr;
-  // Each chunk goes through one of two branch-free loops that vectorise: without
-  // Cundall arithmetic where no particle of the chunk is damped (most grains), with it
-  // elsewhere (the net). An undamped particle gets the same bits on either path (its loads stay
-  // as they are, its power goes to 0 only if it was not), so the result does not depend on
-  // which particles share its chunk, that is on the rank count.
-  // Counted in doubles (select_bits), so that the check is a vector loop too.
+  const ParticleRows r = rows_of(p);
+  // Each chunk goes one of two ways: without Cundall arithmetic where no particle of the
+  // chunk is damped (most grains), with it elsewhere (the net). An undamped particle gets the
+  // same bits either way (its loads stay as they are, its power goes to 0 only if it was not),
+  // so the result does not depend on which particles share its chunk, that is on the rank
+  // count. Counted in doubles (select_bits), so that the check is a vector loop.
   double damped_count = 0.0, stale_count = 0.0;
-  if (alpha)
+  if (r.alpha)
 #pragma omp simd reduction(+ : damped_count)
     for (std::size_t k = begin; k < end; ++k)
-      damped_count += select_bits(alpha[k] != 0.0, 1.0, 0.0);
-  if (ledger)
-#pragma omp simd reduction(+ : stale_count)
-    for (std::size_t k = begin; k < end; ++k)
-      stale_count += select_bits(power[k] != 0.0, 1.0, 0.0);
-  const bool damped = damped_count > 0.0;
-  constexpr std::size_t kChunk = Integrator::kChunk;
-  const std::size_t n = end - begin, n3 = 3 * n;
-  double free[kChunk], kick[kChunk], turn[kChunk], kick_run[3 * kChunk], turn_run[3 * kChunk];
-  kick_factors(p, begin, n, half, free, kick, turn);
-  if (!damped) {
-    // Only a coefficient that just went to 0 leaves a last power to clear (counted above,
-    // read-only: storing back every particle's zero would dirty a cache line per 8 grains in
-    // the flows' memory-bound pass).
-    if (stale_count > 0.0)
-      for (std::size_t k = begin; k < end; ++k)
-        power[k] = power[k] != 0.0 ? 0.0 : power[k];
-    spread3(kick, n, kick_run);
-    spread3(turn, n, turn_run);
-    add_scaled(run_of(v + begin), run_of(force + begin), kick_run, 3 * n);   // v += F dt/2m
-    add_scaled(run_of(w + begin), run_of(torque + begin), turn_run, 3 * n);  // omega += T dt/2I
+      damped_count += select_bits(r.alpha[k] != 0.0, 1.0, 0.0);
+  if (damped_count > 0.0) {
+    for_each_four(r, begin, end,
+                  [dt](const ParticleRows& rows, std::size_t k) { damped_kick_four(rows, k, dt); });
     return;
   }
-  // Damped: the Cundall load of each component (damping_component) comes off only where the
-  // particle is damped, with selects (select_bits) so that the loop stays branch-free.
-  double alpha_run[3 * kChunk], force_power[3 * kChunk], torque_power[3 * kChunk];
-  spread3(kick, n, kick_run);
-  spread3(turn, n, turn_run);
-  spread3(alpha + begin, n, alpha_run);
-  // One Vec3 row pair (load, velocity) as runs: the damped load stays for the next step, the
-  // velocity takes its kick, and each component's damping power at the new velocity is kept.
-  const auto damp_and_kick = [n3, &alpha_run](double* __restrict load, double* __restrict vel,
-                                              const double* __restrict factor,
-                                              double* __restrict power_run) {
-#pragma omp simd
-    for (std::size_t j = 0; j < n3; ++j) {
-      const double a = alpha_run[j];
-      const double f = load[j];
-      const double df = damping_component(f, vel[j], a);
-      const double g = select_bits(a != 0.0, f - df, f);
-      load[j] = g;
-      const double v_new = vel[j] + g * factor[j];
-      vel[j] = v_new;
-      power_run[j] = df * v_new;
-    }
-  };
-  damp_and_kick(run_of(force + begin), run_of(v + begin), kick_run, force_power);
-  damp_and_kick(run_of(torque + begin), run_of(w + begin), turn_run, torque_power);
-  if (!ledger) return;
-#pragma omp simd
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t k = begin + i;
-    const bool on = alpha[k] != 0.0;
-    // Energy ledger: the power the Cundall loads take out, at the synchronised velocity
-    // v^{n+1} just computed (docs/physics.md "Energy ledger").
-    const double* const fp = force_power + 3 * i;
-    const double* const tp = torque_power + 3 * i;
-    const double q = free[i] * ((fp[0] + fp[1] + fp[2]) + (tp[0] + tp[1] + tp[2]));
-    dissipated[k] = select_bits(on, dissipated[k] + q * dt, dissipated[k]);
-    power[k] = select_bits(on, q, select_bits(power[k] != 0.0, 0.0, power[k]));
+  // Only a coefficient that just went to 0 leaves a last power to clear (counted first,
+  // read-only: storing back every particle's zero would dirty a cache line per 8 grains in
+  // the flows' memory-bound pass).
+  if (r.power) {
+#pragma omp simd reduction(+ : stale_count)
+    for (std::size_t k = begin; k < end; ++k)
+      stale_count += select_bits(r.power[k] != 0.0, 1.0, 0.0);
+    if (stale_count > 0.0)
+      for (std::size_t k = begin; k < end; ++k)
+        r.power[k] = r.power[k] != 0.0 ? 0.0 : r.power[k];
   }
+  for_each_four(r, begin, end,
+                [dt](const ParticleRows& rows, std::size_t k) { kick_four(rows, k, dt); });
 }
 
 }  // namespace

@@ -1,0 +1,225 @@
+// The integrator's particle passes against a plain scalar velocity Verlet written here, one
+// particle at a time, in the order of docs/physics.md §4: the passes run four particles at a
+// time (core/Lanes4.hpp) with the last ones padded, so every particle must get the bits of
+// the scalar update whatever its place in the arrays and whatever shares its lanes.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "physics/Integrator.hpp"
+
+namespace ringdem {
+namespace {
+
+struct Reference {
+  std::vector<Vec3> x, v, w, force, torque;
+  std::vector<Quat> q;
+  std::vector<double> dissipated, power;
+};
+
+Reference copy_of(const ParticleStore& p) {
+  Reference r{p.position, p.velocity, p.omega, p.force, p.torque, p.orientation, {}, {}};
+  if (p.books_global_damping()) {
+    r.dissipated = p.dissipated_global;
+    r.power = p.power_global;
+  }
+  return r;
+}
+
+double free_factor(Motion m) {
+  return m == Motion::kFree ? 1.0 : 0.0;
+}
+double moving_factor(Motion m) {
+  return m == Motion::kFixed ? 0.0 : 1.0;
+}
+double sign_of(double v) {
+  return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0);
+}
+
+// Cundall damping of one component (physics.md §4), its kick, and its power at the new
+// velocity.
+double damp_kick(double& f, double& vel, double alpha, double factor) {
+  const double df = alpha * std::abs(f) * sign_of(vel);
+  if (alpha != 0.0) f = f - df;
+  vel = vel + f * factor;
+  return df * vel;
+}
+
+void reference_second_half(const ParticleStore& p, Reference& r, double dt) {
+  const double half = 0.5 * dt;
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    const double free = free_factor(p.motion[k]);
+    const double kick = free * half / p.mass[k];
+    const double turn = free * half / ParticleStore::sphere_inertia(p.mass[k], p.radius[k]);
+    const double alpha = p.tracks_damping() ? p.damping[k] : 0.0;
+    double force_power[3], torque_power[3];
+    double* const f = &r.force[k].x;
+    double* const t = &r.torque[k].x;
+    double* const v = &r.v[k].x;
+    double* const w = &r.w[k].x;
+    for (int c = 0; c < 3; ++c) {
+      force_power[c] = damp_kick(f[c], v[c], alpha, kick);
+      torque_power[c] = damp_kick(t[c], w[c], alpha, turn);
+    }
+    if (r.power.empty()) continue;
+    const double q = free * ((force_power[0] + force_power[1] + force_power[2]) +
+                             (torque_power[0] + torque_power[1] + torque_power[2]));
+    if (alpha != 0.0) {
+      r.dissipated[k] = r.dissipated[k] + q * dt;
+      r.power[k] = q;
+    } else if (r.power[k] != 0.0) {
+      r.power[k] = 0.0;
+    }
+  }
+}
+
+// The drift and the Cayley update of the orientation, with the largest squared speeds.
+void reference_first_half(const ParticleStore& p, Reference& r, double dt, const Vec3& gravity,
+                          bool turning, double& max_v2, double& max_w2) {
+  const double half = 0.5 * dt;
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    const double free = free_factor(p.motion[k]);
+    const double moving = moving_factor(p.motion[k]);
+    const double kick = free * half / p.mass[k];
+    const double turn = free * half / ParticleStore::sphere_inertia(p.mass[k], p.radius[k]);
+    r.v[k] = r.v[k] + r.force[k] * kick;
+    r.w[k] = r.w[k] + r.torque[k] * turn;
+    r.x[k] = r.x[k] + r.v[k] * (moving * dt);
+    r.force[k] = gravity * p.mass[k];
+    r.torque[k] = {};
+    if (turning) {
+      const Vec3 h = r.w[k] * moving * half;
+      const double s = 1.0 / std::sqrt(1.0 + norm2(h));
+      r.q[k] = renormalized(Quat{s, h.x * s, h.y * s, h.z * s} * r.q[k]);
+    }
+    max_v2 = std::max(max_v2, norm2(r.v[k]));
+    max_w2 = std::max(max_w2, norm2(r.w[k]));
+  }
+}
+
+// n particles with every motion kind, damped and undamped (or all undamped), a stale damping
+// power here and there, loads and spins that differ from particle to particle.
+ParticleStore mixed_particles(std::size_t n, bool damped, bool ledger, bool turning = true) {
+  ParticleStore p;
+  p.set_tracks_orientation(turning);
+  p.set_tracks_ledger(ledger);
+  p.set_tracks_damping(true);
+  for (std::size_t k = 0; k < n; ++k) {
+    ParticleStore::NewParticle np;
+    np.gid = static_cast<std::int64_t>(k);
+    const double a = static_cast<double>(k);
+    np.position = {0.1 * a, -0.02 * a, 0.3};
+    np.velocity = {std::sin(a), std::cos(1.3 * a), -0.5 + 0.1 * a};
+    np.omega = {3.0 * std::cos(a), -2.0 + a, 0.5 * std::sin(2.0 * a)};
+    np.orientation = normalized(Quat{1.0, 0.1 * a, -0.2, 0.05 * a});
+    np.radius = 0.004 + 0.001 * static_cast<double>(k % 3);
+    np.density = 7800.0;
+    np.damping = damped && k % 3 != 1 ? 0.2 : 0.0;
+    np.motion = k % 5 == 3 ? Motion::kFixed : (k % 7 == 5 ? Motion::kPrescribed : Motion::kFree);
+    if (np.motion == Motion::kFixed) np.velocity = np.omega = {};
+    const std::size_t i = p.add(np);
+    p.force[i] = {0.3 * std::cos(a), -0.1 * a, 0.0};
+    p.torque[i] = {1e-4 * a, -2e-4, 0.0};
+    if (ledger) {
+      p.dissipated_global[i] = 0.01 * a;
+      p.power_global[i] = k % 4 == 2 ? 0.5 : 0.0;
+    }
+  }
+  return p;
+}
+
+void expect_same_bits(const Vec3& a, const Vec3& b, const char* what, std::size_t k) {
+  EXPECT_EQ(a.x, b.x) << what << " of particle " << k;
+  EXPECT_EQ(a.y, b.y) << what << " of particle " << k;
+  EXPECT_EQ(a.z, b.z) << what << " of particle " << k;
+}
+
+void expect_matches(const ParticleStore& p, const Reference& r) {
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    expect_same_bits(p.position[k], r.x[k], "position", k);
+    expect_same_bits(p.velocity[k], r.v[k], "velocity", k);
+    expect_same_bits(p.omega[k], r.w[k], "omega", k);
+    expect_same_bits(p.force[k], r.force[k], "force", k);
+    expect_same_bits(p.torque[k], r.torque[k], "torque", k);
+    if (p.tracks_orientation()) {
+      EXPECT_EQ(p.orientation[k], r.q[k]) << "orientation of particle " << k;
+    }
+    if (!r.power.empty()) {
+      EXPECT_EQ(p.dissipated_global[k], r.dissipated[k]) << "dissipated of particle " << k;
+      EXPECT_EQ(p.power_global[k], r.power[k]) << "power of particle " << k;
+    }
+  }
+}
+
+class IntegratorPasses : public ::testing::TestWithParam<std::size_t> {};
+
+// Both halves of a step, on 1 to 13 particles (every remainder of four lanes), damped with
+// the ledger's columns, damped without them, undamped with stale powers to clear, and grains
+// that keep no orientations.
+TEST_P(IntegratorPasses, GiveTheBitsOfTheScalarUpdate) {
+  const std::size_t n = GetParam();
+  const double dt = 1.3e-6;
+  const Vec3 gravity{0.5, -1.0, -9.81};
+  struct Kind {
+    bool damped, ledger, turning;
+  };
+  for (const Kind& kind : {Kind{true, true, true}, Kind{true, false, true}, Kind{false, true, true},
+                           Kind{false, false, false}}) {
+    ParticleStore p = mixed_particles(n, kind.damped, kind.ledger, kind.turning);
+    Reference r = copy_of(p);
+    Integrator::second_half(p, dt);
+    reference_second_half(p, r, dt);
+    expect_matches(p, r);
+    double max_v2 = 0.0, max_w2 = 0.0;
+    const Integrator::Drift d = Integrator::first_half(p, dt, gravity, 1e-3, 0.5, kind.turning);
+    reference_first_half(p, r, dt, gravity, kind.turning, max_v2, max_w2);
+    expect_matches(p, r);
+    EXPECT_EQ(d.max_speed, std::sqrt(max_v2));
+    const double step_scale = dt * dt / (1e-3 * 1e-3), turn_scale = dt * dt / (0.5 * 0.5);
+    EXPECT_EQ(d.worst_runaway, std::max(max_v2 * step_scale, max_w2 * turn_scale));
+  }
+}
+
+// The fused pass (the step batches of Simulation::run_steps) gives the bits of the two halves
+// in turn, with the callback seeing every particle up to its end kicked and none drifted.
+TEST_P(IntegratorPasses, FusedPassGivesTheBitsOfTheTwoHalves) {
+  const std::size_t n = GetParam();
+  const double dt = 1.3e-6;
+  const Vec3 gravity{0.0, 0.0, -9.81};
+  ParticleStore fused = mixed_particles(n, true, true);
+  ParticleStore apart = fused;
+  std::size_t seen = 0;
+  const Integrator::Drift d =
+      Integrator::second_then_first_half(fused, dt, gravity, 1e-3, 0.5, true, [&](std::size_t end) {
+        EXPECT_EQ(fused.position[end - 1], apart.position[end - 1]);  // not drifted yet
+        seen = end;
+      });
+  Integrator::second_half(apart, dt);
+  const Integrator::Drift e = Integrator::first_half(apart, dt, gravity, 1e-3, 0.5, true);
+  EXPECT_EQ(seen, n);
+  EXPECT_EQ(d.max_speed, e.max_speed);
+  const Reference r = copy_of(apart);
+  expect_matches(fused, r);
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryRemainder, IntegratorPasses, ::testing::Range<std::size_t>(1, 14));
+
+// A non-finite velocity anywhere, in the lanes or in the padded last ones, is a runaway.
+TEST(IntegratorPasses, NonFiniteVelocityIsARunawayInEveryLane) {
+  for (std::size_t n : {4u, 6u})
+    for (std::size_t bad = 0; bad < n; ++bad) {
+      ParticleStore p = mixed_particles(n, false, false);
+      p.motion[bad] = Motion::kFree;
+      p.velocity[bad].y = std::numeric_limits<double>::quiet_NaN();
+      const Integrator::Drift d = Integrator::first_half(p, 1e-6, {0, 0, -9.81}, 1e-3, 0.5, true);
+      EXPECT_EQ(d.worst_runaway, Integrator::kRunaway) << n << " particles, NaN in " << bad;
+      EXPECT_EQ(d.worst_index, bad);
+    }
+}
+
+}  // namespace
+}  // namespace ringdem
