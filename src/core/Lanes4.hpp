@@ -1,15 +1,10 @@
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 #include <cstring>
 
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
-
-#if defined(__AVX__)
-#include <immintrin.h>
-#endif
 
 namespace ringdem::lanes {
 
@@ -48,14 +43,6 @@ inline V4 abs(const V4& a) {
 /// c ? yes : no per lane.
 inline V4 select(const Mask4& c, const V4& yes, const V4& no) {
   return c ? yes : no;
-}
-/// Correctly rounded square root per lane, as std::sqrt.
-inline V4 sqrt(const V4& a) {
-#if defined(__AVX__)
-  return reinterpret_cast<V4>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(a)));
-#else
-  return V4{std::sqrt(a[0]), std::sqrt(a[1]), std::sqrt(a[2]), std::sqrt(a[3])};
-#endif
 }
 /// Largest lane.
 inline double max_lane(const V4& a) {
