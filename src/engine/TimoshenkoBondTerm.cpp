@@ -10,9 +10,7 @@ namespace ringdem {
 
 Quat TimoshenkoBondTerm::rotated_back(const Quat& q, const Vec3& omega, double dt) {
   // dq(-omega dt) undoes the integrator's Cayley update q <- dq(omega dt) q (Integrator.cpp).
-  const Vec3 h = omega * (-0.5 * dt);
-  const double s = 1.0 / std::sqrt(1.0 + norm2(h));
-  return renormalized(Quat{s, h.x * s, h.y * s, h.z * s} * q);
+  return cayley_turned(q, omega * (-0.5 * dt));
 }
 
 TimoshenkoBondTerm::TimoshenkoBondTerm(BondStore& bonds, std::vector<BondTimoshenko::Params> types)

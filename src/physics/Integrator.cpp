@@ -28,27 +28,10 @@ inline Vec3 damping_load(const Vec3& f, const Vec3& v, double alpha) {
           damping_component(f.z, v.z, alpha)};
 }
 
-/// 1/sqrt(n2) for n2 near 1, by two Newton steps from 1, with no square root or division:
-/// the relative error is about 0.21 e^4 for n2 = 1 + e.
-inline double inverse_norm_near_one(double n2) {
-  const double y = 0.5 * (3.0 - n2);
-  return y * (0.5 * (3.0 - n2 * y * y));
-}
-
-/// Returns dq(omega dt) q with the Cayley form dq(phi) = (1, phi/2) / sqrt(1 + |phi|^2/4): a unit
-/// quaternion of angle 2 atan(|phi|/2) = |phi| (1 - |phi|^2/12 + ...), exactly inverted by
-/// dq(-phi), so the update stays time-reversible; for |omega dt| ~ 1e-5 the angle error is
-/// ~1e-11 relative. Computed as the product p = (1, h) q, h = omega dt/2, brought to unit norm:
-/// |p|^2 = (1 + |h|^2) |q|^2, so p/|p| is dq q, and |q| drifts by round-off only. With
-/// e = |p|^2 - 1 (|h|^2 plus the last step's round-off) the norm comes out within 0.21 e^4 of 1:
-/// round-off for |omega dt| < 0.02, 3e-6 at the divergence guard's 0.5 rad a step, and the next
-/// step takes that out again. One quaternion product and a few multiplications: the square
-/// root and division of the scaled form took an eighth of the net's integrator.
+/// q <- dq(omega dt) q, the Cayley update (cayley_turned): for |omega dt| ~ 1e-5 the angle
+/// error against the exponential map is ~1e-11 relative; time-reversible.
 inline Quat rotated(const Quat& q, const Vec3& omega, double dt) {
-  const Vec3 h = omega * (0.5 * dt);
-  const Quat p = Quat{1.0, h.x, h.y, h.z} * q;
-  const double f = inverse_norm_near_one(p.w * p.w + p.x * p.x + p.y * p.y + p.z * p.z);
-  return {p.w * f, p.x * f, p.y * f, p.z * f};
+  return cayley_turned(q, omega * (0.5 * dt));
 }
 
 /// Angular velocity update of a rigid body with principal inertia I (body frame).
@@ -238,7 +221,8 @@ inline void drift_four(const ParticleRows& r, std::size_t k, double dt, const Ro
   lanes::store_rows(r.torque + k, {zero, zero, zero});
   const Columns3 wc = lanes::columns(w);
   if constexpr (kTurn) {
-    // rotated(q, omega * moving, dt) in its order: p = (1, h) q brought to unit norm.
+    // rotated(q, omega * moving, dt), cayley_turned() in its order: p = (1, h) q brought to
+    // unit norm by inverse_norm_near_one().
     const V4 hx = wc.x * moving * half, hy = wc.y * moving * half, hz = wc.z * moving * half;
     const Columns4 b = lanes::load_quats(r.q + k);
     const V4 pw = 1.0 * b.w - hx * b.x - hy * b.y - hz * b.z;
@@ -247,7 +231,7 @@ inline void drift_four(const ParticleRows& r, std::size_t k, double dt, const Ro
     const V4 pz = 1.0 * b.z + hx * b.y - hy * b.x + hz * b.w;
     const V4 n2 = pw * pw + px * px + py * py + pz * pz;
     const V4 y = 0.5 * (3.0 - n2);
-    const V4 scale = y * (0.5 * (3.0 - n2 * y * y));  // inverse_norm_near_one
+    const V4 scale = y * (0.5 * (3.0 - n2 * y * y));
     lanes::store_quats(r.q + k, {pw * scale, px * scale, py * scale, pz * scale});
   }
   // The largest squared speeds, scaled after the pass: scaling by a positive constant keeps the

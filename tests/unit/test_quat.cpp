@@ -141,5 +141,28 @@ TEST(QuatMath, QuatBetweenMapsAToB) {
   EXPECT_NEAR(norm(rotate(quat_between(a, b), a) - b), 0.0, 1e-9);
 }
 
+// The Cayley turn is the exponential map's rotation about the same axis by 2 atan(|phi|/2)
+// (Rodrigues), a unit quaternion, and the opposite turn undoes it (the bond terms' step back).
+TEST(QuatMath, CayleyTurnRotatesByItsAngleAndIsUndoneByTheOppositeTurn) {
+  const Quat q = normalized(Quat{0.9, -0.2, 0.3, 0.1});
+  const Vec3 axis = Vec3{0.3, 0.5, -0.8} * (1.0 / std::sqrt(0.98));
+  for (const double phi : {1e-7, 1e-4, 0.01, 0.2, 0.5}) {
+    const Vec3 h = axis * (0.5 * phi);
+    // Within the norm error of the two Newton steps, 0.21 e^4 with e = |h|^2.
+    const double e = 0.25 * phi * phi, tolerance = 1e-15 + 0.25 * std::pow(e, 4);
+    const Quat turned = cayley_turned(q, h);
+    const Quat expected = quat_from_rotation_vector(axis * (2.0 * std::atan(0.5 * phi))) * q;
+    EXPECT_NEAR(turned.w, expected.w, tolerance) << phi;
+    EXPECT_NEAR(turned.x, expected.x, tolerance) << phi;
+    EXPECT_NEAR(turned.y, expected.y, tolerance) << phi;
+    EXPECT_NEAR(turned.z, expected.z, tolerance) << phi;
+    const Quat back = cayley_turned(turned, h * -1.0);
+    EXPECT_NEAR(back.w, q.w, 2.0 * tolerance) << phi;
+    EXPECT_NEAR(back.x, q.x, 2.0 * tolerance) << phi;
+    EXPECT_NEAR(back.y, q.y, 2.0 * tolerance) << phi;
+    EXPECT_NEAR(back.z, q.z, 2.0 * tolerance) << phi;
+  }
+}
+
 }  // namespace
 }  // namespace ringdem
