@@ -14,9 +14,8 @@ namespace {
 
 /// The Cundall damping load alpha |f| sign(v) of one component, taken off f.
 inline double damping_component(double f, double v, double alpha) {
-  // sign(0) = 0: a particle at rest is not pushed. In doubles (an int here would make the
-  // vectoriser size the damped kick's vectors by 32-bit lanes, see kick_factors()) and by
-  // select_bits (AVX2).
+  // sign(0) = 0: a particle at rest is not pushed. The passes' damp_and_kick() does the same
+  // lane by lane.
   const double s = select_bits(v > 0.0, 1.0, 0.0) - select_bits(v < 0.0, 1.0, 0.0);
   return alpha * std::abs(f) * s;
 }

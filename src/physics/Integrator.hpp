@@ -46,7 +46,8 @@ struct Integrator {
   static Drift second_then_first_half(ParticleStore& p, double dt, const Vec3& gravity,
                                       double max_step, double max_turn, bool orientations,
                                       const std::function<void(std::size_t end)>& between);
-  /// Particles a chunk of the passes: their columns fit the first-level cache.
+  /// Particles a chunk of the second half kick: each chunk takes the damped or the undamped
+  /// way as a whole (a multiple of the passes' four lanes).
   static constexpr std::size_t kChunk = 64;
   /// Particles a block of second_then_first_half(): each of its three parts runs over a block
   /// before the next starts, so a block's columns (about 4 MB) come back from the last-level
