@@ -6,6 +6,14 @@
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
 
+// Without AVX, GCC notes that passing these 32-byte vectors by value has another ABI than with
+// it (-Wpsabi). The functions here and the passes that use them are inline in one translation
+// unit, compiled with one set of flags; no such value crosses a library boundary.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
 namespace ringdem::lanes {
 
 // Four particles side by side: one value of each in a vector of four doubles (GCC's vector
@@ -130,3 +138,7 @@ inline void store_quats(Quat* q, const Columns4& c) {
 }
 
 }  // namespace ringdem::lanes
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif

@@ -8,6 +8,12 @@
 #include "core/Lanes4.hpp"
 #include "core/Select.hpp"
 
+// The passes hand vectors of four doubles between inline functions of this file (see
+// core/Lanes4.hpp on -Wpsabi).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
 namespace ringdem {
 
 namespace {
