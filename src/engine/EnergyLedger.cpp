@@ -76,7 +76,8 @@ std::vector<ExactSum> EnergyLedger::state() const {
   std::vector<ExactSum> s(intervals_.begin(), intervals_.end());
   s.insert(s.end(), last_.begin(), last_.end());
   s.insert(s.end(), direct_.begin(), direct_.end());
-  s.insert(s.end(), held_.begin(), held_.end());
+  const auto& held_now = held();  // a checkpoint's: the last step must have booked them
+  s.insert(s.end(), held_now.begin(), held_now.end());
   s.insert(s.end(), held_leaving_.begin(), held_leaving_.end());
   return s;
 }
@@ -84,6 +85,7 @@ std::vector<ExactSum> EnergyLedger::state() const {
 void EnergyLedger::restore(const std::vector<ExactSum>& totals, bool root) {
   intervals_ = direct_ = now_ = closing_ = last_ = {};
   held_ = held_leaving_ = {};
+  held_current_ = true;
   if (totals.empty() || !root) return;
   if (totals.size() != kStateSums)
     throw std::runtime_error("checkpoint: energy ledger state of the wrong size");
@@ -98,8 +100,19 @@ void EnergyLedger::restore(const std::vector<ExactSum>& totals, bool root) {
   }
 }
 
-void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& gather) {
+const std::array<ExactSum, EnergyLedger::kHeldSums>& EnergyLedger::held() const {
+  if (!held_current_)
+    throw std::logic_error(
+        "EnergyLedger::held(): the last step did not book the held energies (only the last "
+        "step of a batch does)");
+  return held_;
+}
+
+void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& gather,
+                                      bool book_held) {
   if (!enabled_) return;
+  book_held_ = book_held;
+  held_current_ = book_held;
   const std::size_t n_local = p.n_local();
   const bool moments = have_moments(n_local);
   // Only the particles with a load to book now: contacts summed per particle, records, or a
@@ -126,6 +139,10 @@ void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& g
   n_visit_ = scan_all_ ? n_local : visit_.size();
   next_visit_ = next_records_ = next_driven_ = 0;
 }
+
+namespace {
+constexpr std::size_t kEntriesAhead = 8;
+}  // namespace
 
 void EnergyLedger::accumulate_below(std::size_t end, const ParticleStore& p,
                                     const std::vector<RigidBody>& bodies, const ForceSlots& slots,
@@ -164,6 +181,10 @@ void EnergyLedger::accumulate_below(std::size_t end, const ParticleStore& p,
     // Contacts summed per particle by their term, in partner order (ContactMoments): the power
     // of the loads at the end-of-step velocities.
     if (has_moments) {
+      // The entries are read in order, among a dozen streams of the integrator's pass over
+      // the same particles: the hardware prefetcher does not keep up with them all.
+      if (own_entries_ && k + kEntriesAhead < moments_.size())
+        __builtin_prefetch(&moments_[k + kEntriesAhead], 1);
       ContactMoments& m = moments_[own_entries_ ? k : entry_of_[k]];
       damping -= dot(m.damping, v) + dot(m.damping_moment, w);
       friction -= dot(m.friction, v) + dot(m.friction_moment, w);
@@ -214,8 +235,10 @@ void EnergyLedger::accumulate_below(std::size_t end, const ParticleStore& p,
     // the friction work less the tangential energy held now (held()), plus that held when the
     // ledger started.
     if (initial) direct_[kFriction].add(tangential);
-    held_[kTangentialHeld].add(tangential);  // summed in a fixed order: the same bits on any
-    held_[kContactHeld].add(elastic);        // rank count
+    if (book_held_) {
+      held_[kTangentialHeld].add(tangential);  // summed in a fixed order: the same bits on any
+      held_[kContactHeld].add(elastic);        // rank count
+    }
     if (leaves) {
       held_leaving_[kTangentialHeld].add(tangential);
       held_leaving_[kContactHeld].add(elastic);

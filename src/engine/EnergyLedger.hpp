@@ -1,7 +1,9 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -46,8 +48,44 @@ struct alignas(64) ContactMoments {
   Vec3f friction_moment;           ///< sum of arm x spring force, plus the rolling-friction torques
   double tangential_energy = 0.0;  ///< this particle's shares of |F_t|^2 / 2 S_t
   double elastic_energy = 0.0;     ///< this particle's shares of the contacts' elastic energy
+
+  /// Adds one contact's loads on this particle, each component as Vec3f::operator+= adds it
+  /// (in double, rounded once to float): the same bits. The twelve floats lie next to each
+  /// other and are added four at a time, converted to double and back in vector registers: one
+  /// at a time, the conversions and the read-modify-writes of a dense packing's two ends a
+  /// contact were about a fifth of its pair loop (docs/performance.md, nineteenth round).
+  [[gnu::always_inline]] void add(const Vec3& damping_load, const Vec3& damping_load_moment,
+                                  const Vec3& friction_load, const Vec3& friction_load_moment,
+                                  double tangential, double elastic) {
+    using Doubles = double __attribute__((vector_size(32)));
+    using Floats = float __attribute__((vector_size(16)));
+    const Doubles add0{damping_load.x, damping_load.y, damping_load.z, damping_load_moment.x};
+    const Doubles add1{damping_load_moment.y, damping_load_moment.z, friction_load.x,
+                       friction_load.y};
+    const Doubles add2{friction_load.z, friction_load_moment.x, friction_load_moment.y,
+                       friction_load_moment.z};
+    // damping, damping_moment, friction, friction_moment: twelve floats from offset 0
+    unsigned char* const sums = reinterpret_cast<unsigned char*>(this);
+    Floats s0, s1, s2;
+    std::memcpy(&s0, sums, sizeof s0);
+    std::memcpy(&s1, sums + sizeof s0, sizeof s1);
+    std::memcpy(&s2, sums + 2 * sizeof s0, sizeof s2);
+    s0 = __builtin_convertvector(__builtin_convertvector(s0, Doubles) + add0, Floats);
+    s1 = __builtin_convertvector(__builtin_convertvector(s1, Doubles) + add1, Floats);
+    s2 = __builtin_convertvector(__builtin_convertvector(s2, Doubles) + add2, Floats);
+    std::memcpy(sums, &s0, sizeof s0);
+    std::memcpy(sums + sizeof s0, &s1, sizeof s1);
+    std::memcpy(sums + 2 * sizeof s0, &s2, sizeof s2);
+    tangential_energy += tangential;
+    elastic_energy += elastic;
+  }
 };
 static_assert(sizeof(ContactMoments) == 64, "a ledger entry is one cache line");
+static_assert(offsetof(ContactMoments, damping) == 0 &&
+                  offsetof(ContactMoments, damping_moment) == 12 &&
+                  offsetof(ContactMoments, friction) == 24 &&
+                  offsetof(ContactMoments, friction_moment) == 36,
+              "ContactMoments::add() reads the four sums as twelve floats in a row");
 
 /// The energy ledger, written once for every force term: the work of the dissipative contact
 /// loads and of driven bodies and particles, from the records the terms write and the gather
@@ -77,8 +115,9 @@ class EnergyLedger {
   /// This rank's sums of its particles' shares of the tangential spring energy and of the
   /// contacts' elastic energy after the last accumulate(), each particle's summed in a fixed
   /// order of its contacts: friction counts the first as not yet dissipated, the energy
-  /// balance the second as contact energy.
-  const std::array<ExactSum, kHeldSums>& held() const { return held_; }
+  /// balance the second as contact energy. Only a step that ends a batch books them (see
+  /// start_accumulation()); asked for after one that did not, this throws std::logic_error.
+  const std::array<ExactSum, kHeldSums>& held() const;
   /// The part of held() of particles that an outflow box takes out before the next step: it
   /// leaves the model with them (OutflowSink::remove_leaving()).
   const std::array<ExactSum, kHeldSums>& held_by_leaving() const { return held_leaving_; }
@@ -168,8 +207,11 @@ class EnergyLedger {
   /// same operations on each particle, so the same bits. start_accumulation() lists the
   /// particles to visit; accumulate_below(end) books the listed ones with index below `end`
   /// (called with growing ends); finish_accumulation() books the external loads and closes
-  /// the step's interval.
-  void start_accumulation(const ParticleStore& p, const GatherMap& gather);
+  /// the step's interval. With `book_held` false the held energies (held()) are not summed:
+  /// inside a batch of steps nothing reads them before the next step replaces them, and their
+  /// two exact additions a particle in contact were a fifth of a packing's booking pass
+  /// (docs/performance.md, nineteenth round). The tallies do not depend on them.
+  void start_accumulation(const ParticleStore& p, const GatherMap& gather, bool book_held = true);
   void accumulate_below(std::size_t end, const ParticleStore& p,
                         const std::vector<RigidBody>& bodies, const ForceSlots& slots,
                         const GatherMap& gather, bool initial = false,
@@ -191,6 +233,8 @@ class EnergyLedger {
   /// those of particles that leave after it, and those of the last step.
   std::array<ExactSum, kTallies> intervals_, direct_, now_, closing_, last_;
   std::array<ExactSum, kHeldSums> held_, held_leaving_;
+  bool book_held_ = true;     ///< this step's pass sums held_ (start_accumulation())
+  bool held_current_ = true;  ///< held_ is that of the last booked step
   std::vector<DissipationRecord> records_;
   DissipationRecord unbooked_;  ///< what record() gives while the ledger is off
   std::vector<std::uint32_t> record_of_slot_;

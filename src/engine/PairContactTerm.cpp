@@ -229,26 +229,20 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             loads.force[a] += force;
             loads.torque[a] += chunk.torque_a.get(c);
             if constexpr (kBook) {
-              ContactMoments& e = ledger.moments_at(chunk.moments_a[c]);
-              e.damping += chunk.damping_a.get(c);
-              e.damping_moment += chunk.damping_moment_a.get(c);
-              e.friction += spring;
-              e.friction_moment += chunk.friction_moment_a.get(c);
-              e.tangential_energy += chunk.half_tangential_energy[c];
-              e.elastic_energy += chunk.half_elastic_energy[c];
+              ledger.moments_at(chunk.moments_a[c])
+                  .add(chunk.damping_a.get(c), chunk.damping_moment_a.get(c), spring,
+                       chunk.friction_moment_a.get(c), chunk.half_tangential_energy[c],
+                       chunk.half_elastic_energy[c]);
             }
           }
           if (loads.owned(b)) {
             loads.force[b] += -force;
             loads.torque[b] += chunk.torque_b.get(c);
             if constexpr (kBook) {
-              ContactMoments& e = ledger.moments_at(chunk.moments_b[c]);
-              e.damping += -chunk.damping_a.get(c);
-              e.damping_moment += chunk.damping_moment_b.get(c);
-              e.friction += -spring;
-              e.friction_moment += chunk.friction_moment_b.get(c);
-              e.tangential_energy += chunk.half_tangential_energy[c];
-              e.elastic_energy += chunk.half_elastic_energy[c];
+              ledger.moments_at(chunk.moments_b[c])
+                  .add(-chunk.damping_a.get(c), chunk.damping_moment_b.get(c), -spring,
+                       chunk.friction_moment_b.get(c), chunk.half_tangential_energy[c],
+                       chunk.half_elastic_energy[c]);
             }
           }
         });

@@ -520,7 +520,8 @@ void Simulation::finish_step_and_start_next(const BodyObserver& observe_bodies) 
     Integrator::second_half(model_.bodies, dt_, settings_.gravity);
     // The bodies are at the end of this step, time_ too (the next step's starts below).
     if (observe_bodies) observe_bodies(model_.bodies, time_);
-    ledger_.start_accumulation(p, gather_);
+    // The next step replaces the held energies before anything can read them.
+    ledger_.start_accumulation(p, gather_, /*book_held=*/false);
     drift_ = Integrator::second_then_first_half(
         p, dt_, settings_.gravity, kMaxStepFraction * settings_.skin, kMaxTurn, track_orientations_,
         [this, &p](std::size_t end) {

@@ -6,7 +6,9 @@
 // automatic choice changes on the way), and on grains entering and leaving.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <optional>
+#include <random>
 
 #include "TestCases.hpp"
 #include "engine/ModelBuilder.hpp"
@@ -94,6 +96,58 @@ TEST(LedgerEntries, GrainsEnteringAndLeavingBookTheSameEitherWay) {
   ASSERT_GT(touched.energies.contact_damping, 0.0);
   ASSERT_GT(touched.energies.outflow, 0.0) << "no grain left: the test checks less";
   expect_same_ledger(own, touched);
+}
+
+// ContactMoments::add() adds its twelve sums four at a time in vector registers; each must be
+// what the scalar Vec3f addition gives (in double, rounded once to float), bit for bit, over a
+// long run of contacts whose loads span many magnitudes and both signs (so that the roundings
+// differ from lane to lane), and the energies in double.
+TEST(LedgerEntries, AnEntryAddsAsTwelveScalarFloatSums) {
+  std::mt19937_64 random(17);
+  std::uniform_real_distribution<double> mantissa(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-30, 10);
+  const auto draw = [&] { return std::ldexp(mantissa(random), exponent(random)); };
+  const auto draw_vec = [&] { return Vec3{draw(), draw(), draw()}; };
+  ContactMoments vector_sums;
+  Vec3f damping, damping_moment, friction, friction_moment;
+  double tangential = 0.0, elastic = 0.0;
+  for (int contact = 0; contact < 2000; ++contact) {
+    const Vec3 d = draw_vec(), dm = draw_vec(), f = draw_vec(), fm = draw_vec();
+    const double t = std::abs(draw()), e = std::abs(draw());
+    vector_sums.add(d, dm, f, fm, t, e);
+    damping += d;
+    damping_moment += dm;
+    friction += f;
+    friction_moment += fm;
+    tangential += t;
+    elastic += e;
+  }
+  const auto same_bits = [](const Vec3f& a, const Vec3f& b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+  };
+  EXPECT_TRUE(same_bits(vector_sums.damping, damping));
+  EXPECT_TRUE(same_bits(vector_sums.damping_moment, damping_moment));
+  EXPECT_TRUE(same_bits(vector_sums.friction, friction));
+  EXPECT_TRUE(same_bits(vector_sums.friction_moment, friction_moment));
+  EXPECT_EQ(vector_sums.tangential_energy, tangential);
+  EXPECT_EQ(vector_sums.elastic_energy, elastic);
+  EXPECT_NE(damping.x, 0.0f);
+}
+
+// Inside a batch of steps the ledger does not sum what the contacts hold (nothing reads it
+// before the next step replaces it); a batch's last step does. Asking for it after a step that
+// did not book it is a programming error, not a stale number.
+TEST(LedgerEntries, HeldEnergiesAreAskedForOnlyAfterAStepThatBookedThem) {
+  const CaseConfig c = overlapping_lattice();
+  const Communicator self = testing::self_comm();
+  Simulation sim(build_model(c, self), self, settings_from_case(c));
+  sim.run_steps(20);
+  EnergyLedger& ledger = sim.energy_ledger();
+  EXPECT_NO_THROW(ledger.held());
+  EXPECT_GT(ledger.held()[EnergyLedger::kContactHeld].value(), 0.0);
+  ledger.start_accumulation(sim.model().particles, GatherMap{}, /*book_held=*/false);
+  EXPECT_THROW(ledger.held(), std::logic_error);
+  EXPECT_THROW(ledger.state(), std::logic_error);
 }
 
 }  // namespace

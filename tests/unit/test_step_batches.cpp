@@ -44,6 +44,8 @@ void expect_same_state(Simulation& one_by_one, Simulation& batched) {
   EXPECT_EQ(ea.kinetic, eb.kinetic);
   EXPECT_EQ(ea.contact_damping, eb.contact_damping);
   EXPECT_EQ(ea.friction, eb.friction);
+  // What the contacts hold: inside a batch the ledger does not sum it, at a batch's end it must.
+  EXPECT_EQ(ea.contact_elastic, eb.contact_elastic);
   EXPECT_EQ(ea.global_damping, eb.global_damping);
   EXPECT_EQ(ea.boundary_work, eb.boundary_work);
   EXPECT_EQ(ea.outflow, eb.outflow);
