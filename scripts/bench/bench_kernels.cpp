@@ -242,6 +242,53 @@ BENCHMARK(BM_IntegrateGrains)
     ->Args({1 << 20, 1})
     ->Unit(benchmark::kMicrosecond);
 
+// A packing in contact, as the peers' `dense` bed (docs/performance.md) at a size that fits
+// a benchmark: n^3 rock spheres of 5 mm on a 9.98 mm lattice (each presses 20 um into its
+// neighbours, the bottom layer 10 um into a floor), sliding at 1 m/s down a 35-degree incline,
+// stepped in batches of 10 as a run steps them (Simulation::run_steps). Arg 0: spheres a side
+// (20: 8 000 grains, in cache; 64: 262 144, from memory); Arg 1: the energy ledger off (0) or
+// on (1), whose cost on a packing is what the seventeenth and nineteenth rounds measured.
+void BM_StepPacking(benchmark::State& state) {
+  const int side = static_cast<int>(state.range(0));
+  CaseConfig c = testing::base_case();
+  c.simulation.gravity = {5.626784840603762, 0.0, -8.03588155447501};
+  c.simulation.allow_initial_overlap = true;
+  c.simulation.energy_ledger = state.range(1) != 0;
+  c.simulation.skin = 0.001;
+  MaterialConfig& rock = c.materials[0];
+  rock.density = 2600.0;
+  rock.youngs_modulus = 1e9;
+  rock.poisson_ratio = 0.25;
+  rock.restitution = 0.3;
+  rock.friction = 0.5;
+  LatticeConfig grains;
+  grains.group = "grains";
+  grains.origin = {0.005, 0.005, 0.00499};
+  grains.count = {side, side, side};
+  grains.spacing = 0.00998;
+  grains.particle_radius = 0.005;
+  grains.velocity = {1.0, 0.0, 0.0};
+  c.lattices = {grains};
+  RigidBodyConfig floor;
+  floor.name = "floor";
+  floor.shape = ShapeKind::kPlane;
+  c.rigid_bodies = {floor};
+  const Communicator comm(MPI_COMM_SELF);
+  SimulationSettings settings = settings_from_case(c);
+  settings.dt = 1.31e-5;
+  Simulation sim(build_model(c, comm), comm, settings);
+  sim.run_steps(10);
+  for (auto _ : state)
+    sim.run_steps(10);
+  count_particle_steps(state, 10.0 * static_cast<double>(sim.model().particles.n_local()));
+}
+BENCHMARK(BM_StepPacking)
+    ->Args({20, 0})
+    ->Args({20, 1})
+    ->Args({64, 0})
+    ->Args({64, 1})
+    ->Unit(benchmark::kMillisecond);
+
 }  // namespace
 }  // namespace ringdem
 
