@@ -111,7 +111,6 @@ const std::array<ExactSum, EnergyLedger::kHeldSums>& EnergyLedger::held() const 
 void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& gather,
                                       bool book_held) {
   if (!enabled_) return;
-  book_held_ = book_held;
   held_current_ = book_held;
   const std::size_t n_local = p.n_local();
   const bool moments = have_moments(n_local);
@@ -235,7 +234,7 @@ void EnergyLedger::accumulate_below(std::size_t end, const ParticleStore& p,
     // the friction work less the tangential energy held now (held()), plus that held when the
     // ledger started.
     if (initial) direct_[kFriction].add(tangential);
-    if (book_held_) {
+    if (held_current_) {
       held_[kTangentialHeld].add(tangential);  // summed in a fixed order: the same bits on any
       held_[kContactHeld].add(elastic);        // rank count
     }

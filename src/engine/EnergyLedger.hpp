@@ -233,8 +233,8 @@ class EnergyLedger {
   /// those of particles that leave after it, and those of the last step.
   std::array<ExactSum, kTallies> intervals_, direct_, now_, closing_, last_;
   std::array<ExactSum, kHeldSums> held_, held_leaving_;
-  bool book_held_ = true;     ///< this step's pass sums held_ (start_accumulation())
-  bool held_current_ = true;  ///< held_ is that of the last booked step
+  /// held_ is summed by the pass in progress, or was by the last one (start_accumulation()).
+  bool held_current_ = true;
   std::vector<DissipationRecord> records_;
   DissipationRecord unbooked_;  ///< what record() gives while the ledger is off
   std::vector<std::uint32_t> record_of_slot_;
