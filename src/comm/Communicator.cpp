@@ -43,6 +43,9 @@ std::int64_t Communicator::max(std::int64_t v) const {
 }
 
 std::vector<ExactSum> Communicator::reduce_exact(const std::vector<ExactSum>& partial) const {
+  // On one rank the partial sums are the totals (the step loop asks for a body's loads every
+  // step).
+  if (size_ == 1) return partial;
   // Integer sums of canonical words are exact and associative, so MPI's reduction order does
   // not matter.
   std::vector<std::int64_t> words(partial.size() * ExactSum::kWords);
@@ -50,7 +53,7 @@ std::vector<ExactSum> Communicator::reduce_exact(const std::vector<ExactSum>& pa
     const auto w = partial[c].export_words();
     std::copy(w.begin(), w.end(), words.begin() + static_cast<std::ptrdiff_t>(c * w.size()));
   }
-  if (size_ > 1 && !words.empty())
+  if (!words.empty())
     MPI_Allreduce(MPI_IN_PLACE, words.data(), static_cast<int>(words.size()), MPI_INT64_T, MPI_SUM,
                   comm_);
   std::vector<ExactSum> totals;

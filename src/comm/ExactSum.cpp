@@ -96,31 +96,30 @@ double ExactSum::value() const {
     --top;
   if (top < 0) return 0.0;
   const auto limb = [&](int i) {
-    return static_cast<std::uint64_t>(m.limb_[static_cast<std::size_t>(i)]);
+    return i < 0 ? std::uint64_t{0} : static_cast<std::uint64_t>(m.limb_[static_cast<std::size_t>(i)]);
   };
-  const auto bit = [&](int p) {
-    const int i = std::min(p / 32, kLimbs - 1);
-    return (limb(i) >> (p - 32 * i)) & 1u;
-  };
-  // Whether any bit below position p is set.
-  const auto any_below = [&](int p) {
-    if (p <= 0) return false;
-    const int i = std::min(p / 32, kLimbs - 1);
-    const int within = p - 32 * i;
-    if (within > 0 && (limb(i) & ((std::uint64_t{1} << within) - 1)) != 0) return true;
-    for (int j = 0; j < i; ++j)
-      if (limb(j) != 0) return true;
-    return false;
-  };
+  // The top three limbs as one integer: window bit j is bit base + j of the sum. The top limb
+  // is nonzero, so the window reaches 64 bits above base: more than the 53 kept and the
+  // rounding bit. (Limbs below limb 0 are zeros.)
+  __extension__ typedef unsigned __int128 Window;
+  const int base = 32 * (top - 2);
+  const Window window = (static_cast<Window>(limb(top)) << 64) |
+                        (static_cast<Window>(limb(top - 1)) << 32) | limb(top - 2);
   const int msb = 32 * top + 63 - std::countl_zero(limb(top));
   // Keep 53 bits from the highest one down. Below 2^-1021 every bit is kept: such a sum is a
   // multiple of 2^-1074 below 2^53 2^-1074, a double (subnormal or not) exactly.
   const int lsb = std::max(msb - 52, 0);
-  std::uint64_t mantissa = 0;
-  for (int p = msb; p >= lsb; --p)
-    mantissa = (mantissa << 1) | bit(p);
-  if (lsb > 0 && bit(lsb - 1) != 0 && (any_below(lsb - 1) || (mantissa & 1u) != 0))
-    ++mantissa;  // round half to even; 2^53 stays exact and ldexp moves the exponent
+  const int shift = lsb - base;  // > 0 where lsb > 0: the rounding bit lies in the window
+  auto mantissa = static_cast<std::uint64_t>(window >> shift);
+  if (lsb > 0) {
+    const bool round_bit = ((window >> (shift - 1)) & 1u) != 0;
+    // Whether any bit below the rounding bit is set: in the window, or in a lower limb.
+    bool sticky = (window & ((Window{1} << (shift - 1)) - 1)) != 0;
+    for (int j = 0; j < top - 2 && !sticky; ++j)
+      sticky = limb(j) != 0;
+    if (round_bit && (sticky || (mantissa & 1u) != 0))
+      ++mantissa;  // round half to even; 2^53 stays exact and ldexp moves the exponent
+  }
   const double v = std::ldexp(static_cast<double>(mantissa), lsb - 1074);
   return negative ? -v : v;
 }

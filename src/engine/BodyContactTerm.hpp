@@ -30,6 +30,8 @@ class BodyContactTerm final : public ForceTerm {
   /// its torque about the body's reference point. Exact, so the simulation's sum over the ranks
   /// does not depend on how the contacts are spread over them.
   const std::vector<ExactSum>& body_load_sums() const { return body_load_sums_; }
+  /// The particle–body pairs within reach since the last rebuild (on this rank).
+  std::size_t n_candidates() const { return particle_.size(); }
 
  private:
   std::vector<std::uint32_t> particle_, body_;

@@ -329,6 +329,9 @@ void Simulation::build_lists() {
   slots_.assign(allocator_.size());
   gather_.finish(p);
   ledger_.rebuild(gather_, allocator_.size());
+  // A rebuild is collective (every rank rebuilds at the same step): so is this flag.
+  if (!model_.bodies.empty() && body_term_ != nullptr)
+    bodies_in_reach_ = comm_.any(body_term_->n_candidates() > 0);
   // The mass that gravity pulls on changes only when particles come or go, which rebuilds.
   ExactSum free_mass;
   if (momentum_.enabled())
@@ -431,6 +434,13 @@ void Simulation::reduce_body_loads() {
   // in one all-reduce of a few words per body whatever the number of contacts. No rank gathers
   // the others' contacts (a debris flow's bed touches every grain that rests on it).
   using L = BodyContactTerm::LoadColumn;
+  if (!bodies_in_reach_) {
+    // No particle within reach of any body on any rank: each load is the sum of no terms, +0
+    // (a body waiting out of play, such as the rockfall's boulder while the net sags).
+    for (RigidBody& b : model_.bodies)
+      b.force = b.torque = Vec3{};
+    return;
+  }
   const std::vector<double> total = comm_.sum_exact(body_term_->body_load_sums());
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
     const double* const t = &total[L::kLoadColumns * b];

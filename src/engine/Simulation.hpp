@@ -296,6 +296,9 @@ class Simulation {
   bool force_rebuild_ = false;
   bool bonds_broke_before_restart_ = false;  ///< RestartState::bonds_broke, for the next step
   bool bonds_broke_anywhere_ = false;
+  /// Whether some rank has a particle within reach of a rigid body since the last rebuild:
+  /// where none has, every body's contact load is zero and needs no reduction.
+  bool bodies_in_reach_ = true;
   bool stop_local_ = false;
   bool stop_agreed_ = false;
   double move_bound_ = 0.0;  ///< no particle moved farther since the last rebuild (all ranks)

@@ -118,6 +118,48 @@ TEST(ExactSum, EqualsAn128BitFixedPointReference) {
   }
 }
 
+/// The rounding wherever the sum lies against the 32-bit limbs: a few terms of 53 random bits,
+/// multiples of 2^e for e over the whole normal range, against the same 128-bit reference
+/// (scaled by 2^-e: the result is normal, so the scaling does not round again). Sums of few
+/// long terms put the highest bit, the rounding bit and the sticky bits in every position
+/// relative to the limbs, ties included (the last two trials of each e are exact ties).
+TEST(ExactSum, RoundsLikeAn128BitReferenceAtEveryLimbOffset) {
+  std::mt19937_64 rng(13);
+  std::uniform_int_distribution<std::uint64_t> bits53(0, (std::uint64_t{1} << 53) - 1);
+  std::uniform_int_distribution<int> offset(0, 60), terms(1, 4);
+  for (int e = -1022; e <= 900; e += 7) {
+    for (int trial = 0; trial < 6; ++trial) {
+      std::vector<double> v;
+      Int128 scaled = 0;
+      if (trial < 4) {
+        for (int k = terms(rng); k > 0; --k) {
+          const int o = offset(rng);
+          const auto m = static_cast<std::int64_t>(bits53(rng)) * (rng() % 2 ? 1 : -1);
+          v.push_back(std::ldexp(static_cast<double>(m), e + o));  // exact: 53 bits
+          scaled += static_cast<Int128>(m) << o;
+        }
+      } else {
+        // 2^54 + 1 (+ 2 for the second): halfway between two doubles, to even (down, up).
+        const int o = offset(rng);
+        v = {std::ldexp(1.0, e + o + 54), std::ldexp(trial == 4 ? 1.0 : 3.0, e + o)};
+        scaled = (Int128{1} << (o + 54)) + (static_cast<Int128>(trial == 4 ? 1 : 3) << o);
+      }
+      const double reference = std::ldexp(static_cast<double>(scaled), e);
+      EXPECT_EQ(bits(exact_sum(v)), bits(reference)) << "e " << e << ", trial " << trial;
+    }
+  }
+  // A tie with one sticky bit d below the highest, at all 32 offsets in a limb: the sticky bit
+  // in the same limb as the rounding bit or up to three limbs below it (rounds up, not to even).
+  for (int d = 60; d <= 120; d += 10)
+    for (int e = -900; e < -868; ++e) {
+      const std::vector<double> v = {std::ldexp(1.0, e + d), std::ldexp(1.0, e + d - 53),
+                                     std::ldexp(1.0, e)};
+      const Int128 scaled = (Int128{1} << d) + (Int128{1} << (d - 53)) + 1;
+      const double reference = std::ldexp(static_cast<double>(scaled), e);
+      EXPECT_EQ(bits(exact_sum(v)), bits(reference)) << "d " << d << ", e " << e;
+    }
+}
+
 /// Positive terms over 600 binades: a quad-precision sum in increasing order is within
 /// 2^-100 of the exact sum relative, so the correctly rounded double is within half an ulp
 /// (and a little) of it.
