@@ -147,6 +147,11 @@ std::vector<char> Communicator::alltoall_bytes(std::vector<char>&& packed,
   return out;
 }
 
+void Communicator::sum_in_place(std::int64_t* values, std::size_t n) const {
+  if (size_ == 1 || n == 0) return;
+  MPI_Allreduce(MPI_IN_PLACE, values, static_cast<int>(n), MPI_INT64_T, MPI_SUM, comm_);
+}
+
 void Communicator::max_in_place(const double* in, double* out, int n) const {
   MPI_Allreduce(in, out, n, MPI_DOUBLE, MPI_MAX, comm_);
 }

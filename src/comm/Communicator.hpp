@@ -39,6 +39,8 @@ class Communicator {
   }
   std::int64_t min(std::int64_t v) const;
   std::int64_t max(std::int64_t v) const;
+  /// Element-wise sums over the ranks of n integers, in place (exact: integer sums).
+  void sum_in_place(std::int64_t* values, std::size_t n) const;
   /// Sums that do not depend on the rank count or the order of the terms: each rank passes
   /// its partial ExactSum of some columns, and every rank gets each column's total rounded once
   /// (to nearest), the same bits however the terms are spread. One all-reduce of

@@ -77,6 +77,49 @@ ExactSum ExactSum::from_words(const std::int64_t* words) {
   return s;
 }
 
+ExactSum::LimbRange ExactSum::balanced_limbs(std::array<std::int64_t, kLimbs>& out) const {
+  LimbRange range;
+  int lowest = 0;
+  while (lowest < kLimbs && limb_[static_cast<std::size_t>(lowest)] == 0)
+    ++lowest;
+  if (lowest == kLimbs) return range;  // zero
+  int highest = kLimbs - 1;
+  while (limb_[static_cast<std::size_t>(highest)] == 0)
+    --highest;
+  // Carries upwards from the lowest nonzero limb: digit = limb + carry rounded into
+  // [-2^31, 2^31) by (x + 2^31) >> 32 (floor), until the carry dies out above the highest
+  // limb; the top limb keeps what is left. A limb holds less than 2^57 and a carry less than
+  // 2^26, so nothing overflows.
+  constexpr std::int64_t kHalf = std::int64_t{1} << 31;
+  std::int64_t carry = 0;
+  int i = lowest;
+  for (; i < kLimbs - 1 && (i <= highest || carry != 0); ++i) {
+    const std::int64_t x = limb_[static_cast<std::size_t>(i)] + carry;
+    carry = (x + kHalf) >> 32;
+    out[static_cast<std::size_t>(i)] = x - carry * kDigit;
+  }
+  if (i == kLimbs - 1) {
+    out[static_cast<std::size_t>(i)] = limb_[static_cast<std::size_t>(i)] + carry;
+    ++i;
+  }
+  // The nonzero digits: a carry can cancel a limb, so trim both ends.
+  int first = lowest, last = i - 1;
+  while (first <= last && out[static_cast<std::size_t>(first)] == 0)
+    ++first;
+  while (last >= first && out[static_cast<std::size_t>(last)] == 0)
+    --last;
+  if (first <= last) range = {first, last};
+  return range;
+}
+
+ExactSum ExactSum::from_limbs(const std::int64_t* limbs, int first, int last) {
+  ExactSum s;
+  for (int i = first; i <= last; ++i)
+    s.limb_[static_cast<std::size_t>(i)] = limbs[i - first];
+  s.normalise();
+  return s;
+}
+
 double ExactSum::value() const {
   if (nan_ > 0 || (pos_inf_ > 0 && neg_inf_ > 0)) return std::numeric_limits<double>::quiet_NaN();
   if (pos_inf_ > 0) return std::numeric_limits<double>::infinity();
@@ -96,7 +139,8 @@ double ExactSum::value() const {
     --top;
   if (top < 0) return 0.0;
   const auto limb = [&](int i) {
-    return i < 0 ? std::uint64_t{0} : static_cast<std::uint64_t>(m.limb_[static_cast<std::size_t>(i)]);
+    return i < 0 ? std::uint64_t{0}
+                 : static_cast<std::uint64_t>(m.limb_[static_cast<std::size_t>(i)]);
   };
   // The top three limbs as one integer: window bit j is bit base + j of the sum. The top limb
   // is nonzero, so the window reaches 64 bits above base: more than the 53 kept and the

@@ -70,6 +70,22 @@ class ExactSum {
   std::array<std::int64_t, kWords> export_words() const;
   static ExactSum from_words(const std::int64_t* words);
 
+  /// Whether no NaN or infinity was added.
+  bool is_finite() const { return nan_ == 0 && pos_inf_ == 0 && neg_inf_ == 0; }
+  /// The nonzero limbs [first, last] of balanced_limbs(); first > last for a zero sum.
+  struct LimbRange {
+    int first = 0, last = -1;
+  };
+  /// The finite part as balanced digits: limb i (weight 2^(32 i - 1074)) in out[i], each in
+  /// [-2^31, 2^31) but the top one, so that a small sum of either sign has few nonzero limbs
+  /// (the canonical words of export_words() spread a negative sum over every limb). Limb-wise
+  /// integer sums of several sums' digits are the digits of their total (up to about 2^31
+  /// partial sums). Only the returned range of `out` is written.
+  LimbRange balanced_limbs(std::array<std::int64_t, kLimbs>& out) const;
+  /// The finite sum whose limbs first..last are limbs[0..last-first] (any integers below
+  /// 2^62 in magnitude, such as sums of balanced digits) and the others zero.
+  static ExactSum from_limbs(const std::int64_t* limbs, int first, int last);
+
  private:
   /// Terms between carry propagations: a limb then stays below 2^32 (1 + 2^24) < 2^57.
   static constexpr std::int64_t kMaxPending = std::int64_t{1} << 24;

@@ -431,8 +431,9 @@ void Simulation::compute_forces(bool loads_started) {
 void Simulation::reduce_body_loads() {
   if (model_.bodies.empty() || body_term_ == nullptr) return;
   // Each body's load is the exact sum of its contacts' loads: the same bits on any rank count,
-  // in one all-reduce of a few words per body whatever the number of contacts. No rank gathers
-  // the others' contacts (a debris flow's bed touches every grain that rests on it).
+  // in one all-reduce of a few words per body whatever the number of contacts (only the limbs
+  // their magnitudes need: ExactSumReducer). No rank gathers the others' contacts (a debris
+  // flow's bed touches every grain that rests on it).
   using L = BodyContactTerm::LoadColumn;
   if (!bodies_in_reach_) {
     // No particle within reach of any body on any rank: each load is the sum of no terms, +0
@@ -441,7 +442,7 @@ void Simulation::reduce_body_loads() {
       b.force = b.torque = Vec3{};
     return;
   }
-  const std::vector<double> total = comm_.sum_exact(body_term_->body_load_sums());
+  const std::vector<double> total = body_load_reducer_.sum(comm_, body_term_->body_load_sums());
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
     const double* const t = &total[L::kLoadColumns * b];
     model_.bodies[b].force = {t[L::kForceX], t[L::kForceY], t[L::kForceZ]};

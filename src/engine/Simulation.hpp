@@ -8,6 +8,7 @@
 
 #include "comm/Communicator.hpp"
 #include "comm/DomainDecomposition.hpp"
+#include "comm/ExactSumReducer.hpp"
 #include "engine/BodyContactTerm.hpp"
 #include "engine/BondTerm.hpp"
 #include "engine/EnergyGuard.hpp"
@@ -299,6 +300,8 @@ class Simulation {
   /// Whether some rank has a particle within reach of a rigid body since the last rebuild:
   /// where none has, every body's contact load is zero and needs no reduction.
   bool bodies_in_reach_ = true;
+  /// The bodies' load sums over the ranks, every step: in the few words their magnitudes need.
+  ExactSumReducer body_load_reducer_;
   bool stop_local_ = false;
   bool stop_agreed_ = false;
   double move_bound_ = 0.0;  ///< no particle moved farther since the last rebuild (all ranks)

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <cmath>
 #include <limits>
@@ -253,6 +254,53 @@ TEST(ExactSum, NegatedIsTheSumOfTheNegatedTerms) {
   ExactSum inf;
   inf.add(std::numeric_limits<double>::infinity());
   EXPECT_EQ(inf.negated().value(), -std::numeric_limits<double>::infinity());
+}
+
+// Balanced digits (the few-word form of ExactSumReducer): a sum read back from its digits has
+// the same value, a small sum of either sign has the same few nonzero limbs, and digits summed
+// limb by limb are the digits of the total.
+TEST(ExactSum, BalancedLimbsRoundTripAndAdd) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> mant(-2.0, 2.0);
+  std::uniform_int_distribution<int> expo(-1060, 1000), count(1, 40);
+  for (int trial = 0; trial < 300; ++trial) {
+    ExactSum a, b, total;
+    const int e = expo(rng);
+    for (int k = count(rng); k > 0; --k) {
+      const double x = std::ldexp(mant(rng), e - static_cast<int>(rng() % 40));
+      const double y = std::ldexp(mant(rng), e - static_cast<int>(rng() % 40));
+      a.add(x);
+      b.add(y);
+      total.add(x);
+      total.add(y);
+    }
+    std::array<std::int64_t, ExactSum::kLimbs> da{}, db{};
+    const auto ra = a.balanced_limbs(da), rb = b.balanced_limbs(db);
+    ASSERT_LE(ra.first, ra.last);
+    EXPECT_EQ(bits(ExactSum::from_limbs(&da[static_cast<std::size_t>(ra.first)], ra.first, ra.last)
+                       .value()),
+              bits(a.value()));
+    for (int i = ra.first; i < ra.last; ++i)  // every digit but the top one is balanced
+      EXPECT_TRUE(da[static_cast<std::size_t>(i)] >= -(std::int64_t{1} << 31) &&
+                  da[static_cast<std::size_t>(i)] < (std::int64_t{1} << 31));
+    // The negated sum: the negated digits (a small negative sum is as short as a positive one).
+    std::array<std::int64_t, ExactSum::kLimbs> dn{};
+    const auto rn = a.negated().balanced_limbs(dn);
+    EXPECT_EQ(rn.first, ra.first);
+    EXPECT_LE(rn.last - rn.first, ra.last - ra.first + 1);
+    // Digits over the union of both ranges, added limb by limb: the total.
+    const int first = std::min(ra.first, rb.first), last = std::max(ra.last, rb.last);
+    std::vector<std::int64_t> sum(static_cast<std::size_t>(last - first + 1), 0);
+    for (int i = ra.first; i <= ra.last; ++i)
+      sum[static_cast<std::size_t>(i - first)] += da[static_cast<std::size_t>(i)];
+    for (int i = rb.first; i <= rb.last; ++i)
+      sum[static_cast<std::size_t>(i - first)] += db[static_cast<std::size_t>(i)];
+    EXPECT_EQ(bits(ExactSum::from_limbs(sum.data(), first, last).value()), bits(total.value()))
+        << "trial " << trial;
+  }
+  std::array<std::int64_t, ExactSum::kLimbs> d{};
+  const auto zero = ExactSum{}.balanced_limbs(d);
+  EXPECT_GT(zero.first, zero.last);
 }
 
 // A checkpoint's record of several sums: the words give back the same sums, no words give
