@@ -5,8 +5,8 @@
 
 namespace ringdem {
 
-std::vector<double> ExactSumReducer::sum(const Communicator& comm,
-                                         const std::vector<ExactSum>& partial) {
+const std::vector<double>& ExactSumReducer::sum(const Communicator& comm,
+                                                const std::vector<ExactSum>& partial) {
   const std::size_t width = static_cast<std::size_t>(window_limbs());
   // Word 0: sums that do not fit the window (or hold a NaN or an infinity); then each sum's
   // digits lo..hi.
@@ -45,12 +45,13 @@ std::vector<double> ExactSumReducer::sum(const Communicator& comm,
       lo_ = window_limbs() > 0 ? std::min(lo_, lo) : lo;
       hi_ = std::max(hi_, hi);
     }
-    return comm.sum_exact(partial);
+    totals_ = comm.sum_exact(partial);
+    return totals_;
   }
-  std::vector<double> totals(partial.size());
+  totals_.resize(partial.size());
   for (std::size_t c = 0; c < partial.size(); ++c)
-    totals[c] = width == 0 ? 0.0 : ExactSum::from_limbs(&words_[1 + c * width], lo_, hi_).value();
-  return totals;
+    totals_[c] = width == 0 ? 0.0 : ExactSum::from_limbs(&words_[1 + c * width], lo_, hi_).value();
+  return totals_;
 }
 
 }  // namespace ringdem

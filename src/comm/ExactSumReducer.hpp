@@ -21,8 +21,9 @@ namespace ringdem {
 /// the same points with the same number of sums (a collective).
 class ExactSumReducer {
  public:
-  /// Each sum's total over the ranks, rounded once (Communicator::sum_exact).
-  std::vector<double> sum(const Communicator& comm, const std::vector<ExactSum>& partial);
+  /// Each sum's total over the ranks, rounded once (Communicator::sum_exact); valid until the
+  /// next call.
+  const std::vector<double>& sum(const Communicator& comm, const std::vector<ExactSum>& partial);
   /// Calls that took the full reduction (the window was too narrow, or a sum not finite).
   std::int64_t fallbacks() const { return fallbacks_; }
   /// Limbs in the window now (0: none yet).
@@ -31,7 +32,9 @@ class ExactSumReducer {
  private:
   int lo_ = 0, hi_ = -1;  ///< the window's limbs; empty at first
   std::int64_t fallbacks_ = 0;
-  std::vector<std::int64_t> words_;  ///< kept between calls: the step loop does not allocate
+  // Kept between calls, so that the step loop does not allocate.
+  std::vector<std::int64_t> words_;
+  std::vector<double> totals_;
 };
 
 }  // namespace ringdem

@@ -442,7 +442,7 @@ void Simulation::reduce_body_loads() {
       b.force = b.torque = Vec3{};
     return;
   }
-  const std::vector<double> total = body_load_reducer_.sum(comm_, body_term_->body_load_sums());
+  const std::vector<double>& total = body_load_reducer_.sum(comm_, body_term_->body_load_sums());
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
     const double* const t = &total[L::kLoadColumns * b];
     model_.bodies[b].force = {t[L::kForceX], t[L::kForceY], t[L::kForceZ]};
