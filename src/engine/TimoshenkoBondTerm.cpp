@@ -113,9 +113,12 @@ void TimoshenkoBondTerm::compute(ComputeContext& ctx) {
   failed_.resize(nb);
   // Bonds (physics.md §1): forces and the failure test of Eq. 3–5 every step, written so the
   // loop vectorises: bond data in contiguous arrays, particle data gathered by index, no
-  // branches (broken or failing bonds are masked to zero force). Output quantities are
-  // recomputed on demand by update_diagnostics().
-  std::int64_t* __restrict__ const failed = failed_.data();
+  // branches (broken bonds are masked to zero force). The loop only flags the bonds that may
+  // fail (BondTimoshenko::may_fail(), without the three square roots of the stresses); the
+  // pass after it decides those exactly and zeroes the loads of the ones that fail, which the
+  // loop would have masked. Output quantities are recomputed on demand by
+  // update_diagnostics().
+  std::int64_t* __restrict__ const failed = failed_.data();  // flagged, then failed
   const BeamColumns col(bonds);
   BeamSlots out(ctx.slots, slots_a_, slots_b_);
   BeamChunk& g = scratch_;
@@ -126,13 +129,26 @@ void TimoshenkoBondTerm::compute(ComputeContext& ctx) {
       const auto sec = col.section(k);
       const auto r =
           BondTimoshenko::compute(sec, col.reference(k), g.x_a(c), g.q_a(c), g.x_b(c), g.q_b(c));
-      const std::int64_t fails = col.fails(k, sec, r);
-      failed[k] = fails & (g.broken[c] == 0);
-      out.write(k, !(fails | g.broken[c]), r);
+      const std::int64_t intact = g.broken[c] == 0;
+      failed[k] = col.may_fail(k, sec, r) & intact;
+      out.write(k, intact, r);
     });
   });
-  if (std::find(failed_.begin(), failed_.end(), 1) != failed_.end())
-    book_failures(p, ctx.time, ctx.dt);
+  if (std::find(failed_.begin(), failed_.end(), 1) == failed_.end()) return;
+  // Each flagged bond recomputed from the same inputs: the loop's bits (no contraction, so no
+  // difference between its vector lanes and this scalar code).
+  bool any_failed = false;
+  for (std::size_t k = 0; k < nb; ++k) {
+    if (!failed_[k]) continue;
+    const std::uint32_t a = bonds.index_a[k], b = bonds.index_b[k];
+    const auto sec = col.section(k);
+    const auto r = BondTimoshenko::compute(sec, col.reference(k), p.position[a], p.orientation[a],
+                                           p.position[b], p.orientation[b]);
+    failed_[k] = col.fails(k, sec, r);
+    if (failed_[k]) out.clear(k);
+    any_failed = any_failed || failed_[k];
+  }
+  if (any_failed) book_failures(p, ctx.time, ctx.dt);
 }
 
 void TimoshenkoBondTerm::book_failures(const ParticleStore& p, double time, double dt) {

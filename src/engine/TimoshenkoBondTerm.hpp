@@ -89,12 +89,20 @@ struct BeamColumns {
   [[gnu::always_inline]] BondTimoshenko::Reference reference(std::size_t k) const {
     return {frame_a[k], frame_b[k]};
   }
+  [[gnu::always_inline]] BondTimoshenko::Strength strength(std::size_t k) const {
+    return {tensile_strength[k], compressive_strength[k], shear_strength[k]};
+  }
   /// Whether Eq. 3–5 break bond k in state r (0 or 1, branch-free).
   [[gnu::always_inline]] std::int64_t fails(std::size_t k, const BondTimoshenko::Section& s,
                                             const BondTimoshenko::Result& r) const {
     const auto st = BondTimoshenko::stresses(s, r);
     return (st.tensile > tensile_strength[k]) | (st.compressive > compressive_strength[k]) |
            (st.shear > shear_strength[k]);
+  }
+  /// BondTimoshenko::may_fail() of bond k (0 or 1, branch-free): 1 wherever fails() is 1.
+  [[gnu::always_inline]] std::int64_t may_fail(std::size_t k, const BondTimoshenko::Section& s,
+                                               const BondTimoshenko::Result& r) const {
+    return BondTimoshenko::may_fail(s, r, strength(k));
   }
 };
 
@@ -128,6 +136,11 @@ struct BeamSlots {
         tyb(s.ty.data() + b.begin),
         tzb(s.tz.data() + b.begin) {}
 
+  /// Zeros bond k's end loads: the bits write(k, false, r) writes.
+  void clear(std::size_t k) {
+    fxa[k] = fya[k] = fza[k] = txa[k] = tya[k] = tza[k] = 0.0;
+    fxb[k] = fyb[k] = fzb[k] = txb[k] = tyb[k] = tzb[k] = 0.0;
+  }
   /// Bond k's end loads, or zeros where !keep: a select (select_bits, which AVX2 vectorises
   /// too), not a product: a broken bond's result may be NaN (ends far apart or borrowed).
   [[gnu::always_inline]] void write(std::size_t k, bool keep, const BondTimoshenko::Result& r) {

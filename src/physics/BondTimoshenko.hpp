@@ -74,6 +74,10 @@ struct BondTimoshenko {
     double bending_a = 0.0;    ///< |M_bend| at end a
     double bending_b = 0.0;    ///< |M_bend| at end b
     double energy = 0.0;       ///< 1/2 q^T K q
+    /// shear_force^2 and max(bending_a, bending_b)^2, before the square roots: may_fail()
+    /// needs no root, and a loop that reads only these does not compute the roots.
+    double shear_force_squared = 0.0;
+    double bending_squared = 0.0;
   };
 
   /// Forces, moments and stress resultants of one bond (inline: the bond loop vectorises it).
@@ -134,6 +138,11 @@ struct BondTimoshenko {
     double shear = 0.0;        ///< tau_max (Eq. 5)
   };
   static Stresses stresses(const Section& s, const Result& r);
+  /// Whether Eq. 3–5 may break the bond: true wherever check_failure(stresses(s, r),
+  /// strength) is not kNone, otherwise only within about 1e-9 of a strength. It compares
+  /// squares and takes no square root, so that the bond loop can test every bond every step
+  /// with it and decide the few it flags exactly afterwards.
+  static bool may_fail(const Section& s, const Result& r, const Strength& strength);
 
   using Failure = BondFailure;
   /// Which criterion broke the bond (first of tensile, compressive, shear), or kNone.
@@ -218,12 +227,16 @@ template <class Rotation, class ElasticPart>
   // Built in one aggregate so the compiler can keep every member in registers (the bond
   // loop vectorises only then).
   const Vec3 force_a = cx * fx_b + cy * fy_b + cz * fz_b;
+  const double shear2 = fy_b * fy_b + fz_b * fz_b;
+  const double bending_a2 = my_a * my_a + mz_a * mz_a;
+  const double bending_b2 = my_b * my_b + mz_b * mz_b;
   return Result{force_a, cx * mx_b - cy * my_a - cz * mz_a, -force_a,
-                -(cx * mx_b + cy * my_b + cz * mz_b), fx_b, std::sqrt(fy_b * fy_b + fz_b * fz_b),
-                mx_b, std::sqrt(my_a * my_a + mz_a * mz_a), std::sqrt(my_b * my_b + mz_b * mz_b),
+                -(cx * mx_b + cy * my_b + cz * mz_b), fx_b, std::sqrt(shear2), mx_b,
+                std::sqrt(bending_a2), std::sqrt(bending_b2),
                 // 1/2 q^T K q = 1/2 (F . u) summed over the DOFs.
                 0.5 * (fx_b * du + mx_b * (tb.x - ta.x) + my_a * ta.y + mz_a * ta.z + my_b * tb.y +
-                       mz_b * tb.z)};
+                       mz_b * tb.z),
+                shear2, std::max(bending_a2, bending_b2)};
 }
 
 [[gnu::always_inline]] inline BondTimoshenko::Stresses BondTimoshenko::stresses(const Section& s,
@@ -236,6 +249,31 @@ template <class Rotation, class ElasticPart>
   // Eq. 5: torque over J = 2I, plus 4/3 of the mean shear stress of a circular section.
   st.shear = 0.5 * s.bend_factor * std::abs(r.torsion) + 4.0 / 3.0 * r.shear_force * s.inv_area;
   return st;
+}
+
+[[gnu::always_inline]] inline bool BondTimoshenko::may_fail(const Section& s, const Result& r,
+                                                            const Strength& strength) {
+  // Eq. 3 and 4 fail where the bending stress b M exceeds h = min(sigma_T - a, sigma_C + a),
+  // a the axial stress; Eq. 5 where the shear stress 4/3 F_s / A exceeds g = tau - b |M_x| / 2.
+  // stresses() rounds each product and sum once (no contraction: -ffp-contract=off), an error
+  // of a few 1e-16 of the terms' magnitudes (near the limit b M <= |min(sigma_T, sigma_C)| +
+  // 2 |a|); h and g lowered by 1e-9 of those magnitudes therefore flag every bond
+  // that stresses() fails, and above them the squares decide alone. An infinite strength
+  // makes h or g NaN or infinite, which flags nothing: that criterion cannot fail.
+  const double axial = r.axial_force * s.inv_area;
+  const double bending_margin =
+      1e-9 * (std::abs(std::min(strength.tensile, strength.compressive)) + std::abs(axial));
+  const double h =
+      std::min(strength.tensile - axial, strength.compressive + axial) - bending_margin;
+  const double bending2 = s.bend_factor * s.bend_factor * r.bending_squared;
+  const double torsion_stress = 0.5 * s.bend_factor * std::abs(r.torsion);
+  const double g =
+      strength.shear - torsion_stress - 1e-9 * (std::abs(strength.shear) + torsion_stress);
+  const double shear_factor = 4.0 / 3.0 * s.inv_area;
+  const double shear2 = shear_factor * shear_factor * r.shear_force_squared;
+  // With | and no early return, so that the bond loop stays free of branches. A NaN state
+  // compares false throughout, as in fails(); the loop masks broken bonds, which may have one.
+  return (h < 0.0) | (bending2 > h * h) | (g < 0.0) | (shear2 > g * g);
 }
 
 }  // namespace ringdem
