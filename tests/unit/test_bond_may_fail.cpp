@@ -12,13 +12,11 @@
 #include <random>
 #include <vector>
 
+#include "BondChain.hpp"
 #include "domain/BondStore.hpp"
 #include "domain/ParticleStore.hpp"
-#include "engine/EnergyLedger.hpp"
-#include "engine/GatherMap.hpp"
 #include "engine/TimoshenkoBondTerm.hpp"
 #include "physics/BondTimoshenko.hpp"
-#include "physics/MaterialTable.hpp"
 
 namespace ringdem {
 namespace {
@@ -37,19 +35,8 @@ Bond::Params ring_bond() {
   return p;
 }
 
-/// A chain of n + 1 particles on the x axis, 9.7 mm apart (r12's ring particles).
 ParticleStore straight_chain(std::size_t n) {
-  ParticleStore p;
-  for (std::size_t k = 0; k <= n; ++k) {
-    ParticleStore::NewParticle np;
-    np.gid = static_cast<std::int64_t>(k);
-    np.position = {kL0 * static_cast<double>(k), 0.0, 0.0};
-    np.radius = kRadius;
-    np.density = 7800.0;
-    p.add(np);
-  }
-  p.rebuild_index();
-  return p;
+  return testing::straight_chain(n, kL0, kRadius);
 }
 
 /// Each particle moved by up to 0.2 mm and turned by up to 0.05 rad (scaled per particle by
@@ -67,12 +54,7 @@ void deform(ParticleStore& p, std::mt19937& rng) {
 
 BondStore chain_bonds(const ParticleStore& p, std::size_t n) {
   BondStore bonds;
-  for (std::size_t k = 0; k < n; ++k) {
-    const BondEnd a{static_cast<std::int64_t>(k), p.position[k], p.orientation[k], kRadius};
-    const BondEnd b{static_cast<std::int64_t>(k + 1), p.position[k + 1], p.orientation[k + 1],
-                    kRadius};
-    TimoshenkoBondTerm::create(bonds, ring_bond(), 0, static_cast<std::int64_t>(k), a, b, 1);
-  }
+  testing::bond_chain(bonds, p, n, ring_bond());
   return bonds;
 }
 
@@ -211,25 +193,14 @@ TEST(BondMayFail, TheTermBreaksWhatTheDirectTestBreaksWithTheKernelsLoadsOnTheRe
   ASSERT_GT(flagged_intact, 30u);
 
   TimoshenkoBondTerm term(bonds, {ring_bond()});
-  std::vector<ExcludedPair> excluded;
-  SlotAllocator allocator;
-  GatherMap gather;
-  gather.begin(p.n_local());
-  std::vector<RigidBody> bodies;
-  RebuildContext rebuild{p, bodies, 0.001, excluded, allocator, gather, 0};
-  term.rebuild(rebuild);
-  ASSERT_EQ(allocator.size(), 2 * kBonds);  // end a's slots, then end b's
-  ForceSlots slots;
-  slots.assign(allocator.size());
+  testing::TermBench bench;
+  bench.rebuild(term, p);
+  ForceSlots& slots = bench.slots;
+  ASSERT_EQ(slots.fx.size(), 2 * kBonds);  // end a's slots, then end b's
   // Stale loads in every slot: the term must write or clear each one.
-  for (std::size_t s = 0; s < allocator.size(); ++s)
+  for (std::size_t s = 0; s < slots.fx.size(); ++s)
     slots.set(s, Vec3{1, 2, 3}, Vec3{4, 5, 6});
-  EnergyLedger ledger;
-  const MaterialTable materials({Material{"steel", 7800.0, 200e9, 0.3, 0.5, 0.3, 0.0}}, {});
-  ComputeContext ctx{
-      p,      bodies, materials, slots,
-      ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
-  term.compute(ctx);
+  bench.compute(term, p, 1e-6);
 
   const auto same = [](const Vec3& a, const Vec3& b) {
     return a.x == b.x && a.y == b.y && a.z == b.z && std::signbit(a.x) == std::signbit(b.x) &&

@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "BondChain.hpp"
 #include "TestCases.hpp"
 #include "engine/EnergyLedger.hpp"
 #include "engine/GatherMap.hpp"
@@ -284,16 +285,7 @@ TEST(PlasticBondTerm, TheVectorPassGivesTheBondByBondStepsBits) {
   const double l0 = 0.0097, radius = 0.0045;
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0), size(0.0, 1.0);
-  ParticleStore p;
-  for (std::size_t k = 0; k <= kBonds; ++k) {
-    ParticleStore::NewParticle np;
-    np.gid = static_cast<std::int64_t>(k);
-    np.position = {l0 * static_cast<double>(k), 0.0, 0.0};
-    np.radius = radius;
-    np.density = 7800.0;
-    p.add(np);
-  }
-  p.rebuild_index();
+  ParticleStore p = testing::straight_chain(kBonds, l0, radius);
   BondTimoshenko::Params beam;
   beam.youngs_modulus = 288.4e9;
   beam.radius_multiplier = 0.43;
@@ -304,12 +296,7 @@ TEST(PlasticBondTerm, TheVectorPassGivesTheBondByBondStepsBits) {
                                         /*failure_strain=*/0.035);
   BondStore bonds;
   bonds.declare_model_columns(TimoshenkoPlasticBondTerm::state_columns());
-  for (std::size_t k = 0; k < kBonds; ++k) {
-    const BondEnd a{static_cast<std::int64_t>(k), p.position[k], p.orientation[k], radius};
-    const BondEnd b{static_cast<std::int64_t>(k + 1), p.position[k + 1], p.orientation[k + 1],
-                    radius};
-    TimoshenkoBondTerm::create(bonds, beam, 0, static_cast<std::int64_t>(k), a, b, 1);
-  }
+  testing::bond_chain(bonds, p, kBonds, beam);
   TimoshenkoPlasticBondTerm term(bonds, {limits});
   for (std::size_t k = 0; k < kBonds; ++k) {
     Plastic::State st;
@@ -375,22 +362,11 @@ TEST(PlasticBondTerm, TheVectorPassGivesTheBondByBondStepsBits) {
   ASSERT_GT(elastic, 100u);
   ASSERT_GT(failing, 20u);
 
-  std::vector<ExcludedPair> excluded;
-  SlotAllocator allocator;
-  GatherMap gather;
-  gather.begin(p.n_local());
-  std::vector<RigidBody> bodies;
-  RebuildContext rebuild{p, bodies, 0.001, excluded, allocator, gather, 0};
-  term.rebuild(rebuild);
-  ASSERT_EQ(allocator.size(), 2 * kBonds);  // end a's slots, then end b's
-  ForceSlots slots;
-  slots.assign(allocator.size());
-  EnergyLedger ledger;
-  const MaterialTable materials({Material{"steel", 7800.0, 200e9, 0.3, 0.5, 0.3, 0.0}}, {});
-  ComputeContext ctx{
-      p,      bodies, materials, slots,
-      ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
-  term.compute(ctx);
+  testing::TermBench bench;
+  bench.rebuild(term, p);
+  const ForceSlots& slots = bench.slots;
+  ASSERT_EQ(slots.fx.size(), 2 * kBonds);  // end a's slots, then end b's
+  bench.compute(term, p, 1e-6);
 
   const auto same = [](const Vec3& a, const Vec3& b) {
     return a.x == b.x && a.y == b.y && a.z == b.z;
