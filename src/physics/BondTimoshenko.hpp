@@ -258,8 +258,9 @@ template <class Rotation, class ElasticPart>
   // stresses() rounds each product and sum once (no contraction: -ffp-contract=off), an error
   // of a few 1e-16 of the terms' magnitudes (near the limit b M <= |min(sigma_T, sigma_C)| +
   // 2 |a|); h and g lowered by 1e-9 of those magnitudes therefore flag every bond
-  // that stresses() fails, and above them the squares decide alone. An infinite strength
-  // makes h or g NaN or infinite, which flags nothing: that criterion cannot fail.
+  // that stresses() fails, and above them the squares decide alone. Both bending strengths
+  // infinite make h NaN, an infinite shear strength g: NaN flags nothing, as such a criterion
+  // cannot fail; with one of the two bending strengths infinite, h is the other's.
   const double axial = r.axial_force * s.inv_area;
   const double bending_margin =
       1e-9 * (std::abs(std::min(strength.tensile, strength.compressive)) + std::abs(axial));
