@@ -78,6 +78,7 @@ class SpringSlots {
   bool holds(std::size_t m) const { return slot_[m] != kNoSpring; }
   /// Candidate m's spring; only where holds(m).
   const Vec3& value(std::size_t m) const { return pool_[slot_[m]]; }
+  Vec3& value(std::size_t m) { return pool_[slot_[m]]; }
   /// Candidate m's spring, made (zero) when it has none: the contact touches.
   Vec3& take(std::size_t m) {
     std::uint32_t& s = slot_[m];

@@ -22,6 +22,12 @@ struct PairContactChunk {
   struct Column {
     alignas(64) double v[3][kSize];
     Vec3 get(std::size_t c) const { return {v[0][c], v[1][c], v[2][c]}; }
+    /// out = get(c), written component by component (see PairContactTerm::compute_pairs).
+    void copy_to(std::size_t c, Vec3& out) const {
+      out.x = v[0][c];
+      out.y = v[1][c];
+      out.z = v[2][c];
+    }
     void set(std::size_t c, const Vec3& x) {
       v[0][c] = x.x;
       v[1][c] = x.y;

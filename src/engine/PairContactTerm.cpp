@@ -222,8 +222,12 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
         IndexRange{0, chunk.n}, [&](std::size_t c) __attribute__((always_inline)) {
           const std::uint32_t a = chunk.end_a[c];
           const std::uint32_t b = chunk.end_b[c];
+          // The pair took its spring when it joined the chunk. Component by component: copied
+          // as a Vec3, the spring went through the stack in three stores and a 16-byte load
+          // across two of them, which the store buffer cannot forward (a fifth of this loop's
+          // time on a packing in contact).
+          chunk.spring.copy_to(c, springs.value(chunk.pair[c]));
           const Vec3 spring = chunk.spring.get(c);
-          springs.take(chunk.pair[c]) = spring;
           const Vec3 force = chunk.force_a.get(c);
           if (loads.owned(a)) {
             loads.force[a] += force;
