@@ -140,7 +140,7 @@ void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& g
 }
 
 namespace {
-constexpr std::size_t kEntriesAhead = 8;
+constexpr std::size_t kEntriesAhead = 32;
 }  // namespace
 
 void EnergyLedger::accumulate_below(std::size_t end, const ParticleStore& p,
