@@ -21,6 +21,10 @@ Variants (issue 12, docs/performance.md):
         about 6 touching contacts every step; the surfaces spring off, the jitter's unbalanced
         forces make the interior rattle, the floor's friction shears the bottom. Both codes read
         the same positions (a CSV sphere file, a LAMMPS data file)
+  mixed the dense packing with its grains listed in random order, as a flow that has sheared
+        for a while leaves them: the same physics, but neighbours in space are far apart in the
+        input order (ringdem keeps its grains in the order they were made; LAMMPS sorts its
+        atoms by space as it goes)
 Rock: E = 1 GPa, nu = 0.25, e = 0.3, mu = 0.5, 2600 kg/m^3, Hertz-Mindlin, dt = 1.31e-5 s.
 
 Codes: ringdem (with its energy ledger, the default), ringdem_noledger (the same case with
@@ -39,13 +43,14 @@ import sys
 import tempfile
 
 E, NU, REST, MU, RHO, DT = 1.0e9, 0.25, 0.3, 0.5, 2600.0, 1.31e-5
-STEPS = {"bed": 153, "poly": 153, "flow": 500, "dense": 500}
+STEPS = {"bed": 153, "poly": 153, "flow": 500, "dense": 500, "mixed": 500}
+PACKINGS = ("dense", "mixed")  # the packings in contact
 SLOPE = math.radians(35.0)
 
 
 def lattice_counts(variant, n):
     """Lattice counts (nx, ny, nz) for about n grains."""
-    if variant in ("flow", "dense"):  # a long, shallow block: 25 x 4 x 1 in shape
+    if variant in ("flow",) + PACKINGS:  # a long, shallow block: 25 x 4 x 1 in shape
         k = round((n / 100.0) ** (1.0 / 3.0))
         return (25 * k, 4 * k, k)
     side = round(math.sqrt(n / 10.0)) if n <= 2e5 else round(n ** (1.0 / 3.0))
@@ -53,7 +58,7 @@ def lattice_counts(variant, n):
 
 
 def gravity(variant):
-    if variant in ("flow", "dense"):
+    if variant in ("flow",) + PACKINGS:
         return (9.81 * math.sin(SLOPE), 0.0, -9.81 * math.cos(SLOPE))
     return (0.0, 0.0, -9.81)
 
@@ -112,7 +117,12 @@ def dense_spheres(n, seed=11):
 
 
 def file_spheres(variant, n):
-    return poly_spheres(n) if variant == "poly" else dense_spheres(n)
+    if variant == "poly":
+        return poly_spheres(n)
+    spheres = dense_spheres(n)
+    if variant == "mixed":
+        random.Random(13).shuffle(spheres)
+    return spheres
 
 
 def write_ringdem(work, variant, n, ledger=True):
@@ -122,13 +132,13 @@ def write_ringdem(work, variant, n, ledger=True):
         f"simulation: {{dt: {DT}, end_time: {STEPS[variant] * DT * (1 - 1e-6)}, "
         f"gravity: [{g[0]!r}, {g[1]!r}, {g[2]!r}], skin: 0.001"
         f"{'' if ledger else ', energy_ledger: false'}"
-        f"{', allow_initial_overlap: true' if variant == 'dense' else ''}}}",
+        f"{', allow_initial_overlap: true' if variant in PACKINGS else ''}}}",
         "output: {frame_interval: 0, checkpoint_interval: 0}",
         "materials:",
         f"  - {{name: rock, density: {RHO}, youngs_modulus: {E}, poisson_ratio: {NU}, "
         f"restitution: {REST}, friction: {MU}}}",
         "particles:"]
-    if variant in ("poly", "dense"):
+    if variant in ("poly",) + PACKINGS:
         # A sphere file beside the case: each rank reads its share of the lines.
         spheres = os.path.join(work, f"{variant}_{n}.csv")
         if not os.path.exists(spheres):
@@ -136,7 +146,7 @@ def write_ringdem(work, variant, n, ledger=True):
                 f.write("x,y,z,radius\n")
                 for x, y, z, r in file_spheres(variant, n):
                     f.write(f"{x:.9f},{y:.9f},{z:.9f},{r:.6f}\n")
-        velocity = ", velocity: [1.0, 0.0, 0.0]" if variant == "dense" else ""
+        velocity = ", velocity: [1.0, 0.0, 0.0]" if variant in PACKINGS else ""
         lines += ["  sphere_files:",
                   f"    - {{path: {os.path.basename(spheres)}, material: rock{velocity}}}"]
     else:
@@ -177,7 +187,7 @@ def box_and_atoms(work, variant, n, liggghts):
     """Input lines that make the grains (LAMMPS and LIGGGHTS share them)."""
     if variant == "poly":
         return [f"read_data {write_lammps_data(work, variant, n)}"]
-    if variant == "dense":
+    if variant in PACKINGS:
         return [f"read_data {write_lammps_data(work, variant, n)}",
                 "velocity all set 1.0 0.0 0.0 units box"]
     s = lattice_spec(variant, n)
@@ -286,7 +296,8 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--ringdem", required=True, help="path of the ringdem binary")
     ap.add_argument("--sizes", default="1e5", help="grain counts, comma separated (1e5,1e6)")
-    ap.add_argument("--variants", default="bed,poly,flow,dense")
+    ap.add_argument("--variants", default="bed,poly,flow,dense",
+                    help="of bed,poly,flow,dense,mixed (mixed: not run unless named)")
     ap.add_argument("--codes", default="ringdem,lammps,liggghts")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--json", help="also write the medians here")

@@ -2,7 +2,7 @@
 # Side-by-side granular benchmark (issue 12): ringdem against Debian's LAMMPS (GRANULAR,
 # pair_style granular hertz/material + mindlin + tsuji damping) and LIGGGHTS (gran model hertz
 # tangential history) on the same beds, one rank each, runs interleaved, medians printed.
-#   scripts/bench/peer_granular.sh [--sizes 1e5,1e6] [--variants bed,poly,flow]
+#   scripts/bench/peer_granular.sh [--sizes 1e5,1e6] [--variants bed,poly,flow,dense,mixed]
 #                                  [--codes ringdem,lammps,liggghts] [--repeats 3] [--json F]
 #   (code ringdem_noledger: ringdem with simulation.energy_ledger: false, as the peers book none)
 #   RINGDEM_BINARY=path/to/ringdem  to measure another build (before/after comparisons)
