@@ -121,4 +121,23 @@ std::vector<PackedGrain> place_grains(const std::vector<double>& radii, const Ve
   return grains;
 }
 
+void order_by_space(std::vector<PackedGrain>& grains, const Vec3& lo, double bin) {
+  struct Keyed {
+    std::array<std::int64_t, 3> bin;  // x, y, z: compared lexicographically, z fastest
+    PackedGrain grain;
+  };
+  std::vector<Keyed> keyed;
+  keyed.reserve(grains.size());
+  const auto bin_of = [&](double x, double origin) {
+    return static_cast<std::int64_t>(std::floor((x - origin) / bin));
+  };
+  for (const PackedGrain& g : grains)
+    keyed.push_back(
+        {{bin_of(g.centre.x, lo.x), bin_of(g.centre.y, lo.y), bin_of(g.centre.z, lo.z)}, g});
+  std::stable_sort(keyed.begin(), keyed.end(),
+                   [](const Keyed& a, const Keyed& b) { return a.bin < b.bin; });
+  for (std::size_t k = 0; k < grains.size(); ++k)
+    grains[k] = keyed[k].grain;
+}
+
 }  // namespace ringdem

@@ -88,6 +88,7 @@ void GrainSource::emit(std::int64_t first, std::int64_t last, const SourceBases&
           "cell walls, and the grains pack denser as they settle",
           spec_.name, cell, lo.x, lo.y, lo.z, e.what(), spec_.solid_fraction));
     }
+    order_by_space(grains, lo, 2.0 * spec_.sizes.max_radius());
     for (std::size_t k = 0; k < grains.size(); ++k) {
       const std::int64_t item = cell * per_cell_ + static_cast<std::int64_t>(k);
       if (item < first || item >= last) continue;

@@ -17,8 +17,9 @@ namespace ringdem {
 /// "Debris grains"). The box is cut into packing cells about eight largest diameters wide;
 /// each cell draws its radii and places them by random sequential addition from its own
 /// stream, seeded by the case seed and the cell's index, so a cell is the same whichever rank
-/// builds it. Item cell * per_cell + k is the cell's k-th grain (largest first): gids are
-/// sparse, since a cell holds fewer than per_cell grains, but they depend on the case alone.
+/// builds it. Item cell * per_cell + k is the cell's k-th grain in the order of space
+/// (order_by_space(): bins of one largest diameter, z fastest, as the cells): gids are sparse,
+/// since a cell holds fewer than per_cell grains, but they depend on the case alone.
 /// A rank builds only the cells of its slice of items: no rank ever holds every grain.
 class GrainSource final : public ParticleSource {
  public:
