@@ -248,7 +248,7 @@ TEST(GrainPacking, OrderBySpaceSortsByBinZFastestAndKeepsEachBinsOrder) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const Vec3 lo{-0.2, 0.1, 0.0};
-  const double bin = 0.1;  // 4 x 4 x 4 bins over the unit-ish box below
+  const double bin = 0.1;  // 4 x 4 x 4 bins over the 0.4 m box below
   std::vector<PackedGrain> grains;
   for (int k = 0; k < 500; ++k)  // the radius numbers the grains in their first order
     grains.push_back({lo + Vec3{0.4 * u(rng), 0.4 * u(rng), 0.4 * u(rng)}, 1.0 + k});
