@@ -591,13 +591,17 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
   for (std::size_t s = 0; s < stores.size(); ++s)
     visit_store(stores[s], [&](auto& store) { store.settle_arrivals(first_arrival[s]); });
 
-  // Owned particles in gid order, so the local layout is the same for any history of moves.
-  // Most rebuilds move no particle between ranks: the order then still holds.
-  if (!std::is_sorted(p.gid.begin(), p.gid.begin() + static_cast<std::ptrdiff_t>(p.n_local()))) {
+  // Owned particles in the order of their sort keys (bin of the last re-sort, gid), so the
+  // local layout is the same for any history of moves. Most rebuilds move no particle between
+  // ranks and come between re-sorts: the order then still holds.
+  bool sorted = true;
+  for (std::size_t k = 1; k < p.n_local() && sorted; ++k)
+    sorted = !p.sorts_before(k, k - 1);
+  if (!sorted) {
     std::vector<std::size_t> order(p.n_local());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(),
-              [&](std::size_t x, std::size_t y) { return p.gid[x] < p.gid[y]; });
+              [&p](std::size_t x, std::size_t y) { return p.sorts_before(x, y); });
     p.permute_local(order);
   }
   build_ghosts(p);

@@ -105,7 +105,8 @@ class DomainDecomposition {
     std::function<std::array<int, 2>(std::size_t store, std::size_t row)> row;
   };
   /// Moves the items to their destinations, lets each pair store settle its arrivals, keeps
-  /// owned particles in gid order, and rebuilds the ghost layer.
+  /// owned particles in the order of their sort keys (ParticleStore::sorts_before), and rebuilds
+  /// the ghost layer.
   void migrate(ParticleStore& p, const std::vector<PairStore>& stores, const Destinations& to);
   /// The particle part of migrate(): owned particle k goes to rank owner[k]; the ghosts go.
   void migrate_particles(ParticleStore& p, const std::vector<int>& owner);

@@ -55,8 +55,9 @@ class GidIndex {
   /// Gids in runs of kLine share a cache line of the table: the run (gid / kLine) picks the
   /// line by Fibonacci hashing (the top bits of run * 2^64/phi, so that the runs of a source's
   /// consecutive gids, and those of sources at far-apart bases, spread over the table), and
-  /// gid % kLine the slot in it. A store holds its owned particles mostly in ascending gid
-  /// order, so filling the table touches one line for every kLine particles instead of one
+  /// gid % kLine the slot in it. A store holds its owned particles in gid order, or after a
+  /// re-sort by space in runs of it as long as the grains of neighbouring bins were made
+  /// together, so filling the table touches one line for every kLine particles instead of one
   /// for each (a hash of the whole gid made every insert a cache miss: 5 % of a 10^6-grain
   /// flow's step, at its neighbour-list rebuilds).
   std::size_t home(std::int64_t gid) const {

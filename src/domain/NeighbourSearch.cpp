@@ -10,7 +10,7 @@ namespace {
 
 inline bool is_candidate(const ParticleStore& p, std::size_t n_local, double skin,
                          const PairExclusions& ex, std::uint32_t a, std::uint32_t b) {
-  if (p.gid[a] >= p.gid[b]) return false;  // each pair once, lower gid first
+  if (!p.sorts_before(a, b)) return false;  // each pair once, from the end first in key order
   if (a >= n_local && b >= n_local) return false;
   const double cut = p.radius[a] + p.radius[b] + skin;
   if (norm2(p.position[b] - p.position[a]) >= cut * cut) return false;
@@ -51,26 +51,27 @@ void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclu
       active_.push_back(&levels_[l]);
     }
 
-  // The pairs in ascending (gid of a, gid of b) order: a term that adds each pair's loads to
-  // both ends in list order then gives every particle its contacts in ascending partner gid,
+  // The pairs in ascending order of (key of the first end, key of the second), the key being
+  // (sort_bin, gid) (ParticleStore::sorts_before): a term that adds each pair's loads to both
+  // ends in list order then gives every particle its contacts in ascending partner key,
   // whatever the storage order or the rank count (PairContactTerm). The owned range and the
   // ghost range are each usually sorted already; the check is linear.
   const std::size_t n_local = p.n_local();
-  const auto by_gid = [&p](std::uint32_t x, std::uint32_t y) { return p.gid[x] < p.gid[y]; };
-  by_gid_.resize(n);
+  const auto by_key = [&p](std::uint32_t x, std::uint32_t y) { return p.sorts_before(x, y); };
+  by_key_.resize(n);
   for (std::uint32_t k = 0; k < n; ++k)
-    by_gid_[k] = k;
-  const auto middle = by_gid_.begin() + static_cast<std::ptrdiff_t>(n_local);
-  if (!std::is_sorted(by_gid_.begin(), middle, by_gid)) std::sort(by_gid_.begin(), middle, by_gid);
-  if (!std::is_sorted(middle, by_gid_.end(), by_gid)) std::sort(middle, by_gid_.end(), by_gid);
-  std::inplace_merge(by_gid_.begin(), middle, by_gid_.end(), by_gid);
+    by_key_[k] = k;
+  const auto middle = by_key_.begin() + static_cast<std::ptrdiff_t>(n_local);
+  if (!std::is_sorted(by_key_.begin(), middle, by_key)) std::sort(by_key_.begin(), middle, by_key);
+  if (!std::is_sorted(middle, by_key_.end(), by_key)) std::sort(middle, by_key_.end(), by_key);
+  std::inplace_merge(by_key_.begin(), middle, by_key_.end(), by_key);
 
   // Room for about as many pairs as the last build found: growth by doubling alone leaves up
   // to half of the pairs' memory unused (4.2 million slots for 3 million pairs).
   out.i.reserve(last_pairs_ + last_pairs_ / 16);
   out.j.reserve(last_pairs_ + last_pairs_ / 16);
   std::vector<std::uint32_t> partners;
-  for (const std::uint32_t a : by_gid_) {
+  for (const std::uint32_t a : by_key_) {
     partners.clear();
     for (const Level* level : active_)
       level->grid.for_each_near(p.position[a], p.radius[a] + level->r_max + skin,
@@ -78,10 +79,13 @@ void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclu
                                   if (is_candidate(p, n_local, skin, ex, a, b))
                                     partners.push_back(b);
                                 });
-    std::sort(partners.begin(), partners.end(), by_gid);
+    std::sort(partners.begin(), partners.end(), by_key);
+    // Each pair oriented with the lower gid first whatever the keys: the contact law's sign,
+    // the springs' keys and the rows a checkpoint holds do not depend on the order.
     for (const std::uint32_t b : partners) {
-      out.i.push_back(a);
-      out.j.push_back(b);
+      const bool a_first = p.gid[a] < p.gid[b];
+      out.i.push_back(a_first ? a : b);
+      out.j.push_back(a_first ? b : a);
     }
   }
   last_pairs_ = out.i.size();
@@ -96,7 +100,7 @@ void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclu
     std::vector<std::uint32_t>().swap(level.members);
     level.grid.release_memory();
   }
-  std::vector<std::uint32_t>().swap(by_gid_);
+  std::vector<std::uint32_t>().swap(by_key_);
 }
 
 PairCandidates brute_force_pairs(const ParticleStore& p, double skin, const PairExclusions& ex) {
@@ -105,8 +109,9 @@ PairCandidates brute_force_pairs(const ParticleStore& p, double skin, const Pair
   for (std::uint32_t a = 0; a < n; ++a)
     for (std::uint32_t b = 0; b < n; ++b)
       if (a != b && is_candidate(p, p.n_local(), skin, ex, a, b)) {
-        out.i.push_back(a);
-        out.j.push_back(b);
+        const bool a_first = p.gid[a] < p.gid[b];
+        out.i.push_back(a_first ? a : b);
+        out.j.push_back(a_first ? b : a);
       }
   return out;
 }

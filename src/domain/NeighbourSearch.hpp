@@ -10,7 +10,9 @@
 namespace ringdem {
 
 /// Candidate contact pairs (i, j) as particle indices, i holding the lower gid; from
-/// NeighbourSearch in ascending (gid of i, gid of j) order.
+/// NeighbourSearch in ascending order of the ends' sort keys (ParticleStore::sorts_before):
+/// by the end that comes first, then by the other. The pairs of one first end are
+/// consecutive.
 struct PairCandidates {
   std::vector<std::uint32_t> i, j;
   std::size_t size() const { return i.size(); }
@@ -49,10 +51,10 @@ class NeighbourSearch {
     double r_max = 0.0;  ///< largest radius of the level
     CellGrid grid;
   };
-  std::vector<Level> levels_;         ///< by level number: radii in [r_min 2^l, r_min 2^(l+1))
-  std::vector<const Level*> active_;  ///< the levels with members, finest first
-  std::vector<std::uint32_t> by_gid_;
-  std::size_t last_pairs_ = 0;  ///< pairs of the last build (the next one's reserve)
+  std::vector<Level> levels_;          ///< by level number: radii in [r_min 2^l, r_min 2^(l+1))
+  std::vector<const Level*> active_;   ///< the levels with members, finest first
+  std::vector<std::uint32_t> by_key_;  ///< all particles in key order (scratch)
+  std::size_t last_pairs_ = 0;         ///< pairs of the last build (the next one's reserve)
 };
 
 /// O(N^2) reference with the same criterion, for tests.

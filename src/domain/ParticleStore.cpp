@@ -38,6 +38,7 @@ std::size_t ParticleStore::add(const NewParticle& p) {
   body[i] = p.body;
   group[i] = p.group;
   motion[i] = p.motion;
+  sort_bin[i] = 0;  // in gid order among the unbinned until the next re-sort
   index_.set(static_cast<std::uint32_t>(i), gid.data(), gid.size());
   return i;
 }

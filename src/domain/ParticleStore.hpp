@@ -71,6 +71,12 @@ class ParticleStore {
   std::vector<std::int32_t> body;   ///< ring / clump id, -1 for none
   std::vector<std::int32_t> group;  ///< particle group (case-file name table)
   std::vector<Motion> motion;
+  /// The spatial bin the particle was given at the last re-sort (SpatialBins; 0 for a particle
+  /// of a ring or clump, and until a particle's first re-sort). With the gid it is the key of
+  /// the order in which the owned particles are stored and every particle's contacts are
+  /// summed (sorts_before()): a property of the particle, so the sums are the same bits on any
+  /// rank count (DESIGN §4), and, after a re-sort, an order of space.
+  std::vector<std::uint32_t> sort_bin;
   // --- energy ledger (docs/physics.md "Energy ledger"); only while books_global_damping().
   // The contact terms' tallies and the energy the contacts hold are kept per rank in exact
   // sums (engine/EnergyLedger); what a particle carries is its global damping, which the
@@ -124,6 +130,9 @@ class ParticleStore {
     f(FieldInfo{"body", kState | kGhostOnce | kOutput}, body);
     f(FieldInfo{"group", kState | kGhostOnce | kOutput}, group);
     f(FieldInfo{"motion", kState | kGhostOnce}, motion);
+    // Ghosts need it too: the neighbour search walks the pairs in key order. A checkpoint of
+    // format 11 has none: every particle restarts at bin 0, the order it was in (gid order).
+    f(FieldInfo{"sort_bin", kState | kGhostOnce | kZeroIfAbsent}, sort_bin);
     if (books_global_damping()) for_each_ledger_field(f);
   }
 
@@ -202,6 +211,12 @@ class ParticleStore {
 
   /// Rebuilds the gid -> index map over owned and ghost particles.
   void rebuild_index();
+  /// Whether particle a comes before particle b in the sort key (sort_bin, gid): the order of
+  /// the owned particles in the store and of the contact pairs' sums.
+  bool sorts_before(std::size_t a, std::size_t b) const {
+    return sort_bin[a] != sort_bin[b] ? sort_bin[a] < sort_bin[b] : gid[a] < gid[b];
+  }
+
   /// Index of gid, or -1 when this rank holds no such particle.
   std::int64_t index_of(std::int64_t gid_value) const {
     return index_.find(gid_value, gid.data(), gid.size());

@@ -30,39 +30,26 @@ class SpringSlots {
     free_.clear();
     pool_.reserve(n_candidates);
   }
-  /// reset(), with the pool made in the memory of `carried`, the springs a rebuild reads back
-  /// (one column of keyed rows): carry() then gives candidate m the spring of row `row`, with
-  /// rows in increasing order and each at most once, so that the pool is compacted in place and
-  /// the springs are never held twice; end_carry() cuts the pool to the springs carried.
+  /// reset(), with the pool made of `carried`, the springs a rebuild reads back (one column of
+  /// keyed rows): carry() then gives candidate m the spring of row `row`, in any order and each
+  /// row at most once, and end_carry() puts the carried springs in candidate order in the same
+  /// memory and cuts off the rest, so that the springs are never held twice and the kernel
+  /// walks the pool in order.
   void reset_carrying(std::size_t n_candidates, std::vector<Vec3>&& carried) {
     slot_.assign(n_candidates, kNoSpring);
     pool_ = std::move(carried);
     free_.clear();
-    n_carried_ = 0;
   }
-  void carry(std::size_t m, std::size_t row) {
-    // n_carried_ <= row: the rows taken so far are distinct and below `row`.
-    slot_[m] = static_cast<std::uint32_t>(n_carried_);
-    pool_[n_carried_++] = pool_[row];
+  void carry(std::size_t m, std::size_t row) { slot_[m] = static_cast<std::uint32_t>(row); }
+  void end_carry() {
+    compact_in_candidate_order([](std::size_t) { return true; });
   }
-  void end_carry() { pool_.resize(n_carried_); }
   /// The springs of the candidates m with holds(m) and keep(m), in candidate order, made in the
   /// pool's own memory, which the slots give up (release_memory() follows): what a rebuild keys
-  /// and carries. The pool is permuted in place (each swap puts one spring where it goes), so
-  /// that a packing's springs are never held twice; a slot number per spring is the scratch.
+  /// and carries.
   template <class Keep>
   std::vector<Vec3> take_in_candidate_order(Keep&& keep) {
-    std::vector<std::uint32_t> target(pool_.size(), kNoSpring);
-    std::uint32_t n_kept = 0;
-    for (std::size_t m = 0; m < slot_.size(); ++m)
-      if (holds(m) && keep(m)) target[slot_[m]] = n_kept++;
-    for (std::size_t s = 0; s < target.size(); ++s)
-      while (target[s] != kNoSpring && target[s] != s) {
-        const std::uint32_t d = target[s];
-        std::swap(pool_[s], pool_[d]);
-        std::swap(target[s], target[d]);
-      }
-    pool_.resize(n_kept);
+    compact_in_candidate_order(keep);
     std::vector<Vec3> kept = std::move(pool_);
     release_memory();
     return kept;
@@ -108,10 +95,36 @@ class SpringSlots {
   /// A candidate's slot when it holds no spring.
   static constexpr std::uint32_t kNoSpring = UINT32_MAX;
 
+  /// Keeps only the springs of the candidates m with holds(m) and keep(m), in candidate order
+  /// at the front of the pool, which is cut to them: permuted in place (each swap puts one
+  /// spring where it goes), a slot number per spring the scratch, so that a packing's springs
+  /// are never held twice.
+  template <class Keep>
+  void compact_in_candidate_order(Keep&& keep) {
+    std::vector<std::uint32_t> target(pool_.size(), kNoSpring);
+    std::uint32_t n_kept = 0;
+    for (std::size_t m = 0; m < slot_.size(); ++m) {
+      if (!holds(m)) continue;
+      if (keep(m)) {
+        target[slot_[m]] = n_kept;
+        slot_[m] = n_kept++;
+      } else {
+        slot_[m] = kNoSpring;
+      }
+    }
+    for (std::size_t s = 0; s < target.size(); ++s)
+      while (target[s] != kNoSpring && target[s] != s) {
+        const std::uint32_t d = target[s];
+        std::swap(pool_[s], pool_[d]);
+        std::swap(target[s], target[d]);
+      }
+    pool_.resize(n_kept);
+    free_.clear();
+  }
+
   std::vector<std::uint32_t> slot_;  ///< candidate -> its spring in pool_, or kNoSpring
   std::vector<Vec3> pool_;           ///< the springs (physics.md §3), some of them free
   std::vector<std::uint32_t> free_;  ///< slots of pool_ given back, reused first
-  std::size_t n_carried_ = 0;        ///< springs carried so far (reset_carrying)
 };
 
 }  // namespace ringdem

@@ -13,10 +13,6 @@ namespace ringdem {
 struct PairKey {
   std::int64_t a, b;
   bool operator==(const PairKey&) const = default;
-  /// Lexicographic order of (a, b) keys, the order of the particle-pair candidates.
-  static bool less(std::int64_t a1, std::int64_t b1, std::int64_t a2, std::int64_t b2) {
-    return a1 < a2 || (a1 == a2 && b1 < b2);
-  }
 };
 struct PairKeyHash {
   std::size_t operator()(const PairKey& k) const {

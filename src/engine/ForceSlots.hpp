@@ -39,7 +39,8 @@ struct ForceSlots {
 
 /// The owned particles' force and torque, for a term that sums its loads per particle itself
 /// instead of writing slots (PairContactTerm). Such a term must add to particle k in ascending
-/// order of the partner's gid (DESIGN §4): the sum is then the same on any rank count. It runs
+/// order of the partner's sort key (ParticleStore::sorts_before, a property of the particle as
+/// the gid is; DESIGN §4): the sum is then the same on any rank count. It runs
 /// after the loads are initialised (gravity in the drift pass, point loads: GatherMap)
 /// and before the slots are gathered, which is the gather order when its partners sort before
 /// every other term's (particle pairs: bonded pairs get no contact).

@@ -45,54 +45,54 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
   }
 
   search_.build(p, ctx.skin, exclusions_, pairs_);
+  carry_springs(p);
+}
+
+void PairContactTerm::carry_springs(const ParticleStore& p) {
   // The keyed rows (the touching springs packed before the migration, or a checkpoint's)
-  // become the new candidates' springs. The candidates are in ascending (gid, partner) order,
-  // and so are the rows once sorted (they are, unless migration appended arrivals): one merge
-  // pass pairs them. Of two rows with one key (both ends' ranks held the pair) the first in
-  // storage order is taken.
-  const ContactSpringStore& carried = springs_;
-  const std::size_t n_carried = carried.size();
-  const auto row_before = [&carried](std::size_t x, std::size_t y) {
-    return PairKey::less(carried.gid[x], carried.partner[x], carried.gid[y], carried.partner[y]);
-  };
-  // Rows in key order (the usual case; always on one rank) are read in storage order and become
-  // the pool in their own memory, without an order array: at the rebuild of a packing in
-  // contact the keyed rows, a second copy of their springs and the order had made the run's
-  // peak memory (docs/performance.md, fifteenth round).
-  bool in_place = n_carried > 0;
-  for (std::size_t r = 1; r < n_carried && in_place; ++r)
-    in_place = !row_before(r, r - 1);
-  carried_order_.clear();
-  if (!in_place) {
-    carried_order_.resize(n_carried);
-    for (std::uint32_t r = 0; r < n_carried; ++r)
-      carried_order_[r] = r;
-    std::stable_sort(carried_order_.begin(), carried_order_.end(), row_before);
-  }
-  const auto row = [&](std::size_t c) { return in_place ? c : carried_order_[c]; };
+  // become the new candidates' springs, in the rows' own memory: at the rebuild of a packing
+  // in contact the keyed rows, a second copy of their springs and an order of them had made
+  // the run's peak memory (docs/performance.md, fifteenth round). Of two rows with one key
+  // (both ends' ranks held the pair) the first in storage order is taken.
   const std::size_t np = pairs_.size();
-  if (in_place)
-    spring_.reset_carrying(np, std::move(springs_.spring));
-  else
-    spring_.reset(np);
+  const std::size_t n_carried = springs_.size();
+  spring_.reset_carrying(np, std::move(springs_.spring));
+  // Rows in candidate order (the usual case: packed from the last candidates, with no re-sort
+  // and nothing arrived from another rank since): one pass pairs them by their gids. It stops
+  // matching at the first row out of that order; the rows before it have their candidates.
   std::size_t c = 0;
-  for (std::size_t m = 0; m < np && c < n_carried; ++m) {
-    const std::int64_t key_a = p.gid[pairs_.i[m]], key_b = p.gid[pairs_.j[m]];
-    while (c < n_carried &&
-           PairKey::less(carried.gid[row(c)], carried.partner[row(c)], key_a, key_b))
-      ++c;
-    if (c < n_carried && carried.gid[row(c)] == key_a && carried.partner[row(c)] == key_b) {
-      if (in_place)
-        spring_.carry(m, c);
-      else
-        spring_.take(m) = carried.spring[row(c)];
-      ++c;  // a row gives its spring once
+  for (std::size_t m = 0; m < np && c < n_carried; ++m)
+    if (p.gid[pairs_.i[m]] == springs_.gid[c] && p.gid[pairs_.j[m]] == springs_.partner[c])
+      spring_.carry(m, c++);
+  if (c < n_carried) {
+    // The rest (after a re-sort, or rows that migration appended) in no order of the
+    // candidates': the candidates of one first end (the end first in key order) are
+    // consecutive (NeighbourSearch), so each row looks among those of its own first end.
+    const auto first_end = [&](std::size_t m) {
+      const std::uint32_t i = pairs_.i[m], j = pairs_.j[m];
+      return p.sorts_before(j, i) ? j : i;
+    };
+    constexpr std::uint32_t kNone = UINT32_MAX;
+    std::vector<std::uint32_t> first_pair(p.n_total(), kNone);
+    for (std::size_t m = np; m-- > 0;)
+      first_pair[first_end(m)] = static_cast<std::uint32_t>(m);
+    for (std::size_t r = c; r < n_carried; ++r) {
+      const std::int64_t x = p.index_of(springs_.gid[r]), y = p.index_of(springs_.partner[r]);
+      if (x < 0 || y < 0) continue;  // an end not held here: no candidate
+      const auto [a, b] =
+          p.sorts_before(static_cast<std::size_t>(y), static_cast<std::size_t>(x))
+              ? std::pair{static_cast<std::uint32_t>(y), static_cast<std::uint32_t>(x)}
+              : std::pair{static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y)};
+      for (std::size_t m = first_pair[a]; m != kNone && m < np && first_end(m) == a; ++m)
+        if (pairs_.i[m] == b || pairs_.j[m] == b) {
+          if (!spring_.holds(m)) spring_.carry(m, r);  // a row gives its spring once
+          break;
+        }
     }
   }
-  if (in_place) spring_.end_carry();
   // Read back: the keyed rows' memory goes until the next pack.
   springs_ = ContactSpringStore{ContactSpringStore::Partner::kParticle};
-  std::vector<std::uint32_t>().swap(carried_order_);
+  spring_.end_carry();
 }
 
 void PairContactTerm::pack_springs(const ParticleStore& p) {
@@ -151,21 +151,23 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
   const double* const radius = p.radius.data();
   SpringSlots& springs = spring_;
   PairContactChunk& chunk = chunk_;
-  // The b ends are read in jumps: in a packing stored in gid order a grain's partners of higher
-  // gid lie in a few far-apart runs, each a stream through every array the kernel reads (nine,
+  // The far ends are read in jumps: the pairs come by their end first in key order, which is
+  // the storage order of the owned particles, and a grain's partners later in that order lie
+  // in a few far-apart runs, each a stream through every array the kernel reads (nine,
   // and the ledger's entries), more streams than the hardware prefetcher follows. The kernel
-  // asks for the b end of the pair kPrefetchAhead ahead itself: on a dense bed it had waited
-  // on those loads for half of the pair loop's time (docs/performance.md, fourteenth round).
-  // Only while most candidates touch (the last chunk's): a candidate that does not touch reads
-  // only the positions and radii, and the requests cost the net's sparse contacts 50 %.
+  // asks for the far end (the one stored later) of the pair kPrefetchAhead ahead itself: on a dense
+  // bed it had waited on those loads for half of the pair loop's time (docs/performance.md,
+  // fourteenth round). Only while most candidates touch (the last chunk's): a candidate that does
+  // not touch reads only the positions and radii, and the requests cost the net's sparse contacts
+  // 50 %.
   const std::size_t n_pairs = pairs_.size();
   constexpr std::size_t kPrefetchAhead = 16;
   bool prefetch = true;
   // Particle contacts (physics.md §3), a chunk of candidates at a time: the touching ones are
   // copied into the chunk's columns, the contact law runs over them vectorised, and their
-  // loads are added in pair order. The pairs come in ascending (gid of a, gid of b) order
+  // loads are added in pair order. The pairs come in ascending order of their ends' sort keys
   // (NeighbourSearch), and each adds its loads to both ends at once: every particle then gets
-  // its contacts in ascending partner gid, the gather order (DESIGN §4), without a slot per
+  // its contacts in ascending partner key, the gather order (DESIGN §4), without a slot per
   // pair. Most candidates of a loose packing do not touch: they cost a distance test and a
   // slot read, and hold no spring.
   for_each_chunk(IndexRange{0, pairs_.size()}, PairContactChunk::kSize, [&](IndexRange range) {
@@ -176,7 +178,8 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
           const std::uint32_t a = pair_a[m];
           const std::uint32_t b = pair_b[m];
           if (prefetch && m + kPrefetchAhead < n_pairs) {
-            const std::uint32_t ahead = pair_b[m + kPrefetchAhead];
+            const std::uint32_t ahead =
+                std::max(pair_a[m + kPrefetchAhead], pair_b[m + kPrefetchAhead]);
             __builtin_prefetch(&position[ahead]);
             __builtin_prefetch(&p.velocity[ahead]);
             __builtin_prefetch(&p.omega[ahead]);

@@ -11,7 +11,8 @@
 namespace ringdem {
 
 /// Contacts between particles (Hertz–Mindlin, physics.md §3): cell-grid candidate pairs with
-/// a Verlet skin in ascending gid order, each with its tangential spring. Between rebuilds the
+/// a Verlet skin in ascending order of the ends' sort keys (ParticleStore::sorts_before), each
+/// with its tangential spring. Between rebuilds the
 /// springs of the touching candidates are in SpringSlots (their keys are the candidates' gids,
 /// so no key columns; no spring where nothing touches); at a rebuild they go into the
 /// ContactSpringStore keyed by the gid pair, for migration, and come back by key. It takes no
@@ -36,6 +37,8 @@ class PairContactTerm final : public ForceTerm {
   /// compute() with the energy ledger's ContactMoments (kBook) or without.
   template <bool kBook>
   void compute_pairs(ComputeContext& ctx);
+  /// The keyed rows' springs to the new candidates (rebuild()).
+  void carry_springs(const ParticleStore& p);
 
   NeighbourSearch search_;
   PairExclusions exclusions_;
@@ -45,8 +48,7 @@ class PairContactTerm final : public ForceTerm {
   /// Keyed rows (gid of end a, partner the gid of end b), only from pack_springs() (or a
   /// restart) to the next rebuild(): empty between rebuilds.
   ContactSpringStore springs_{ContactSpringStore::Partner::kParticle};
-  std::vector<std::uint32_t> carried_order_;  ///< rebuild scratch: the carried rows' key order
-  PairContactChunk chunk_;                    ///< compute scratch (28 KB)
+  PairContactChunk chunk_;  ///< compute scratch (28 KB)
 };
 
 }  // namespace ringdem

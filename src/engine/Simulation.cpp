@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "domain/SpatialBins.hpp"
 #include "engine/BrakeLoads.hpp"
 #include "engine/DivergenceError.hpp"
 #include "engine/ModelTable.hpp"
@@ -43,6 +44,7 @@ SimulationSettings settings_from_case(const CaseConfig& c) {
   s.imbalance_threshold = c.simulation.imbalance_threshold;
   s.momentum_ledger = c.scenario.type == "free_run";
   s.energy_ledger = c.simulation.energy_ledger;
+  s.sort_every = c.simulation.sort_every;
   return s;
 }
 
@@ -288,8 +290,14 @@ std::vector<PairStore> Simulation::pair_stores() {
   return stores;
 }
 
-void Simulation::rebuild() {
-  build_lists();
+double Simulation::sort_width_due() {
+  if (settings_.sort_every <= 0 || steps_ % settings_.sort_every != 0) return 0.0;
+  const double r_min = comm_.min(SpatialBins::smallest_binned_radius(model_.particles));
+  return std::isfinite(r_min) ? 2.0 * r_min : 0.0;
+}
+
+void Simulation::rebuild(double sort_width) {
+  build_lists(sort_width);
   move_bound_ = 0.0;
   body_position_at_rebuild_.clear();
   body_orientation_at_rebuild_.clear();
@@ -308,13 +316,16 @@ std::size_t Simulation::n_contact_candidates() const {
   return 0;
 }
 
-void Simulation::build_lists() {
+void Simulation::build_lists(double sort_width) {
   ParticleStore& p = model_.particles;
   // Only touching contacts carry a spring across the rebuild; migration moves those rows with
   // their particles, and each term's rebuild() reads its own store back by key.
   ledger_.release_moments();
   for (auto& t : terms_)
     t->pack_springs(p);
+  // Before the migration, which stores the owned particles in the new keys' order and sends
+  // the ghosts theirs.
+  if (sort_width > 0.0) SpatialBins::assign(p, sort_width);
   decomposition_.redistribute(p, pair_stores());
   // Each term takes its slots and registers them with the gather map, in term order; bonded
   // terms first, so the contact terms see their exclusions.
@@ -488,9 +499,13 @@ void Simulation::evaluate_step() {
     decomposition_.update_ghosts(p);
     rebuild_now = needs_rebuild();
   }
-  if (rebuild_now) {
+  // A re-sort comes at fixed step numbers, at a rebuild of its own: the forces do not depend on
+  // when the lists are rebuilt, and a restart, whose lists are built afresh, re-sorts at the
+  // same steps as the run never interrupted.
+  const double sort_width = sort_width_due();
+  if (rebuild_now || sort_width > 0.0) {
     PhaseTimer t(phase_seconds_[kNeighbour]);
-    rebuild();
+    rebuild(sort_width);
   }
   compute_forces(/*loads_started=*/true);
   book_momentum(/*initial=*/false);

@@ -41,6 +41,10 @@ struct SimulationSettings {
   /// 0 and the energy guard is off (the per-step runaway guard stays). The trajectory is the
   /// same bits either way.
   bool energy_ledger = true;
+  /// Steps between re-sorts of the grains by space (SpatialBins; docs/architecture.md "Order of
+  /// the particles"): at every step number that is a multiple, the lists are rebuilt with each
+  /// grain in the bin of its position. 0: never (every particle stays in gid order).
+  std::int64_t sort_every = 1000;
 };
 
 /// The settings a case file asks for.
@@ -233,10 +237,15 @@ class Simulation {
   void init_limits();
   /// A neighbour-list rebuild of the trajectory: lists from the current positions, which
   /// become the reference of the skin criterion.
-  void rebuild();
+  /// `sort_width` > 0: a re-sort, each grain binned in cubes of that edge first.
+  void rebuild(double sort_width = 0.0);
   /// Migration, lists, slots and gather map from the current positions and the terms'
-  /// spring stores.
-  void build_lists();
+  /// spring stores; `sort_width` as rebuild()'s.
+  void build_lists(double sort_width = 0.0);
+  /// The width of the re-sort due at this step (twice the smallest radius of the grains it
+  /// bins, over the ranks), or 0 where none is due or there is nothing to bin. Collective on
+  /// the steps where one is due; the same step numbers on every rank and after a restart.
+  double sort_width_due();
   /// Every term's pair store (bonds, contact springs), in term order: what migration moves.
   std::vector<PairStore> pair_stores();
   /// One force evaluation. `loads_started`: the drift pass already set F = m g, T = 0

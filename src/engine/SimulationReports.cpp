@@ -102,7 +102,9 @@ void Simulation::report_divergence(const std::string& energy_excess) const {
       double r =
           std::max(norm(p.velocity[k]) * dt_ / settings_.skin, norm(p.omega[k]) * dt_ / kMaxTurn);
       if (!std::isfinite(r)) r = Integrator::kRunaway;
-      if (r > worst_ratio) worst_ratio = r, worst_index = k;
+      // Of equal ratios the lowest gid: the same particle on any rank count and storage order.
+      if (r > worst_ratio || (r == worst_ratio && p.gid[k] < p.gid[worst_index]))
+        worst_ratio = r, worst_index = k;
     }
   }
   if ((!energy_excess.empty() || worst_ratio > 1.0) && worst_index < p.n_local()) {

@@ -238,6 +238,8 @@ struct SimulationConfig {
   bool allow_initial_overlap = false;
   /// Book the energy ledger (SimulationSettings::energy_ledger); only a free run may go without.
   bool energy_ledger = true;
+  /// Steps between re-sorts of the grains by space (SimulationSettings::sort_every); 0: never.
+  int sort_every = 1000;
 };
 
 /// Quasi-static tensile test of ring elements (the paper's "DEM Modeling of a Tensile Test"):

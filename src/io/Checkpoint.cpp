@@ -37,10 +37,13 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // ledger's contact tallies as the exact totals of the ranks' sums (/ledger/state) instead of
 // six particle columns (dissipated_damping, dissipated_friction, boundary_work and their last
 // powers); 11: the energy the contacts hold as the ranks' exact sums in /ledger/state (held and
-// held by leaving grains) instead of two particle columns (tangential_energy, contact_energy).
-// Only this version is read: an older file lacks what this one needs to go on bit for
-// bit.
-constexpr std::int64_t kFormatVersion = 11;
+// held by leaving grains) instead of two particle columns (tangential_energy, contact_energy);
+// 12: the particles' sort bins (/particles/sort_bin, the spatial order of the last re-sort).
+// This version and 11 are read: a file of 11 restarts every particle at bin 0, the gid order
+// that format's writer kept, and so goes on as its run did until the next re-sort. Older
+// files lack what this one needs to go on bit for bit.
+constexpr std::int64_t kFormatVersion = 12;
+constexpr std::int64_t kOldestReadFormatVersion = 11;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
 /// global row index, so partial sums of blocks written by any number of ranks add up to the
@@ -427,10 +430,10 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   if (!f.has_attribute("/", "format") || f.attribute_string("/", "format") != kFormat)
     throw Hdf5Error(path + ": not a ringdem checkpoint");
   const std::int64_t version = f.attribute_int("/", "format_version");
-  if (version != kFormatVersion)
+  if (version < kOldestReadFormatVersion || version > kFormatVersion)
     throw Hdf5Error(fmt::format(
-        "{}: checkpoint format version {} is not the one this ringdem reads ({}){}", path, version,
-        kFormatVersion,
+        "{}: checkpoint format version {} is not one this ringdem reads ({} to {}){}", path,
+        version, kOldestReadFormatVersion, kFormatVersion,
         version < kFormatVersion
             ? ": it was written by an older ringdem, whose checkpoints lack what this one needs "
               "to go on bit for bit; continue it with that version or start afresh"

@@ -52,6 +52,11 @@ struct H5Layout<std::int32_t> {
   static constexpr int components = 1;
 };
 template <>
+struct H5Layout<std::uint32_t> {
+  static hid_t type() { return H5T_NATIVE_UINT32; }
+  static constexpr int components = 1;
+};
+template <>
 struct H5Layout<std::uint8_t> {
   static hid_t type() { return H5T_NATIVE_UINT8; }
   static constexpr int components = 1;

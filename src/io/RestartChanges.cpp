@@ -59,6 +59,8 @@ const std::vector<RestartKeyRule>& restart_key_rules() {
       {"simulation.skin", K::kApplied, E::kNone, "neighbour lists from the restart on"},
       {"simulation.imbalance_threshold", K::kApplied, E::kNone,
        "repartitioning from the restart on"},
+      {"simulation.sort_every", K::kApplied, E::kNone,
+       "the grains' re-sorts from the restart on (the order of summation, at round-off)"},
       {"simulation.energy_ledger", K::kApplied, E::kNone,
        "the ledger books from the restart on; a free run's energy balance then counts from the "
        "restart"},

@@ -274,7 +274,7 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
 
 /// What the drift passes saw (their largest squared speeds, order-free maxima) as the
 /// Integrator's Drift: the worst runaway ratio and, only when something ran away, which
-/// particle (the first of the largest ratio).
+/// particle (of the largest ratio, the lowest gid).
 Integrator::Drift drift_result(const ParticleStore& p, const DriftMaxima& m, double dt,
                                double max_step, double max_turn) {
   const double step_scale = dt * dt / (max_step * max_step);
@@ -282,15 +282,18 @@ Integrator::Drift drift_result(const ParticleStore& p, const DriftMaxima& m, dou
   const double s = m.max_v2 * step_scale, t = m.max_w2 * turn_scale;
   const double worst = std::min(s > t ? s : t, Integrator::kRunaway);
   Integrator::Drift d{std::sqrt(m.max_v2), worst, 0};
+  bool found = false;
   if (worst > 1.0)
     for (std::size_t k = 0; k < p.n_local(); ++k) {
       const double sk = norm2(p.velocity[k]) * step_scale, tk = norm2(p.omega[k]) * turn_scale;
       // A non-finite speed is a runaway (NaN compares false, and would lose against tk).
       double r = sk > tk ? sk : tk;
       r = sk == sk && tk == tk && r <= Integrator::kRunaway ? r : Integrator::kRunaway;
-      if (r == worst) {
+      // Of equal ratios (every runaway has kRunaway) the lowest gid, which is the same particle
+      // on any rank count whatever the storage order.
+      if (r == worst && (!found || p.gid[k] < p.gid[d.worst_index])) {
         d.worst_index = k;
-        break;
+        found = true;
       }
     }
   return d;

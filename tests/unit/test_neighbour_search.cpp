@@ -1,11 +1,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <random>
 #include <set>
 #include <utility>
 
 #include "domain/NeighbourSearch.hpp"
+#include "domain/SpatialBins.hpp"
 
 namespace ringdem {
 namespace {
@@ -18,7 +20,33 @@ std::set<std::pair<std::int64_t, std::int64_t>> as_gid_set(const ParticleStore& 
   return s;
 }
 
-ParticleStore random_cloud(int n, double box, double r_min, double r_max, unsigned seed) {
+/// Pair m's ends in key order, as (bin, gid) of the first end and of the other.
+std::array<std::int64_t, 4> key_pair(const ParticleStore& p, const PairCandidates& c,
+                                     std::size_t m) {
+  std::uint32_t a = c.i[m], b = c.j[m];
+  if (p.sorts_before(b, a)) std::swap(a, b);
+  return {p.sort_bin[a], p.gid[a], p.sort_bin[b], p.gid[b]};
+}
+
+/// Each pair oriented with the lower gid first, the list in strictly ascending key order
+/// (which PairContactTerm's sums rely on); returns how many neighbours in the list are out of
+/// (gid, gid) order, which is positive only where the bins reorder.
+std::size_t expect_key_order(const ParticleStore& p, const PairCandidates& c) {
+  std::size_t out_of_gid_order = 0;
+  for (std::size_t m = 0; m < c.size(); ++m) {
+    EXPECT_LT(p.gid[c.i[m]], p.gid[c.j[m]]) << "pair " << m;
+    if (m == 0) continue;
+    EXPECT_LT(key_pair(p, c, m - 1), key_pair(p, c, m)) << "pair " << m;
+    out_of_gid_order += std::make_pair(p.gid[c.i[m - 1]], p.gid[c.j[m - 1]]) >
+                        std::make_pair(p.gid[c.i[m]], p.gid[c.j[m]]);
+  }
+  return out_of_gid_order;
+}
+
+/// `bin_width` > 0: the particles binned by space (SpatialBins), as after a re-sort; the store
+/// is left in index order, which is then neither gid nor key order.
+ParticleStore random_cloud(int n, double box, double r_min, double r_max, unsigned seed,
+                           double bin_width = 0.0) {
   ParticleStore p;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> pos(0.0, box), rad(r_min, r_max);
@@ -35,13 +63,15 @@ ParticleStore random_cloud(int n, double box, double r_min, double r_max, unsign
     np.density = 1000.0;
     p.add(np);
   }
+  if (bin_width > 0.0) SpatialBins::assign(p, bin_width);
   p.rebuild_index();
   return p;
 }
 
-// The cell grid must find exactly the pairs of the O(N^2) search, each once, lower gid first.
+// The cell grid must find exactly the pairs of the O(N^2) search, each once, lower gid first,
+// in key order (grains binned by space, as after a re-sort).
 TEST(NeighbourSearch, EqualsBruteForceForPolydisperseCloud) {
-  const ParticleStore p = random_cloud(2000, 0.2, 0.002, 0.006, 42);
+  const ParticleStore p = random_cloud(2000, 0.2, 0.002, 0.006, 42, 0.01);
   PairExclusions none;
   NeighbourSearch search;
   PairCandidates cells;
@@ -52,18 +82,13 @@ TEST(NeighbourSearch, EqualsBruteForceForPolydisperseCloud) {
   ASSERT_GT(brute.size(), 100u) << "the cloud must be dense enough to test anything";
   EXPECT_EQ(cells.size(), brute.size());  // no duplicates
   EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
-  for (std::size_t m = 0; m < cells.size(); ++m)
-    EXPECT_LT(p.gid[cells.i[m]], p.gid[cells.j[m]]);
-  // In ascending (gid of i, gid of j) order, which PairContactTerm's sums rely on.
-  for (std::size_t m = 1; m < cells.size(); ++m)
-    EXPECT_LT(std::make_pair(p.gid[cells.i[m - 1]], p.gid[cells.j[m - 1]]),
-              std::make_pair(p.gid[cells.i[m]], p.gid[cells.j[m]]));
+  EXPECT_GT(expect_key_order(p, cells), cells.size() / 10) << "the bins must reorder the pairs";
 }
 
-// A cloud that fills its box takes the dense grid; it must find the same pairs, in the same
-// (gid, gid) order, as the O(N^2) search.
+// A cloud that fills its box takes the dense grid; it must find the same pairs as the O(N^2)
+// search, in key order (binned by space).
 TEST(NeighbourSearch, DenseGridEqualsBruteForce) {
-  const ParticleStore p = random_cloud(3000, 0.1, 0.002, 0.006, 5);
+  const ParticleStore p = random_cloud(3000, 0.1, 0.002, 0.006, 5, 0.02);
   NeighbourSearch search;
   PairCandidates cells;
   search.build(p, 0.001, PairExclusions{}, cells);
@@ -72,14 +97,12 @@ TEST(NeighbourSearch, DenseGridEqualsBruteForce) {
   ASSERT_GT(brute.size(), 1000u);
   EXPECT_EQ(cells.size(), brute.size());
   EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
-  for (std::size_t m = 1; m < cells.size(); ++m)
-    EXPECT_LT(std::make_pair(p.gid[cells.i[m - 1]], p.gid[cells.j[m - 1]]),
-              std::make_pair(p.gid[cells.i[m]], p.gid[cells.j[m]]));
+  EXPECT_GT(expect_key_order(p, cells), cells.size() / 10) << "the bins must reorder the pairs";
 }
 
 // Grains of 2-100 mm and two 0.3 m boulders: five size levels, each with its own cells. The
 // boulders' neighbours are found by scanning the grains' small cells; the pairs must be those
-// of the O(N^2) search, in (gid, gid) order.
+// of the O(N^2) search, in (gid, gid) order (no particle binned: every key is (0, gid)).
 TEST(NeighbourSearch, SizeLevelsEqualBruteForce) {
   ParticleStore p = random_cloud(3000, 0.5, 0.002, 0.1, 9);
   for (int k = 0; k < 2; ++k) {
@@ -102,16 +125,14 @@ TEST(NeighbourSearch, SizeLevelsEqualBruteForce) {
   ASSERT_GT(with_boulder, 50u);
   EXPECT_EQ(cells.size(), brute.size());
   EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
-  for (std::size_t m = 1; m < cells.size(); ++m)
-    EXPECT_LT(std::make_pair(p.gid[cells.i[m - 1]], p.gid[cells.j[m - 1]]),
-              std::make_pair(p.gid[cells.i[m]], p.gid[cells.j[m]]));
+  EXPECT_EQ(expect_key_order(p, cells), 0u);
 }
 
-// Ghosts: pairs of two ghosts are never candidates; owned–ghost pairs are.
+// Ghosts: pairs of two ghosts are never candidates; owned–ghost pairs are, in one key order.
 TEST(NeighbourSearch, SkipsGhostGhostPairs) {
-  ParticleStore p = random_cloud(600, 0.08, 0.003, 0.003, 7);
+  ParticleStore p = random_cloud(600, 0.08, 0.003, 0.003, 7, 0.01);
   p.resize_local(400);  // drop 200, then re-add them as ghosts
-  ParticleStore full = random_cloud(600, 0.08, 0.003, 0.003, 7);
+  ParticleStore full = random_cloud(600, 0.08, 0.003, 0.003, 7, 0.01);
   p.resize_ghosts(200);
   p.for_each_field([&](const FieldInfo& info, auto& v) {
     full.for_each_field([&](const FieldInfo& other, auto& w) {
@@ -134,6 +155,8 @@ TEST(NeighbourSearch, SkipsGhostGhostPairs) {
     owned_ghost += (cells.i[m] >= 400 || cells.j[m] >= 400);
   }
   EXPECT_GT(owned_ghost, 0u);
+  // Owned and ghost ends merged in one key order.
+  EXPECT_GT(expect_key_order(p, cells), 0u);
 }
 
 // Excluded (bonded) pairs are left out; nothing else is.

@@ -1,9 +1,9 @@
 // The particle-pair contact term sums each particle's contact loads itself (no slot per pair):
 // each owned particle must get exactly the loads of its touching partners, added one by one in
-// ascending partner gid after gravity (DESIGN §4, the gather order), whatever the storage order
-// and whether the partner is a ghost. The reference below is an independent brute-force loop
-// over partners sorted by gid, calling the Hertz–Mindlin evaluator directly; the comparison is
-// bit for bit, since the order of the additions is the contract.
+// ascending partner key (sort bin, gid) after gravity (DESIGN §4, the gather order), whatever
+// the storage order and whether the partner is a ghost. The reference below is an independent
+// brute-force loop over partners sorted by key, calling the Hertz–Mindlin evaluator directly;
+// the comparison is bit for bit, since the order of the additions is the contract.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +13,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "domain/SpatialBins.hpp"
 #include "engine/ContactKeys.hpp"
 #include "engine/PairContactTerm.hpp"
 #include "physics/HertzMindlin.hpp"
@@ -21,8 +22,9 @@ namespace ringdem {
 namespace {
 
 // A dense cloud (many overlaps) with gids shuffled against the storage order; the last
-// `n_ghost` particles are ghosts.
-ParticleStore dense_cloud(int n, int n_ghost, unsigned seed) {
+// `n_ghost` particles are ghosts. `bin_width` > 0: every particle binned by space (SpatialBins),
+// as after a re-sort, the store left in neither gid nor key order.
+ParticleStore dense_cloud(int n, int n_ghost, unsigned seed, double bin_width = 0.0) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> pos(0.0, 0.03), rad(0.002, 0.004), vel(-0.5, 0.5);
   std::vector<std::int64_t> gids(static_cast<std::size_t>(n));
@@ -40,6 +42,7 @@ ParticleStore dense_cloud(int n, int n_ghost, unsigned seed) {
     np.density = 2600.0;
     p.add(np);
   }
+  if (bin_width > 0.0) SpatialBins::assign(p, bin_width);
   // Ghosts: the last particles become ghosts, every field copied back (as the comm layer would).
   ParticleStore all = p;
   p.resize_local(static_cast<std::size_t>(n - n_ghost));
@@ -56,8 +59,13 @@ ParticleStore dense_cloud(int n, int n_ghost, unsigned seed) {
   return p;
 }
 
-TEST(PairContactTerm, EachParticleGetsItsContactsInAscendingPartnerGid) {
-  ParticleStore p = dense_cloud(400, 120, 11);
+class PairContactTermOrder : public ::testing::TestWithParam<double> {};
+
+// Unbinned (every key (0, gid): gid order) and binned in cubes of 6 mm (5 a side of the cloud).
+INSTANTIATE_TEST_SUITE_P(BinWidths, PairContactTermOrder, ::testing::Values(0.0, 0.006));
+
+TEST_P(PairContactTermOrder, EachParticleGetsItsContactsInAscendingPartnerKey) {
+  ParticleStore p = dense_cloud(400, 120, 11, GetParam());
   ASSERT_EQ(p.n_local(), 280u);
   ASSERT_EQ(p.n_total(), 400u);
   const MaterialTable materials({Material{"rock", 2600.0, 1e9, 0.25, 0.3, 0.5, 0.1}}, {});
@@ -83,7 +91,7 @@ TEST(PairContactTerm, EachParticleGetsItsContactsInAscendingPartnerGid) {
       ledger, 0.0,    dt,        ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
   term.compute(ctx);
 
-  // Reference: every partner of k (owned or ghost) in ascending gid, each contact evaluated
+  // Reference: every partner of k (owned or ghost) in ascending key, each contact evaluated
   // with the lower gid as end i, from a fresh tangential spring.
   std::size_t touching = 0, with_ghost = 0;
   for (std::size_t k = 0; k < p.n_local(); ++k) {
@@ -91,8 +99,9 @@ TEST(PairContactTerm, EachParticleGetsItsContactsInAscendingPartnerGid) {
     for (std::size_t j = 0; j < p.n_total(); ++j)
       if (j != k && norm(p.position[j] - p.position[k]) < p.radius[j] + p.radius[k])
         partners.push_back(j);
-    std::sort(partners.begin(), partners.end(),
-              [&](std::size_t x, std::size_t y) { return p.gid[x] < p.gid[y]; });
+    std::sort(partners.begin(), partners.end(), [&](std::size_t x, std::size_t y) {
+      return p.sort_bin[x] != p.sort_bin[y] ? p.sort_bin[x] < p.sort_bin[y] : p.gid[x] < p.gid[y];
+    });
     Vec3 f = gravity * p.mass[k];
     Vec3 t;
     for (const std::size_t j : partners) {
@@ -137,6 +146,13 @@ TEST(PairContactTerm, EachParticleGetsItsContactsInAscendingPartnerGid) {
   }
   ASSERT_GT(touching, 500u) << "the cloud must be dense enough to test anything";
   EXPECT_GT(with_ghost, 20u);
+  if (GetParam() > 0.0) {
+    // The bins must reorder: some particle's partners in key order are out of gid order.
+    std::size_t reordered = 0;
+    for (std::size_t k = 0; k + 1 < p.n_total(); ++k)
+      reordered += p.sorts_before(k, k + 1) != (p.gid[k] < p.gid[k + 1]);
+    EXPECT_GT(reordered, p.n_total() / 4);
+  }
 }
 
 // At a rebuild the carried springs (touching contacts, in whatever order migration left them)
@@ -180,6 +196,69 @@ TEST(PairContactTerm, RebuildGivesEveryPairItsCarriedSpring) {
     reversed.spring[m] = store.spring[r];
   }
   store = reversed;
+  rebuild();
+  EXPECT_EQ(term.springs()->size(), 0u) << "the keyed rows are read back and released";
+  const ContactSpringStore after = term.touching_springs(p);
+  std::size_t carried = 0;
+  for (std::size_t m = 0; m < after.size(); ++m) {
+    const auto it = before.find({after.gid[m], after.partner[m]});
+    ASSERT_NE(it, before.end()) << "a spring that was not there before";
+    ++carried;
+    EXPECT_EQ(after.spring[m].x, it->second.x);
+    EXPECT_EQ(after.spring[m].y, it->second.y);
+    EXPECT_EQ(after.spring[m].z, it->second.z);
+  }
+  EXPECT_EQ(carried, before.size());
+}
+
+// A re-sort between the pack and the rebuild (SpatialBins, then the owned particles stored in
+// the new key order, as migration does): the keyed rows, packed in the old candidate order, are
+// in no order of the new candidates. Every spring must still go back to its pair; of two rows
+// with one key the first is taken, and a row whose partner is not held here gives nothing.
+TEST(PairContactTerm, RebuildAfterAReSortGivesEveryPairItsCarriedSpring) {
+  ParticleStore p = dense_cloud(400, 120, 14);
+  const MaterialTable materials({Material{"rock", 2600.0, 1e9, 0.25, 0.3, 0.5, 0.0}}, {});
+  PairContactTerm term;
+  std::vector<ExcludedPair> excluded;
+  std::vector<RigidBody> bodies;
+  const auto rebuild = [&] {
+    SlotAllocator allocator;
+    GatherMap gather;
+    gather.begin(p.n_local());
+    RebuildContext ctx{p, bodies, 0.0005, excluded, allocator, gather, 0};
+    term.rebuild(ctx);
+  };
+  rebuild();
+  ForceSlots slots;
+  EnergyLedger ledger;
+  ledger.begin_step(p.n_local());
+  ComputeContext ctx{
+      p,      bodies, materials, slots,
+      ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
+  term.compute(ctx);
+  const ContactSpringStore touching = term.touching_springs(p);
+  std::map<std::pair<std::int64_t, std::int64_t>, Vec3> before;
+  for (std::size_t m = 0; m < touching.size(); ++m)
+    before[{touching.gid[m], touching.partner[m]}] = touching.spring[m];
+  ASSERT_GT(before.size(), 100u);
+  term.pack_springs(p);
+  ContactSpringStore& store = *term.springs();
+  ASSERT_EQ(store.size(), before.size());
+  // A second row of the first key, with another spring (it must lose), and a row of a partner
+  // held nowhere (it must be ignored).
+  store.append(store.gid[0], store.partner[0], Vec3{1.0, 2.0, 3.0});
+  store.append(store.gid[1], 999999, Vec3{4.0, 5.0, 6.0});
+  // The re-sort: bins of 6 mm on every particle (the ghosts' come from their owners), the owned
+  // ones stored in key order.
+  for (std::size_t k = 0; k < p.n_total(); ++k)
+    p.sort_bin[k] = SpatialBins::bin_of(p.position[k], 0.006);
+  std::vector<std::size_t> order(p.n_local());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    order[k] = k;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t x, std::size_t y) { return p.sorts_before(x, y); });
+  p.permute_local(order);
+  p.rebuild_index();
   rebuild();
   EXPECT_EQ(term.springs()->size(), 0u) << "the keyed rows are read back and released";
   const ContactSpringStore after = term.touching_springs(p);

@@ -4,6 +4,7 @@
 // springs than touch.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <vector>
 
@@ -127,6 +128,35 @@ TEST(SpringSlots, InPlacePackingAndCarryingAgreeWithCopies) {
   carried.release(kept_candidates[0] + 7);
   EXPECT_EQ(carried.n_held(), n_carried - 1);
   EXPECT_EQ(carried.take(1).x, 0.0);
+
+  // Rows in no order of the candidates (after a re-sort): every third row, carried from the
+  // last candidate to the first, gives each its spring, and the pool comes out in candidate
+  // order (a slot number per candidate, counted up) with the rows nobody took cut off.
+  SpringSlots reordered;
+  reordered.reset_carrying(n_new, std::vector<Vec3>(packed));
+  std::size_t n_reordered = 0;
+  for (std::size_t r = 0; r < packed.size(); r += 3) {
+    reordered.carry(n_new - 1 - kept_candidates[r], r);
+    ++n_reordered;
+  }
+  reordered.end_carry();
+  EXPECT_EQ(reordered.n_held(), n_reordered);
+  const Vec3* previous = nullptr;
+  for (std::size_t m = 0; m < n_new; ++m) {
+    const std::size_t source = n_new - 1 - m;
+    const auto it = std::find(kept_candidates.begin(), kept_candidates.end(), source);
+    const bool carried_here =
+        it != kept_candidates.end() && (it - kept_candidates.begin()) % 3 == 0;
+    ASSERT_EQ(reordered.holds(m), carried_here) << "candidate " << m;
+    if (!carried_here) continue;
+    const Vec3& spring = packed[static_cast<std::size_t>(it - kept_candidates.begin())];
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(reordered.value(m)[c], spring[c]) << "candidate " << m;
+    if (previous != nullptr) {
+      EXPECT_EQ(&reordered.value(m), previous + 1) << "candidate " << m;
+    }
+    previous = &reordered.value(m);
+  }
 }
 
 }  // namespace
