@@ -56,6 +56,14 @@ void PairContactTerm::carry_springs(const ParticleStore& p) {
   // (both ends' ranks held the pair) the first in storage order is taken.
   const std::size_t np = pairs_.size();
   const std::size_t n_carried = springs_.size();
+  if (n_carried == 0) {
+    // Nothing to carry (a fresh start): a pool with room for every candidate, which grows to
+    // what touches without a reallocation (a pool doubled from empty as a packing's contacts
+    // closed had held its springs twice for a moment: 28 bytes a grain at 10^6 grains).
+    spring_.reset(np);
+    springs_ = ContactSpringStore{ContactSpringStore::Partner::kParticle};
+    return;
+  }
   spring_.reset_carrying(np, std::move(springs_.spring));
   // Rows in candidate order (the usual case: packed from the last candidates, with no re-sort
   // and nothing arrived from another rank since): one pass pairs them by their gids. It stops
