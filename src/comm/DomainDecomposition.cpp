@@ -433,10 +433,14 @@ void DomainDecomposition::distribute_initial(ParticleStore& p,
 
 void DomainDecomposition::redistribute(ParticleStore& p, const std::vector<PairStore>& stores) {
   p.rebuild_index();
-  if (imbalance(p) > imbalance_threshold_) {
-    partition(p, stores);
-  } else {
-    assign_new_cells(global_cells(p, stores));
+  // One rank owns every cell: there is nothing to assign, and counting the occupied cells (for
+  // the rank report alone) sorted every particle's cell key at each rebuild, 2-3 % of a
+  // 10^6-grain packing's loop. The count stays that of the last partition.
+  if (comm_.size() > 1) {
+    if (imbalance(p) > imbalance_threshold_)
+      partition(p, stores);
+    else
+      assign_new_cells(global_cells(p, stores));
   }
   // New owner of every particle this rank holds (owned and ghost): an intact bond or a
   // contact has both its particles here, owned or as ghosts.

@@ -73,7 +73,8 @@ class DomainDecomposition {
   std::uint64_t block_of(const Vec3& x) const;
   /// Blocks per edge of a partition cell (chosen at the last partition).
   int cell_blocks() const { return cell_blocks_; }
-  /// Occupied partition cells at the last partition or migration (over all ranks).
+  /// Occupied partition cells at the last partition or migration (over all ranks); on one
+  /// rank, at the last partition (a migration there assigns nothing and does not count them).
   std::int64_t cells() const { return cells_held_; }
 
  private:

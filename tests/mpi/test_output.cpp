@@ -280,14 +280,20 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
 
 // Grains entering and leaving: a checkpoint in the middle of the flow restarts on this run's
 // ranks and on one rank and ends as the run never interrupted, with the same totals of what
-// crossed (rank 0 holds them after a restart), the same batches and the same ledger.
+// crossed (rank 0 holds them after a restart), the same batches and the same ledger. The
+// grains are re-sorted by space every 350 steps: before the checkpoint, at the restart's first
+// step (which must re-sort as the run never interrupted does) and after it.
 TEST(Checkpoint, InflowAndOutflowRestartBitwiseOnAnyRankCount) {
   MPI_Comm world;
   MPI_Comm_dup(MPI_COMM_WORLD, &world);
   {
     const Communicator comm(world);
     const std::string dir = shared_temp_dir(comm, "outflow");
-    const CaseConfig c = testing::grains_entering_and_leaving();
+    const CaseConfig c = [] {
+      CaseConfig grains = testing::grains_entering_and_leaving();
+      grains.simulation.sort_every = 350;
+      return grains;
+    }();
     const SimulationSettings s = settings_from_case(c);
     constexpr std::int64_t kHalf = 700;
     DriverState driver;
