@@ -17,6 +17,15 @@ inline bool is_candidate(const ParticleStore& p, std::size_t n_local, double ski
   return !ex.excluded(a, p.gid[b]);
 }
 
+/// Appends the pair (a, b) with the lower gid first, whatever the keys: the contact law's sign,
+/// the springs' keys and the rows a checkpoint holds do not depend on the order.
+inline void push_oriented(const ParticleStore& p, std::uint32_t a, std::uint32_t b,
+                          PairCandidates& out) {
+  const bool a_first = p.gid[a] < p.gid[b];
+  out.i.push_back(a_first ? a : b);
+  out.j.push_back(a_first ? b : a);
+}
+
 }  // namespace
 
 void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclusions& ex,
@@ -80,13 +89,8 @@ void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclu
                                     partners.push_back(b);
                                 });
     std::sort(partners.begin(), partners.end(), by_key);
-    // Each pair oriented with the lower gid first whatever the keys: the contact law's sign,
-    // the springs' keys and the rows a checkpoint holds do not depend on the order.
-    for (const std::uint32_t b : partners) {
-      const bool a_first = p.gid[a] < p.gid[b];
-      out.i.push_back(a_first ? a : b);
-      out.j.push_back(a_first ? b : a);
-    }
+    for (const std::uint32_t b : partners)
+      push_oriented(p, a, b, out);
   }
   last_pairs_ = out.i.size();
   if (out.i.capacity() > last_pairs_ + last_pairs_ / 4) {
@@ -108,11 +112,7 @@ PairCandidates brute_force_pairs(const ParticleStore& p, double skin, const Pair
   const std::size_t n = p.n_total();
   for (std::uint32_t a = 0; a < n; ++a)
     for (std::uint32_t b = 0; b < n; ++b)
-      if (a != b && is_candidate(p, p.n_local(), skin, ex, a, b)) {
-        const bool a_first = p.gid[a] < p.gid[b];
-        out.i.push_back(a_first ? a : b);
-        out.j.push_back(a_first ? b : a);
-      }
+      if (a != b && is_candidate(p, p.n_local(), skin, ex, a, b)) push_oriented(p, a, b, out);
   return out;
 }
 

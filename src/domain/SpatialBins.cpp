@@ -7,13 +7,15 @@ namespace ringdem {
 
 namespace {
 
-/// floor(c / width) modulo 2^bits, for any sign of c.
+/// floor(c / width) modulo 2^bits, for any sign of c; 0 for a coordinate no integer holds (a
+/// grain flung beyond 2^62 widths, or not a number), whose conversion would be undefined.
 std::uint32_t wrapped_index(double c, double width, unsigned bits) {
-  const auto i = static_cast<std::int64_t>(std::floor(c / width));
+  const double q = std::floor(c / width);
+  if (!(std::abs(q) < 0x1p62)) return 0;
+  const auto i = static_cast<std::int64_t>(q);
   return static_cast<std::uint32_t>(static_cast<std::uint64_t>(i) &
                                     ((std::uint64_t{1} << bits) - 1));
 }
-
 }  // namespace
 
 std::uint32_t SpatialBins::bin_of(const Vec3& x, double width) {

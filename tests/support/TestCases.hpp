@@ -187,4 +187,19 @@ inline CaseConfig grains_entering_and_leaving() {
   return c;
 }
 
+/// Two clouds of grains_entering_and_leaving()'s grains (no inlet, no outlet) thrown at each
+/// other and onto the floor: many contacts, lists rebuilt often, grains that mix.
+inline CaseConfig colliding_clouds() {
+  CaseConfig c = grains_entering_and_leaving();
+  c.outflow.clear();
+  c.inflow.clear();
+  c.grains[0].box_max = {0.05, 0.06, 0.03};
+  c.grains[0].velocity = {4.0, 0.0, -3.0};
+  c.grains.push_back(c.grains[0]);
+  c.grains[1].box_min = {0.05, 0.0, 0.0};
+  c.grains[1].box_max = {0.1, 0.06, 0.03};
+  c.grains[1].velocity = {-4.0, 0.0, -3.0};
+  return c;
+}
+
 }  // namespace ringdem::testing

@@ -14,21 +14,6 @@
 namespace ringdem {
 namespace {
 
-/// Two clouds of grains thrown at each other and onto a floor: many contacts, and grains that
-/// mix.
-CaseConfig colliding_clouds() {
-  CaseConfig c = testing::grains_entering_and_leaving();
-  c.outflow.clear();
-  c.inflow.clear();
-  c.grains[0].box_max = {0.05, 0.06, 0.03};
-  c.grains[0].velocity = {4.0, 0.0, -3.0};
-  c.grains.push_back(c.grains[0]);
-  c.grains[1].box_min = {0.05, 0.0, 0.0};
-  c.grains[1].box_max = {0.1, 0.06, 0.03};
-  c.grains[1].velocity = {-4.0, 0.0, -3.0};
-  return c;
-}
-
 Simulation make_simulation(const CaseConfig& c, const Communicator& comm, std::int64_t sort_every) {
   SimulationSettings s = settings_from_case(c);
   s.dt = 1e-6;
@@ -38,7 +23,7 @@ Simulation make_simulation(const CaseConfig& c, const Communicator& comm, std::i
 }
 
 TEST(GrainResort, StoresGrainsByTheirBinsAndMovesThemAsGidOrderDoesToRoundOff) {
-  const CaseConfig c = colliding_clouds();
+  const CaseConfig c = testing::colliding_clouds();
   const Communicator comm = testing::self_comm();
   Simulation sorted = make_simulation(c, comm, 100);
   Simulation by_gid = make_simulation(c, comm, 0);

@@ -155,11 +155,12 @@ TEST_P(PairContactTermOrder, EachParticleGetsItsContactsInAscendingPartnerKey) {
   }
 }
 
-// At a rebuild the carried springs (touching contacts, in whatever order migration left them)
-// must go back to their pairs by key. Here the rows are reversed, as arrivals appended after
-// migration would leave them out of order.
-TEST(PairContactTerm, RebuildGivesEveryPairItsCarriedSpring) {
-  ParticleStore p = dense_cloud(400, 120, 12);
+/// A dense cloud's touching springs after one evaluation, packed for a rebuild; `between`
+/// then changes the keyed rows and the particles as the step between pack and rebuild might
+/// (migration, a re-sort), and the rebuild must give every pair that touched its own spring
+/// back, and nothing else. Of two rows with one key the first is taken.
+template <class Between>
+void expect_every_spring_carried(ParticleStore& p, Between&& between) {
   const MaterialTable materials({Material{"rock", 2600.0, 1e9, 0.25, 0.3, 0.5, 0.0}}, {});
   PairContactTerm term;
   std::vector<ExcludedPair> excluded;
@@ -184,18 +185,10 @@ TEST(PairContactTerm, RebuildGivesEveryPairItsCarriedSpring) {
   for (std::size_t m = 0; m < touching.size(); ++m)
     before[{touching.gid[m], touching.partner[m]}] = touching.spring[m];
   ASSERT_GT(before.size(), 100u);
-  // What a rebuild carries, in reverse order (as rows arriving from other ranks might be).
   term.pack_springs(p);
   ContactSpringStore& store = *term.springs();
   ASSERT_EQ(store.size(), before.size());
-  ContactSpringStore reversed = store;
-  for (std::size_t m = 0; m < store.size(); ++m) {
-    const std::size_t r = store.size() - 1 - m;
-    reversed.gid[m] = store.gid[r];
-    reversed.partner[m] = store.partner[r];
-    reversed.spring[m] = store.spring[r];
-  }
-  store = reversed;
+  between(store);
   rebuild();
   EXPECT_EQ(term.springs()->size(), 0u) << "the keyed rows are read back and released";
   const ContactSpringStore after = term.touching_springs(p);
@@ -211,67 +204,46 @@ TEST(PairContactTerm, RebuildGivesEveryPairItsCarriedSpring) {
   EXPECT_EQ(carried, before.size());
 }
 
+// At a rebuild the carried springs (touching contacts, in whatever order migration left them)
+// must go back to their pairs by key. Here the rows are reversed, as arrivals appended after
+// migration would leave them out of order.
+TEST(PairContactTerm, RebuildGivesEveryPairItsCarriedSpring) {
+  ParticleStore p = dense_cloud(400, 120, 12);
+  expect_every_spring_carried(p, [](ContactSpringStore& store) {
+    ContactSpringStore reversed = store;
+    for (std::size_t m = 0; m < store.size(); ++m) {
+      const std::size_t r = store.size() - 1 - m;
+      reversed.gid[m] = store.gid[r];
+      reversed.partner[m] = store.partner[r];
+      reversed.spring[m] = store.spring[r];
+    }
+    store = reversed;
+  });
+}
+
 // A re-sort between the pack and the rebuild (SpatialBins, then the owned particles stored in
 // the new key order, as migration does): the keyed rows, packed in the old candidate order, are
 // in no order of the new candidates. Every spring must still go back to its pair; of two rows
 // with one key the first is taken, and a row whose partner is not held here gives nothing.
 TEST(PairContactTerm, RebuildAfterAReSortGivesEveryPairItsCarriedSpring) {
   ParticleStore p = dense_cloud(400, 120, 14);
-  const MaterialTable materials({Material{"rock", 2600.0, 1e9, 0.25, 0.3, 0.5, 0.0}}, {});
-  PairContactTerm term;
-  std::vector<ExcludedPair> excluded;
-  std::vector<RigidBody> bodies;
-  const auto rebuild = [&] {
-    SlotAllocator allocator;
-    GatherMap gather;
-    gather.begin(p.n_local());
-    RebuildContext ctx{p, bodies, 0.0005, excluded, allocator, gather, 0};
-    term.rebuild(ctx);
-  };
-  rebuild();
-  ForceSlots slots;
-  EnergyLedger ledger;
-  ledger.begin_step(p.n_local());
-  ComputeContext ctx{
-      p,      bodies, materials, slots,
-      ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
-  term.compute(ctx);
-  const ContactSpringStore touching = term.touching_springs(p);
-  std::map<std::pair<std::int64_t, std::int64_t>, Vec3> before;
-  for (std::size_t m = 0; m < touching.size(); ++m)
-    before[{touching.gid[m], touching.partner[m]}] = touching.spring[m];
-  ASSERT_GT(before.size(), 100u);
-  term.pack_springs(p);
-  ContactSpringStore& store = *term.springs();
-  ASSERT_EQ(store.size(), before.size());
-  // A second row of the first key, with another spring (it must lose), and a row of a partner
-  // held nowhere (it must be ignored).
-  store.append(store.gid[0], store.partner[0], Vec3{1.0, 2.0, 3.0});
-  store.append(store.gid[1], 999999, Vec3{4.0, 5.0, 6.0});
-  // The re-sort: bins of 6 mm on every particle (the ghosts' come from their owners), the owned
-  // ones stored in key order.
-  for (std::size_t k = 0; k < p.n_total(); ++k)
-    p.sort_bin[k] = SpatialBins::bin_of(p.position[k], 0.006);
-  std::vector<std::size_t> order(p.n_local());
-  for (std::size_t k = 0; k < order.size(); ++k)
-    order[k] = k;
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t x, std::size_t y) { return p.sorts_before(x, y); });
-  p.permute_local(order);
-  p.rebuild_index();
-  rebuild();
-  EXPECT_EQ(term.springs()->size(), 0u) << "the keyed rows are read back and released";
-  const ContactSpringStore after = term.touching_springs(p);
-  std::size_t carried = 0;
-  for (std::size_t m = 0; m < after.size(); ++m) {
-    const auto it = before.find({after.gid[m], after.partner[m]});
-    ASSERT_NE(it, before.end()) << "a spring that was not there before";
-    ++carried;
-    EXPECT_EQ(after.spring[m].x, it->second.x);
-    EXPECT_EQ(after.spring[m].y, it->second.y);
-    EXPECT_EQ(after.spring[m].z, it->second.z);
-  }
-  EXPECT_EQ(carried, before.size());
+  expect_every_spring_carried(p, [&p](ContactSpringStore& store) {
+    // A second row of the first key, with another spring (it must lose), and a row of a
+    // partner held nowhere (it must be ignored).
+    store.append(store.gid[0], store.partner[0], Vec3{1.0, 2.0, 3.0});
+    store.append(store.gid[1], 999999, Vec3{4.0, 5.0, 6.0});
+    // The re-sort: bins of 6 mm on every particle (the ghosts' come from their owners), the
+    // owned ones stored in key order.
+    for (std::size_t k = 0; k < p.n_total(); ++k)
+      p.sort_bin[k] = SpatialBins::bin_of(p.position[k], 0.006);
+    std::vector<std::size_t> order(p.n_local());
+    for (std::size_t k = 0; k < order.size(); ++k)
+      order[k] = k;
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t x, std::size_t y) { return p.sorts_before(x, y); });
+    p.permute_local(order);
+    p.rebuild_index();
+  });
 }
 
 // A contact that opens forgets its spring (physics.md §3): the cloud is pulled apart so that no

@@ -179,16 +179,7 @@ TEST(Collision, RestitutionThroughTheStepLoop) {
 // count of the touching pairs and of the grains in the floor, every 5 steps over 4000 (about 70
 // rebuilds).
 TEST(NeighbourLists, NoTouchingContactIsMissedBetweenRebuilds) {
-  CaseConfig c = testing::grains_entering_and_leaving();
-  c.outflow.clear();
-  c.inflow.clear();
-  // Two clouds thrown at each other and at the floor.
-  c.grains[0].box_max = {0.05, 0.06, 0.03};
-  c.grains[0].velocity = {4.0, 0.0, -3.0};
-  c.grains.push_back(c.grains[0]);
-  c.grains[1].box_min = {0.05, 0.0, 0.0};
-  c.grains[1].box_max = {0.1, 0.06, 0.03};
-  c.grains[1].velocity = {-4.0, 0.0, -3.0};
+  const CaseConfig c = testing::colliding_clouds();
   const Communicator comm = self_comm();
   Simulation sim(build_model(c, comm), comm, settings(c, 1e-6, 0.0005));
   const ParticleStore& p = sim.model().particles;
