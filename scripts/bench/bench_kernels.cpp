@@ -181,9 +181,11 @@ BENCHMARK(BM_StepRings)->Arg(1)->Arg(100)->Unit(benchmark::kMicrosecond);
 
 // The integrator's two passes alone (drift with orientations, damped second half kick) over
 // the moving rings with the net's impact damping, loads as a step leaves them: the part of
-// the net's step that issue 12 bounds at 10 ns per particle-step. 10 rings (about 1 000
-// particles, in the first-level caches) and 100 (a rank's share of r12, from the last level):
-// equal times say the passes are bound by their arithmetic, not by memory.
+// the net's step that issue 12 bounds at 10 ns per particle-step. Arg 0: 10 rings (about
+// 1 000 particles, in the first-level caches) and 100 (a rank's share of r12, from the last
+// level): equal times say the passes are bound by their arithmetic, not by memory. Arg 1: the
+// two passes apart (0) or the fused pass that a run's step batches take (1, with the ledger's
+// booking left out).
 void BM_IntegrateRings(benchmark::State& state) {
   const Communicator comm(MPI_COMM_SELF);
   const auto sim = moving_rings(static_cast<int>(state.range(0)), 0.2, comm);
@@ -191,18 +193,36 @@ void BM_IntegrateRings(benchmark::State& state) {
   const double dt = sim->dt();
   const Vec3 gravity = sim->settings().gravity;
   const std::vector<Vec3> force = p.force, torque = p.torque;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(Integrator::first_half(p, dt, gravity, 1e-4, 0.1, true));
-    // The bond loads a step would add, so that the kick and the damping see real loads.
+  const bool fused = state.range(1) != 0;
+  // The bond loads a step would add, so that the kick and the damping see real loads.
+  const auto add_bond_loads = [&] {
     for (std::size_t k = 0; k < p.n_local(); ++k) {
       p.force[k] += force[k];
       p.torque[k] += torque[k];
     }
-    Integrator::second_half(p, dt);
+  };
+  if (fused) {
+    benchmark::DoNotOptimize(Integrator::first_half(p, dt, gravity, 1e-4, 0.1, true));
+    add_bond_loads();
+  }
+  for (auto _ : state) {
+    if (fused) {
+      benchmark::DoNotOptimize(
+          Integrator::second_then_first_half(p, dt, gravity, 1e-4, 0.1, true, [](std::size_t) {}));
+    } else {
+      benchmark::DoNotOptimize(Integrator::first_half(p, dt, gravity, 1e-4, 0.1, true));
+    }
+    add_bond_loads();
+    if (!fused) Integrator::second_half(p, dt);
   }
   count_particle_steps(state, static_cast<double>(p.n_local()));
 }
-BENCHMARK(BM_IntegrateRings)->Arg(10)->Arg(100)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_IntegrateRings)
+    ->Args({10, 0})
+    ->Args({100, 0})
+    ->Args({10, 1})
+    ->Args({100, 1})
+    ->Unit(benchmark::kMicrosecond);
 
 // The integrator alone on free grains (no damping, no orientations), as the grain flows step:
 // separate passes (second half kick, then drift: Arg 0) or one fused pass (Arg 1, the batches

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 
 #include "core/Lanes4.hpp"
@@ -73,14 +75,24 @@ struct DriftMaxima {
   double max_w2 = 0.0;
 };
 
-/// 1 for a free particle, else 0; 1 for one that moves (free or driven), else 0.
+// motion_lanes() reads the kinds as these numbers.
 static_assert(static_cast<int>(Motion::kFree) == 0 && static_cast<int>(Motion::kFixed) == 1 &&
               static_cast<int>(Motion::kPrescribed) == 2);
-inline double is_free(Motion m) {
-  return static_cast<double>(1 - std::min(static_cast<int>(m), 1));
-}
-inline double is_moving(Motion m) {
-  return static_cast<double>(std::min(std::abs(static_cast<int>(m) - 1), 1));
+static_assert(sizeof(Motion) == 1, "motion_lanes() reads a motion kind as one byte");
+/// The motion kinds of four particles from k as factors in lanes: free (1 for a free particle,
+/// else 0) and moving (1 for one that moves, free or driven, else 0). In vector registers: one
+/// particle at a time, the byte-to-double conversions were some forty scalar instructions per
+/// four particles in each pass (8 % of the net's integrator).
+struct MotionLanes {
+  V4 free, moving;
+};
+inline MotionLanes motion_lanes(const Motion* motion) {
+  using Bytes4 = std::uint8_t __attribute__((vector_size(4)));
+  Bytes4 bytes;
+  std::memcpy(&bytes, motion, sizeof bytes);
+  const V4 kind = __builtin_convertvector(bytes, V4);
+  const V4 zero{}, one = lanes::splat(1.0);
+  return {lanes::select(kind == zero, one, zero), lanes::select(kind != one, one, zero)};
 }
 
 /// The columns the passes read and write, from some particle on.
@@ -168,16 +180,16 @@ struct TailLanes {
   }
 };
 
-/// Runs kernel(rows, k) over particles [begin, end) four at a time, the last ones in
-/// TailLanes.
+/// Runs kernel(rows, k, group) over particles [begin, end) four at a time, the last ones in
+/// TailLanes; `group` counts the fours from begin (the tail's too).
 template <class Kernel>
 void for_each_four(const ParticleRows& r, std::size_t begin, std::size_t end, Kernel&& kernel) {
   std::size_t k = begin;
   for (; k + 4 <= end; k += 4)
-    kernel(r, k);
+    kernel(r, k, (k - begin) / 4);
   if (k == end) return;
   TailLanes tail(r, k, end - k);
-  kernel(tail.rows(r), 0);
+  kernel(tail.rows(r), 0, (k - begin) / 4);
   tail.write_back(r, k, end - k);
 }
 
@@ -187,13 +199,20 @@ struct KickFactors {
   V4 free, kick, turn;
 };
 inline KickFactors kick_factors(const ParticleRows& r, std::size_t k, double half) {
-  const V4 free{is_free(r.motion[k]), is_free(r.motion[k + 1]), is_free(r.motion[k + 2]),
-                is_free(r.motion[k + 3])};
+  const V4 free = motion_lanes(r.motion + k).free;
   const V4 mass = lanes::load(r.mass + k), radius = lanes::load(r.radius + k);
   const V4 free_half = free * half;
   // ParticleStore::sphere_inertia, 0.4 m r^2, in its order.
   return {free, free_half / mass, free_half / (0.4 * mass * radius * radius)};
 }
+
+/// A step's two half kicks of a particle have the same factors (the step's dt, its mass,
+/// radius and motion): the fused pass (Integrator::second_then_first_half) keeps those of the
+/// second for the first, so that the drift does not divide again (two divisions of four lanes
+/// per four particles: 4 % of the fused pass on grains in cache).
+struct HalfKicks {
+  V4 kick, turn;
+};
 
 /// a += b s, register by register: Vec3 rows a += b * factor, component by component.
 inline void add_scaled(Rows3& a, const Rows3& b, const Rows3& s) {
@@ -203,15 +222,20 @@ inline void add_scaled(Rows3& a, const Rows3& b, const Rows3& s) {
 }
 
 /// The drift of four particles from k: v += F dt/2m, omega += T dt/2I, x += v dt, the next
-/// step's initial loads (F = m g, T = 0; GatherMap::initialise_loads), the orientation update
-/// (compiled in or out) and the largest squared speeds per lane.
-template <bool kTurn>
+/// step's initial loads (F = m g, T = 0; GatherMap::initialise_loads) and the largest squared
+/// speeds per lane.
+/// `kept`: the factors of this step's second half kick (kick_factors() otherwise).
 inline void drift_four(const ParticleRows& r, std::size_t k, double dt, const Rows3& gravity,
-                       V4& max_v2, V4& max_w2) {
+                       const HalfKicks* kept, V4& max_v2, V4& max_w2) {
   const double half = 0.5 * dt;
-  const KickFactors f = kick_factors(r, k, half);
-  const V4 moving{is_moving(r.motion[k]), is_moving(r.motion[k + 1]), is_moving(r.motion[k + 2]),
-                  is_moving(r.motion[k + 3])};
+  HalfKicks f;
+  if (kept) {
+    f = *kept;
+  } else {
+    const KickFactors computed = kick_factors(r, k, half);
+    f = {computed.kick, computed.turn};
+  }
+  const V4 moving = motion_lanes(r.motion + k).moving;
   Rows3 v = lanes::load_rows(r.v + k), w = lanes::load_rows(r.w + k);
   Rows3 x = lanes::load_rows(r.x + k);
   add_scaled(v, lanes::load_rows(r.force + k), lanes::spread(f.kick));   // v += F dt/2m
@@ -224,52 +248,72 @@ inline void drift_four(const ParticleRows& r, std::size_t k, double dt, const Ro
   lanes::store_rows(r.force + k, {gravity.a * mass.a, gravity.b * mass.b, gravity.c * mass.c});
   const V4 zero{};
   lanes::store_rows(r.torque + k, {zero, zero, zero});
-  const Columns3 wc = lanes::columns(w);
-  if constexpr (kTurn) {
-    // rotated(q, omega * moving, dt), cayley_turned() in its order: p = (1, h) q brought to
-    // unit norm by inverse_norm_near_one().
-    const V4 hx = wc.x * moving * half, hy = wc.y * moving * half, hz = wc.z * moving * half;
-    const Columns4 b = lanes::load_quats(r.q + k);
-    const V4 pw = 1.0 * b.w - hx * b.x - hy * b.y - hz * b.z;
-    const V4 px = 1.0 * b.x + hx * b.w + hy * b.z - hz * b.y;
-    const V4 py = 1.0 * b.y - hx * b.z + hy * b.w + hz * b.x;
-    const V4 pz = 1.0 * b.z + hx * b.y - hy * b.x + hz * b.w;
-    const V4 n2 = pw * pw + px * px + py * py + pz * pz;
-    const V4 y = 0.5 * (3.0 - n2);
-    const V4 scale = y * (0.5 * (3.0 - n2 * y * y));
-    lanes::store_quats(r.q + k, {pw * scale, px * scale, py * scale, pz * scale});
-  }
   // The largest squared speeds, scaled after the pass: scaling by a positive constant keeps the
   // order, so max(scaled) is the scaled max. NaN compares false: it counts as infinite.
   const V4 infinite = lanes::splat(std::numeric_limits<double>::infinity());
-  const V4 v2 = lanes::norm2(lanes::columns(v)), w2 = lanes::norm2(wc);
+  const V4 v2 = lanes::norm2(lanes::columns(v)), w2 = lanes::norm2(lanes::columns(w));
   max_v2 = lanes::select(v2 <= max_v2, max_v2, lanes::select(v2 == v2, v2, infinite));
   max_w2 = lanes::select(w2 <= max_w2, max_w2, lanes::select(w2 == w2, w2, infinite));
 }
 
+/// The orientation update of four particles from k with their new angular velocities (after
+/// drift_four): rotated(q, omega * moving, dt), cayley_turned() in its order: p = (1, h) q
+/// brought to unit norm by inverse_norm_near_one().
+inline void turn_four(const ParticleRows& r, std::size_t k, double dt) {
+  const double half = 0.5 * dt;
+  const V4 moving = motion_lanes(r.motion + k).moving;
+  const Columns3 wc = lanes::columns(lanes::load_rows(r.w + k));
+  const V4 hx = wc.x * moving * half, hy = wc.y * moving * half, hz = wc.z * moving * half;
+  const Columns4 b = lanes::load_quats(r.q + k);
+  const V4 pw = 1.0 * b.w - hx * b.x - hy * b.y - hz * b.z;
+  const V4 px = 1.0 * b.x + hx * b.w + hy * b.z - hz * b.y;
+  const V4 py = 1.0 * b.y - hx * b.z + hy * b.w + hz * b.x;
+  const V4 pz = 1.0 * b.z + hx * b.y - hy * b.x + hz * b.w;
+  const V4 n2 = pw * pw + px * px + py * py + pz * pz;
+  const V4 y = 0.5 * (3.0 - n2);
+  const V4 scale = y * (0.5 * (3.0 - n2 * y * y));
+  lanes::store_quats(r.q + k, {pw * scale, px * scale, py * scale, pz * scale});
+}
+
 /// The drift over owned particles [begin, end), with the orientation update compiled in or
-/// out; raises `m` to the largest squared speeds it saw.
+/// out; raises `m` to the largest squared speeds it saw. `kept`: the second half kick's
+/// factors of each four from begin, or null.
 template <bool kTurn>
 void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt,
-                 const Vec3& gravity, DriftMaxima& m) {
+                 const Vec3& gravity, const HalfKicks* kept, DriftMaxima& m) {
   // The components of gravity in the layout of four rows.
   const Rows3 gravity_rows{V4{gravity.x, gravity.y, gravity.z, gravity.x},
                            V4{gravity.y, gravity.z, gravity.x, gravity.y},
                            V4{gravity.z, gravity.x, gravity.y, gravity.z}};
   V4 max_v2 = lanes::splat(m.max_v2), max_w2 = lanes::splat(m.max_w2);
-  for_each_four(rows_of(p), begin, end, [&](const ParticleRows& r, std::size_t k) {
-    drift_four<kTurn>(r, k, dt, gravity_rows, max_v2, max_w2);
-  });
+  const ParticleRows rows = rows_of(p);
+  // The orientations in a pass of their own over each chunk, after its drift (in cache): the
+  // quaternion update of four particles ends in a long chain of dependent operations, which
+  // the drift's long iterations could not overlap; in short iterations of its own they do
+  // (BM_IntegrateRings 3 % faster, docs/performance.md, twenty-fourth round). The same
+  // operations on the same values: the same bits.
+  constexpr std::size_t kTurnChunk = 256;
+  for (std::size_t c = begin; c < end; c += kTurnChunk) {
+    const std::size_t c_end = std::min(end, c + kTurnChunk);
+    const HalfKicks* const chunk_kept = kept ? kept + (c - begin) / 4 : nullptr;
+    for_each_four(rows, c, c_end, [&](const ParticleRows& r, std::size_t k, std::size_t group) {
+      drift_four(r, k, dt, gravity_rows, chunk_kept ? chunk_kept + group : nullptr, max_v2, max_w2);
+    });
+    if constexpr (kTurn)
+      for_each_four(rows, c, c_end, [dt](const ParticleRows& r, std::size_t k, std::size_t) {
+        turn_four(r, k, dt);
+      });
+  }
   m.max_v2 = lanes::max_lane(max_v2);
   m.max_w2 = lanes::max_lane(max_w2);
 }
 
 void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt,
-                 const Vec3& gravity, bool orientations, DriftMaxima& m) {
+                 const Vec3& gravity, bool orientations, const HalfKicks* kept, DriftMaxima& m) {
   if (orientations)
-    drift_range<true>(p, begin, end, dt, gravity, m);
+    drift_range<true>(p, begin, end, dt, gravity, kept, m);
   else
-    drift_range<false>(p, begin, end, dt, gravity, m);
+    drift_range<false>(p, begin, end, dt, gravity, kept, m);
 }
 
 /// What the drift passes saw (their largest squared speeds, order-free maxima) as the
@@ -304,7 +348,7 @@ Integrator::Drift drift_result(const ParticleStore& p, const DriftMaxima& m, dou
 Integrator::Drift Integrator::first_half(ParticleStore& p, double dt, const Vec3& gravity,
                                          double max_step, double max_turn, bool orientations) {
   DriftMaxima m;
-  drift_range(p, 0, p.n_local(), dt, gravity, orientations, m);
+  drift_range(p, 0, p.n_local(), dt, gravity, orientations, nullptr, m);
   return drift_result(p, m, dt, max_step, max_turn);
 }
 
@@ -326,9 +370,10 @@ inline void damp_and_kick(V4& load, V4& velocity, const V4& alpha, const V4& fac
 }
 
 /// The damped second half kick of four particles from k, with the ledger's global-damping
-/// columns where the store keeps them.
-inline void damped_kick_four(const ParticleRows& r, std::size_t k, double dt) {
+/// columns where the store keeps them; its factors go to `keep` where it is not null.
+inline void damped_kick_four(const ParticleRows& r, std::size_t k, double dt, HalfKicks* keep) {
   const KickFactors f = kick_factors(r, k, 0.5 * dt);
+  if (keep) *keep = {f.kick, f.turn};
   const V4 alpha_lanes = lanes::load(r.alpha + k);
   const Rows3 alpha = lanes::spread(alpha_lanes), kick = lanes::spread(f.kick),
               turn = lanes::spread(f.turn);
@@ -357,9 +402,11 @@ inline void damped_kick_four(const ParticleRows& r, std::size_t k, double dt) {
   lanes::store(r.power + k, lanes::select(on, q, lanes::select(power != zero, zero, power)));
 }
 
-/// The undamped second half kick of four particles from k.
-inline void kick_four(const ParticleRows& r, std::size_t k, double dt) {
+/// The undamped second half kick of four particles from k; its factors go to `keep` where it
+/// is not null.
+inline void kick_four(const ParticleRows& r, std::size_t k, double dt, HalfKicks* keep) {
   const KickFactors f = kick_factors(r, k, 0.5 * dt);
+  if (keep) *keep = {f.kick, f.turn};
   Rows3 v = lanes::load_rows(r.v + k), w = lanes::load_rows(r.w + k);
   add_scaled(v, lanes::load_rows(r.force + k), lanes::spread(f.kick));   // v += F dt/2m
   add_scaled(w, lanes::load_rows(r.torque + k), lanes::spread(f.turn));  // omega += T dt/2I
@@ -367,8 +414,11 @@ inline void kick_four(const ParticleRows& r, std::size_t k, double dt) {
   lanes::store_rows(r.w + k, w);
 }
 
-/// The second half kick of owned particles [begin, end), one chunk of Integrator::kChunk.
-void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, double dt) {
+/// The second half kick of owned particles [begin, end), one chunk of Integrator::kChunk; the
+/// factors of each four from begin go to `keep` where it is not null.
+void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, double dt,
+                       HalfKicks* keep) {
+  const auto kept = [keep](std::size_t group) { return keep ? keep + group : nullptr; };
   const ParticleRows r = rows_of(p);
   // Each chunk goes one of two ways: without Cundall arithmetic where no particle of the
   // chunk is damped (most grains), with it elsewhere (the net). An undamped particle gets the
@@ -381,8 +431,9 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
     for (std::size_t k = begin; k < end; ++k)
       damped_count += select_bits(r.alpha[k] != 0.0, 1.0, 0.0);
   if (damped_count > 0.0) {
-    for_each_four(r, begin, end,
-                  [dt](const ParticleRows& rows, std::size_t k) { damped_kick_four(rows, k, dt); });
+    for_each_four(r, begin, end, [&](const ParticleRows& rows, std::size_t k, std::size_t group) {
+      damped_kick_four(rows, k, dt, kept(group));
+    });
     return;
   }
   // Only a coefficient that just went to 0 leaves a last power to clear (counted first,
@@ -396,8 +447,9 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
       for (std::size_t k = begin; k < end; ++k)
         r.power[k] = r.power[k] != 0.0 ? 0.0 : r.power[k];
   }
-  for_each_four(r, begin, end,
-                [dt](const ParticleRows& rows, std::size_t k) { kick_four(rows, k, dt); });
+  for_each_four(r, begin, end, [&](const ParticleRows& rows, std::size_t k, std::size_t group) {
+    kick_four(rows, k, dt, kept(group));
+  });
 }
 
 }  // namespace
@@ -405,7 +457,7 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
 void Integrator::second_half(ParticleStore& p, double dt) {
   const std::size_t n = p.n_local();
   for (std::size_t begin = 0; begin < n; begin += kChunk)
-    second_half_chunk(p, begin, std::min(n, begin + kChunk), dt);
+    second_half_chunk(p, begin, std::min(n, begin + kChunk), dt, nullptr);
 }
 
 Integrator::Drift Integrator::second_then_first_half(
@@ -414,14 +466,18 @@ Integrator::Drift Integrator::second_then_first_half(
   // Block by block, while a block's particles are in cache: the same operations on each
   // particle in the same order as second_half(), between(), first_half(), so the same bits,
   // with one pass from memory over the particles' columns instead of three.
+  // The second half kicks' factors wait in `kept` for the drift (HalfKicks): 256 kB, in the
+  // caches with the block.
+  static_assert(kBlock % kChunk == 0 && kChunk % 4 == 0);
+  static thread_local std::vector<HalfKicks> kept(kBlock / 4);
   const std::size_t n = p.n_local();
   DriftMaxima m;
   for (std::size_t begin = 0; begin < n; begin += kBlock) {
     const std::size_t end = std::min(n, begin + kBlock);
     for (std::size_t c = begin; c < end; c += kChunk)
-      second_half_chunk(p, c, std::min(end, c + kChunk), dt);
+      second_half_chunk(p, c, std::min(end, c + kChunk), dt, kept.data() + (c - begin) / 4);
     between(end);
-    drift_range(p, begin, end, dt, gravity, orientations, m);
+    drift_range(p, begin, end, dt, gravity, orientations, kept.data(), m);
   }
   return drift_result(p, m, dt, max_step, max_turn);
 }
