@@ -13,7 +13,7 @@ computed force is outside everything the guidance allows.
 
 usage: check_debris_bounds.py OUTDIR (--width W | --case CASE.yaml) [--barrier flexible|rigid]
                               [--force mean|sample] [--alpha MIN,MAX] [--k MIN,MAX] [--g G]
-                              [--window SECONDS]
+                              [--window SECONDS|grain]
 
 Inputs (all from OUTDIR, as ringdem wrote them):
 - F_peak, --force mean (the default where the run wrote it): summary.json
@@ -24,10 +24,18 @@ Inputs (all from OUTDIR, as ringdem wrote them):
   --force sample: barrier.peak_force_N, the largest of the instantaneous contact forces
   sampled every simulation.series_interval (barrier_force_N), so a single grain striking the
   net or a post shows as a spike (the guidance treats such boulder impacts apart, e.g. by the
-  Hertz equation in GEO Report 270). --window T judges instead the
-  largest mean of barrier_force_N over T seconds (trailing, over whole series rows), the load of
-  the flow as a load cell of that response time would see it; its time is the window's end.
-  The default, T = 0, judges the summary's peak itself.
+  Hertz equation in GEO Report 270). --window T judges instead the largest mean of the force
+  column over T seconds (trailing, over whole series rows, at least one), the load of the flow
+  as a load cell of that response time would see it; its time is the window's end. T = 0
+  judges the summary's peak itself.
+  --window grain (the default where the run recorded the grain size): T = d / v, the time the
+  flow takes to advance by its coarsest grain's diameter d at the gauge (summary.json
+  barrier.largest_gauge_grain_diameter_m) at the largest gauge velocity v of the run. The
+  guidance's loads are those of a continuum, the momentum flux rho v^2 h w and the earth
+  pressure of the flow; over less than a grain's passage the load is that of single grains
+  striking the barrier, which the guidance treats apart as boulder impact. So d / v is the
+  shortest window over which a computed load can be compared with the flow's formula (the
+  demo's rows: docs/debris.md). Runs of an older ringdem, without that diameter, get T = 0.
 - h, v, rho: series.csv flow_depth_m, flow_velocity_m_s and bulk_density_kg_m3 at the upstream
   gauge. Rows used: every row with time_s <= the time of the peak force and a non-empty gauge
   (flow_depth_m > 0), i.e. the approaching flow up to the peak; h, v and rho are each the
@@ -129,8 +137,10 @@ def main():
                          "mean height of the grain centres (flow_depth_centroid_m)")
     ap.add_argument("--force", choices=("mean", "sample"),
                     help="judge the interval-mean force (default where written) or the sampled one")
-    ap.add_argument("--window", type=float, default=0.0,
-                    help="judge the largest mean force over this many seconds (default 0: the peak sample)")
+    ap.add_argument("--window", default="grain",
+                    help="judge the largest mean force over this many seconds (0: the peak "
+                         "itself), or 'grain' (the default): over the passage time d / v of the "
+                         "coarsest grain at the gauge")
     a = ap.parse_args()
 
     try:
@@ -159,6 +169,10 @@ def main():
         missing = [c for c in need if not rows or c not in rows[0]]
         if missing:
             raise ValueError(f"series.csv lacks {', '.join(missing)}")
+        grain_window = a.window == "grain"
+        window = 0.0 if grain_window else float(a.window)
+        if not window >= 0:
+            raise ValueError(f"--window must be 'grain' or seconds >= 0, got {a.window}")
     except (OSError, ValueError, json.JSONDecodeError) as e:
         print(f"check_debris_bounds: {e}", file=sys.stderr)
         return 2
@@ -185,12 +199,26 @@ def main():
         print(f"FAIL: summary {key}_N {f_peak:.9g} differs from the largest series "
               f"{force_col} {f_series:.9g}")
         ok = False
-    if a.window > 0:
-        times, force = col["time_s"], col[force_col]
-        step = (times[-1] - times[0]) / max(1, len(times) - 1)
-        n = max(1, int(round(a.window / step)))
+    times, force = col["time_s"], col[force_col]
+    step = (times[-1] - times[0]) / max(1, len(times) - 1)
+    n = max(1, int(round(window / step)))
+    if grain_window:
+        d = float(b.get("largest_gauge_grain_diameter_m", 0.0))
+        v_gauge = max([x for x, h in zip(col["flow_velocity_m_s"], col["flow_depth_m"]) if h > 0],
+                      default=0.0)
+        if d > 0 and v_gauge > 0:
+            window = d / v_gauge
+            # At least the passage time: whole rows, rounded up (a 1e-9 margin for round-off).
+            n = max(1, math.ceil(window / step - 1e-9))
+            print(f"window: the coarsest grain's passage at the gauge, d / v = {d:.4g} m / "
+                  f"{v_gauge:.4g} m/s = {window:.4g} s ({n} rows)")
+        else:
+            print("window: none (the run recorded no grain size at the gauge, an older ringdem, "
+                  "or no flow reached it): the peak itself")
+    if n > 1 or window > 0:
         if n > len(force):
-            print(f"check_debris_bounds: --window {a.window} s is longer than the run", file=sys.stderr)
+            print(f"check_debris_bounds: a window of {n * step:.4g} s is longer than the run",
+                  file=sys.stderr)
             return 2
         run = [sum(force[i - n + 1:i + 1]) / n for i in range(n - 1, len(force))]
         j = max(range(len(run)), key=run.__getitem__)

@@ -67,7 +67,7 @@ BarrierSample BarrierMonitor::sample(const Simulation& sim) const {
   // Exact sums: gauge mass, gauge momentum along d, retained mass, overflow mass, gauge mass
   // moment of height above the bed.
   std::vector<ExactSum> sums(5);
-  double depth = 0.0, front = -std::numeric_limits<double>::infinity();
+  double depth = 0.0, gauge_radius = 0.0, front = -std::numeric_limits<double>::infinity();
   double reach = -std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     const double s = dot(p.position[k] - config_.position, d);
@@ -82,6 +82,7 @@ BarrierSample BarrierMonitor::sample(const Simulation& sim) const {
       const double height = dot(p.position[k] - bed.position, up);
       sums[4].add(p.mass[k] * height);
       depth = std::max(depth, height + p.radius[k]);
+      gauge_radius = std::max(gauge_radius, p.radius[k]);
     }
   }
   const std::vector<double> total = comm.sum_exact(sums);
@@ -91,6 +92,7 @@ BarrierSample BarrierMonitor::sample(const Simulation& sim) const {
   out.retained_mass = total[2];
   out.overflow_mass = total[3];
   out.flow_depth = comm.max(depth);
+  out.largest_gauge_radius = comm.max(gauge_radius);
   out.flow_depth_centroid = total[0] > 0.0 ? 2.0 * total[4] / total[0] : 0.0;
   out.front = comm.max(front);
   out.net_reach = comm.max(reach);

@@ -27,7 +27,11 @@ struct BarrierSample {
   /// above the flow moves it by its share of the mass, not to its own height.
   double flow_depth_centroid = 0.0;
   double flow_velocity = 0.0;  ///< mass-weighted mean velocity along d [m/s] (0: no grain)
-  double bulk_density = 0.0;   ///< gauge mass / (gauge length x width x depth) [kg/m^3]
+  /// The largest radius of a grain in the gauge [m] (0: no grain): the flow's coarsest grain,
+  /// whose passage time sets the shortest window over which its load is a flow's
+  /// (scripts/check_debris_bounds.py).
+  double largest_gauge_radius = 0.0;
+  double bulk_density = 0.0;  ///< gauge mass / (gauge length x width x depth) [kg/m^3]
   double front = -std::numeric_limits<double>::infinity();  ///< largest s + r of a grain [m]
   double retained_mass = 0.0;  ///< grains with s in [-retention_length, 0] [kg]
   double overflow_mass = 0.0;  ///< grains with s > 0 (past the barrier plane) [kg]

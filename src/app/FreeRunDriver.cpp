@@ -182,6 +182,8 @@ void FreeRunDriver::record_barrier(const Simulation& sim, const MomentumBalance&
   r.peak_posts_force = std::max(r.peak_posts_force, b.posts_force);
   r.peak_depth = std::max(r.peak_depth, b.flow_depth);
   r.peak_velocity = std::max(r.peak_velocity, b.flow_velocity);
+  r.largest_gauge_grain_diameter =
+      std::max(r.largest_gauge_grain_diameter, 2.0 * b.largest_gauge_radius);
   r.max_deflection = std::max(r.max_deflection, deflection);
   if (b.max_utilisation > r.max_utilisation) {
     r.max_utilisation = b.max_utilisation;
@@ -352,7 +354,8 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
           .set("peak_mean_force_N", r.peak_mean_force)
           .set("peak_mean_force_time_s", r.peak_mean_time)
           .set("peak_mean_net_force_N", r.peak_mean_net_force)
-          .set("peak_mean_posts_force_N", r.peak_mean_posts_force);
+          .set("peak_mean_posts_force_N", r.peak_mean_posts_force)
+          .set("largest_gauge_grain_diameter_m", r.largest_gauge_grain_diameter);
       summary.set("barrier", b);
     }
     summary.write(output_dir_ + "/summary.json");

@@ -62,6 +62,7 @@ class FreeRunDriver : public ScenarioDriver {
     double last_net_impulse = 0.0, last_posts_impulse = 0.0, last_impulse_time = -1.0;
     double peak_mean_force = 0.0, peak_mean_time = 0.0, peak_mean_net_force = 0.0;
     double peak_mean_posts_force = 0.0;
+    double largest_gauge_grain_diameter = 0.0;  ///< of the grains the gauge has seen
     /// Each value with its driver-state name (the one list that state() and start() read).
     template <class F>
     void for_each(F&& f) {
@@ -86,6 +87,7 @@ class FreeRunDriver : public ScenarioDriver {
       f("barrier_peak_mean_time", peak_mean_time);
       f("barrier_peak_mean_net_force", peak_mean_net_force);
       f("barrier_peak_mean_posts_force", peak_mean_posts_force);
+      f("barrier_largest_gauge_grain_diameter", largest_gauge_grain_diameter);
     }
   };
   std::optional<BarrierMonitor> barrier_;

@@ -42,11 +42,23 @@ YAML
 timeout 240 "$ringdem" run "$work/case.yaml" -o "$work/out" --quiet > "$work/run.log" 2>&1 \
   || { echo "FAIL: the run did not finish (rc $?)"; cat "$work/run.log"; exit 1; }
 
-echo "--- the run against the bounds (rigid barrier, w = 0.2 m), interval-mean force:"
-"$py" "$check" "$work/out" --width 0.2 --barrier rigid \
+echo "--- the run against the bounds (rigid barrier, w = 0.2 m), interval-mean force over the"
+echo "    coarsest grain's passage at the gauge (the default window):"
+"$py" "$check" "$work/out" --width 0.2 --barrier rigid | tee "$work/grain.log" \
+  || { echo "FAIL: the mean force is outside the hydrodynamic bounds"; exit 1; }
+# The window's grain is the case's coarsest: diameters 10-16 mm, so d in (10, 16] mm.
+"$py" - "$work/grain.log" <<'PY'
+import re, sys
+m = re.search(r"d / v = ([0-9.e+-]+) m / ([0-9.e+-]+) m/s", open(sys.argv[1]).read())
+assert m, "no grain window printed"
+d = float(m.group(1))
+assert 0.010 < d <= 0.016, f"the window's grain diameter {d} m is not the case's coarsest"
+print(f"--- window grain diameter {d} m: the case's coarsest (10-16 mm)")
+PY
+echo "--- the same over one series interval (--window 0), the mean and the sampled force:"
+"$py" "$check" "$work/out" --width 0.2 --barrier rigid --window 0 \
   || { echo "FAIL: the peak mean force is outside the hydrodynamic bounds"; exit 1; }
-echo "--- the same with the sampled force:"
-"$py" "$check" "$work/out" --width 0.2 --barrier rigid --force sample \
+"$py" "$check" "$work/out" --width 0.2 --barrier rigid --force sample --window 0 \
   || { echo "FAIL: the peak sampled force is outside the hydrodynamic bounds"; exit 1; }
 echo "--- the same with the centroid depth (a saltating grain does not set h):"
 "$py" "$check" "$work/out" --width 0.2 --barrier rigid --depth centroid \

@@ -36,14 +36,17 @@ CaseConfig barrier_case() {
   post.radius = 0.05;
   post.length = 1.0;
   c.rigid_bodies = {bed, post};
-  // (x, z, v_x): A and B in the gauge section s in [-1.5, -1], C upstream near the barrier,
-  // D past it, E far upstream.
-  const double grains[5][3] = {
-      {-1.2, 0.3, 2.0}, {-1.4, 0.1, 4.0}, {-0.5, 0.2, 1.0}, {0.3, 0.6, 5.0}, {-3.0, 0.05, 0.5}};
+  // (x, z, v_x, r): A and B in the gauge section s in [-1.5, -1], C upstream near the barrier,
+  // D past it, E far upstream; E is the coarsest, B the coarsest in the gauge.
+  const double grains[5][4] = {{-1.2, 0.3, 2.0, 0.01},
+                               {-1.4, 0.1, 4.0, 0.02},
+                               {-0.5, 0.2, 1.0, 0.01},
+                               {0.3, 0.6, 5.0, 0.01},
+                               {-3.0, 0.05, 0.5, 0.04}};
   for (const auto& g : grains) {
     SphereConfig s;
     s.group = "debris";
-    s.radius = 0.01;
+    s.radius = g[3];
     s.position = {g[0], 0.0, g[1]};
     s.velocity = {g[2], 0.0, 0.0};
     c.spheres.push_back(s);
@@ -83,6 +86,7 @@ TEST(BarrierMonitor, FlowMeasuresAreTheHandSums) {
   EXPECT_NEAR(s.gauge_mass, ma + mb, 1e-15 * (ma + mb));
   EXPECT_NEAR(s.flow_velocity, (2.0 * ma + 4.0 * mb) / (ma + mb), 1e-14);
   EXPECT_DOUBLE_EQ(s.flow_depth, 0.3 + 0.01);  // A's top above the bed
+  EXPECT_EQ(s.largest_gauge_radius, 0.02);     // B's, not E's upstream of the gauge
   EXPECT_NEAR(s.flow_depth_centroid, 2.0 * (0.3 * ma + 0.1 * mb) / (ma + mb), 1e-14);
   EXPECT_NEAR(s.bulk_density, (ma + mb) / (0.5 * 0.4 * 0.31), 1e-12 * s.bulk_density);
   EXPECT_NEAR(s.retained_mass, ma + mb + mc, 1e-15 * (ma + mb + mc));  // s in [-2, 0]
