@@ -170,8 +170,11 @@ def main():
         if missing:
             raise ValueError(f"series.csv lacks {', '.join(missing)}")
         grain_window = a.window == "grain"
-        window = 0.0 if grain_window else float(a.window)
-        if not window >= 0:
+        try:
+            window = 0.0 if grain_window else float(a.window)
+        except ValueError:
+            window = math.nan
+        if not (window >= 0 and math.isfinite(window)):
             raise ValueError(f"--window must be 'grain' or seconds >= 0, got {a.window}")
     except (OSError, ValueError, json.JSONDecodeError) as e:
         print(f"check_debris_bounds: {e}", file=sys.stderr)
