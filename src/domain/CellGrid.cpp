@@ -32,7 +32,7 @@ void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::u
     for (std::size_t m = 0; m < n; ++m) {
       const Vec3& x = position[members[m]];
       const std::int64_t c =
-          (cell(x.x, lo_.x) * dims_[1] + cell(x.y, lo_.y)) * dims_[2] + cell(x.z, lo_.z);
+          (cell(x.z, lo_.z) * dims_[1] + cell(x.y, lo_.y)) * dims_[0] + cell(x.x, lo_.x);
       cell_of_member_[m] = static_cast<std::uint32_t>(c);
       ++cell_start_[static_cast<std::size_t>(c) + 1];
     }
