@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "engine/ContactKeys.hpp"
+#include "engine/Loop.hpp"
 #include "physics/HertzMindlin.hpp"
 
 namespace ringdem {
@@ -46,53 +47,72 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
   EnergyLedger& ledger = ctx.ledger;
   body_load_sums_.assign(kLoadColumns * ctx.bodies.size(), ExactSum{});
   std::vector<Vec3>& spring = springs_.spring;
-  for (std::size_t w = 0; w < particle_.size(); ++w) {
-    const std::uint32_t k = particle_[w];
-    const std::uint32_t slot = slots_.begin + static_cast<std::uint32_t>(w);
-    const RigidBody& body = ctx.bodies[body_[w]];
-    const auto sp = body.closest(p.position[k]);
-    const double overlap = p.radius[k] - sp.distance;
-    if (overlap <= 0.0) {
-      spring[w] = {};
-      slots.set(slot, {}, {});
-      ledger.record(slot) = {};
-      continue;
+  BodyContactChunk& chunk = chunk_;
+  // Particle–body contacts (physics.md §3, with R_j and m_j of the body), a chunk of
+  // candidates at a time: the touching ones' inputs into the chunk's columns, the contact law
+  // over them vectorised, then each one's loads in candidate order.
+  for_each_chunk(IndexRange{0, particle_.size()}, BodyContactChunk::kSize, [&](IndexRange range) {
+    chunk.n = 0;
+    chunk.any_rolling = false;
+    for (std::size_t w = range.begin; w < range.end; ++w) {
+      const std::uint32_t k = particle_[w];
+      const RigidBody& body = ctx.bodies[body_[w]];
+      const auto sp = body.closest(p.position[k]);
+      const double overlap = p.radius[k] - sp.distance;
+      if (overlap <= 0.0) {
+        const std::uint32_t slot = slots_.begin + static_cast<std::uint32_t>(w);
+        spring[w] = {};
+        slots.set(slot, {}, {});
+        ledger.record(slot) = {};
+        continue;
+      }
+      const Vec3 n = -sp.normal;  // from the particle to the body
+      const double arm = p.radius[k] - 0.5 * overlap;
+      const Vec3 contact = p.position[k] + n * arm;
+      const double r_body = body.contact_radius();
+      HertzMindlin::Input in;
+      in.normal = n;
+      in.overlap = overlap;
+      in.r_star = std::isinf(r_body) ? p.radius[k] : p.radius[k] * r_body / (p.radius[k] + r_body);
+      in.m_star =
+          body.has_finite_mass() ? p.mass[k] * body.mass / (p.mass[k] + body.mass) : p.mass[k];
+      in.v_rel = body.velocity_at(contact) - (p.velocity[k] + cross(p.omega[k], n * arm));
+      in.arm_i = arm;
+      in.arm_j = 0.0;
+      in.omega_i = p.omega[k];
+      in.omega_j = body.omega;
+      chunk.add(static_cast<std::uint32_t>(w), in, ctx.materials.pair(p.material[k], body.material),
+                spring[w]);
     }
-    const Vec3 n = -sp.normal;  // from the particle to the body
-    const double arm = p.radius[k] - 0.5 * overlap;
-    const Vec3 contact = p.position[k] + n * arm;
-    const double r_body = body.contact_radius();
-    HertzMindlin::Input in;
-    in.normal = n;
-    in.overlap = overlap;
-    in.r_star = std::isinf(r_body) ? p.radius[k] : p.radius[k] * r_body / (p.radius[k] + r_body);
-    in.m_star =
-        body.has_finite_mass() ? p.mass[k] * body.mass / (p.mass[k] + body.mass) : p.mass[k];
-    in.v_rel = body.velocity_at(contact) - (p.velocity[k] + cross(p.omega[k], n * arm));
-    in.dt = ctx.dt;
-    in.arm_i = arm;
-    in.arm_j = 0.0;
-    in.omega_i = p.omega[k];
-    in.omega_j = body.omega;
-    const auto r =
-        HertzMindlin::compute(ctx.materials.pair(p.material[k], body.material), in, spring[w]);
-    slots.set(slot, r.force_i, cross(n * arm, r.force_i) + r.rolling_torque_i);
-    ledger.record(slot) = {r.damping_force_i,
-                           spring[w],
-                           n * arm,
-                           r.rolling_torque_i,
-                           r.tangential_energy,
-                           r.elastic_energy,
-                           static_cast<std::int32_t>(body_[w])};
-    const Vec3 torque_on_body = cross(contact - body.position, -r.force_i);
-    ExactSum* const sums = &body_load_sums_[kLoadColumns * body_[w]];
-    sums[kForceX].add(-r.force_i.x);
-    sums[kForceY].add(-r.force_i.y);
-    sums[kForceZ].add(-r.force_i.z);
-    sums[kTorqueX].add(torque_on_body.x);
-    sums[kTorqueY].add(torque_on_body.y);
-    sums[kTorqueZ].add(torque_on_body.z);
-  }
+    chunk.compute(ctx.dt);
+    for (std::size_t c = 0; c < chunk.n; ++c) {
+      const std::uint32_t w = chunk.candidate[c];
+      const std::uint32_t k = particle_[w];
+      const std::uint32_t slot = slots_.begin + w;
+      const RigidBody& body = ctx.bodies[body_[w]];
+      const Vec3 n = chunk.normal.get(c);
+      const double arm = chunk.arm[c];
+      const Vec3 force = chunk.force.get(c);
+      spring[w] = chunk.spring.get(c);
+      slots.set(slot, force, chunk.torque.get(c));
+      ledger.record(slot) = {chunk.damping.get(c),
+                             spring[w],
+                             n * arm,
+                             chunk.rolling.get(c),
+                             chunk.tangential_energy[c],
+                             chunk.elastic_energy[c],
+                             static_cast<std::int32_t>(body_[w])};
+      const Vec3 contact = p.position[k] + n * arm;
+      const Vec3 torque_on_body = cross(contact - body.position, -force);
+      ExactSum* const sums = &body_load_sums_[kLoadColumns * body_[w]];
+      sums[kForceX].add(-force.x);
+      sums[kForceY].add(-force.y);
+      sums[kForceZ].add(-force.z);
+      sums[kTorqueX].add(torque_on_body.x);
+      sums[kTorqueY].add(torque_on_body.y);
+      sums[kTorqueZ].add(torque_on_body.z);
+    }
+  });
 }
 
 }  // namespace ringdem

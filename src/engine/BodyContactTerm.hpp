@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "comm/ExactSum.hpp"
+#include "engine/BodyContactChunk.hpp"
 #include "engine/ForceTerm.hpp"
 
 namespace ringdem {
@@ -39,6 +40,7 @@ class BodyContactTerm final : public ForceTerm {
   ContactSpringStore springs_{ContactSpringStore::Partner::kRigidBody};
   SlotRange slots_;
   std::vector<ExactSum> body_load_sums_;
+  BodyContactChunk chunk_;  ///< compute scratch (20 KB)
 };
 
 }  // namespace ringdem
