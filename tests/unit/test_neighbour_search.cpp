@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <numeric>
 #include <random>
 #include <set>
 #include <utility>
@@ -93,6 +94,40 @@ TEST(NeighbourSearch, DenseGridEqualsBruteForce) {
   PairCandidates cells;
   search.build(p, 0.001, PairExclusions{}, cells);
   EXPECT_TRUE(search.used_dense_grid()) << "512 cells for 3000 particles: dense";
+  const PairCandidates brute = brute_force_pairs(p, 0.001, PairExclusions{});
+  ASSERT_GT(brute.size(), 1000u);
+  EXPECT_EQ(cells.size(), brute.size());
+  EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
+  EXPECT_GT(expect_key_order(p, cells), cells.size() / 10) << "the bins must reorder the pairs";
+}
+
+// As the store is after a migration (DomainDecomposition::migrate): the owned particles in
+// ascending key order, so that the search orders two owned ends by their indices without
+// reading their keys, and ghosts after them. The same pairs as the O(N^2) search, in key order.
+TEST(NeighbourSearch, OwnedStoredInKeyOrderEqualsBruteForce) {
+  ParticleStore full = random_cloud(3000, 0.1, 0.002, 0.006, 5, 0.02);
+  std::vector<std::size_t> order(full.n_local());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(),
+            [&full](std::size_t x, std::size_t y) { return full.sorts_before(x, y); });
+  full.permute_local(order);
+  // The last 800 in key order become ghosts.
+  ParticleStore p = full;
+  p.resize_local(2200);
+  p.resize_ghosts(800);
+  p.for_each_field([&](const FieldInfo& info, auto& v) {
+    full.for_each_field([&](const FieldInfo& other, auto& w) {
+      if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::decay_t<decltype(w)>>)
+        if (info.name == other.name)
+          for (std::size_t k = 2200; k < 3000; ++k)
+            v[k] = w[k];
+    });
+  });
+  p.rebuild_index();
+  NeighbourSearch search;
+  PairCandidates cells;
+  search.build(p, 0.001, PairExclusions{}, cells);
+  EXPECT_TRUE(search.used_dense_grid());
   const PairCandidates brute = brute_force_pairs(p, 0.001, PairExclusions{});
   ASSERT_GT(brute.size(), 1000u);
   EXPECT_EQ(cells.size(), brute.size());
