@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "core/Vec3.hpp"
+#include "engine/ChunkColumn.hpp"
 #include "physics/HertzMindlin.hpp"
 
 namespace ringdem {
@@ -18,22 +19,7 @@ namespace ringdem {
 struct PairContactChunk {
   static constexpr std::size_t kSize = 64;
 
-  /// One Vec3 column: kSize x, then y, then z.
-  struct Column {
-    alignas(64) double v[3][kSize];
-    Vec3 get(std::size_t c) const { return {v[0][c], v[1][c], v[2][c]}; }
-    /// out = get(c), written component by component (see PairContactTerm::compute_pairs).
-    void copy_to(std::size_t c, Vec3& out) const {
-      out.x = v[0][c];
-      out.y = v[1][c];
-      out.z = v[2][c];
-    }
-    void set(std::size_t c, const Vec3& x) {
-      v[0][c] = x.x;
-      v[1][c] = x.y;
-      v[2][c] = x.z;
-    }
-  };
+  using Column = ChunkColumn<kSize>;
 
   std::size_t n = 0;  ///< touching pairs in the chunk
   bool any_rolling = false;
