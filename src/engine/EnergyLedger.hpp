@@ -251,6 +251,7 @@ class EnergyLedger {
   std::size_t touched_now_ = 0;       ///< direct entries with contacts, counted by the booking pass
   std::optional<bool> entry_choice_;  ///< set_entry_choice()
   std::vector<std::uint32_t> visit_;  ///< scratch: the particles accumulate() visits
+  std::vector<std::uint64_t> visit_marks_;  ///< scratch: a bit per owned particle to visit
   /// Where accumulate_below() stands: every owned particle or visit_, the next of them, the
   /// next particle with records (GatherMap::ledger_particles) and the next driven one.
   bool scan_all_ = false;
