@@ -339,6 +339,7 @@ void Simulation::build_lists(double sort_width) {
   }
   slots_.assign(allocator_.size());
   gather_.finish(p);
+  flag_turning_particles();
   ledger_.rebuild(gather_, allocator_.size());
   // A rebuild is collective (every rank rebuilds at the same step): so is this flag.
   if (!model_.bodies.empty() && body_term_ != nullptr)
@@ -349,6 +350,29 @@ void Simulation::build_lists(double sort_width) {
     for (std::size_t k = 0; k < p.n_local(); ++k)
       if (p.motion[k] == Motion::kFree) free_mass.add(p.mass[k]);
   momentum_.rebuild(p, momentum_.enabled() ? comm_.sum_exact({free_mass})[0] : 0.0);
+}
+
+void Simulation::flag_turning_particles() {
+  // Only bonds read orientations: a particle turns while it is an end of an intact bond
+  // (the bond terms' ends resolved at this rebuild). Grains of a debris flow beside a net keep
+  // theirs; their turn was most of the drift pass there. A bond that breaks before the next
+  // rebuild forces one, which takes its ends off. Where every owned particle turns, the
+  // integrator needs no flags.
+  const ParticleStore& p = model_.particles;
+  const BondStore& bonds = model_.bonds;
+  turning_.assign(track_orientations_ ? p.n_local() : 0, 0);
+  if (!track_orientations_) return;
+  const std::size_t n_owned = p.n_local();
+  for (std::size_t k = 0; k < bonds.size(); ++k) {
+    if (bonds.broken[k]) continue;
+    if (bonds.index_a[k] < n_owned) turning_[bonds.index_a[k]] = 1;
+    if (bonds.index_b[k] < n_owned) turning_[bonds.index_b[k]] = 1;
+  }
+  all_turning_ = std::find(turning_.begin(), turning_.end(), 0) == turning_.end();
+}
+
+Integrator::Turning Simulation::turning() const {
+  return {track_orientations_, all_turning_ ? nullptr : turning_.data()};
 }
 
 void Simulation::book_momentum(bool initial) {
@@ -485,7 +509,7 @@ void Simulation::start_step() {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     // The drift also starts the next loads (F = m g, T = 0): compute_forces() goes on from them.
     drift_ = Integrator::first_half(p, dt_, settings_.gravity, kMaxStepFraction * settings_.skin,
-                                    kMaxTurn, track_orientations_);
+                                    kMaxTurn, turning());
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);
   }
   time_ += dt_;
@@ -549,7 +573,7 @@ void Simulation::finish_step_and_start_next(const BodyObserver& observe_bodies) 
     // The next step replaces the held energies before anything can read them.
     ledger_.start_accumulation(p, gather_, /*book_held=*/false);
     drift_ = Integrator::second_then_first_half(
-        p, dt_, settings_.gravity, kMaxStepFraction * settings_.skin, kMaxTurn, track_orientations_,
+        p, dt_, settings_.gravity, kMaxStepFraction * settings_.skin, kMaxTurn, turning(),
         [this, &p](std::size_t end) {
           ledger_.accumulate_below(end, p, model_.bodies, slots_, gather_);
         });

@@ -242,6 +242,10 @@ class Simulation {
   /// Migration, lists, slots and gather map from the current positions and the terms'
   /// spring stores; `sort_width` as rebuild()'s.
   void build_lists(double sort_width = 0.0);
+  /// Flags the owned particles that are ends of intact bonds (after the terms' rebuild).
+  void flag_turning_particles();
+  /// Which particles the drift turns: none without orientations, else the flagged ones.
+  Integrator::Turning turning() const;
   /// The width of the re-sort due at this step (twice the smallest radius of the grains it
   /// bins, over the ranks), or 0 where none is due or there is nothing to bin. Collective on
   /// the steps where one is due; the same step numbers on every rank and after a restart.
@@ -321,6 +325,10 @@ class Simulation {
   InflowSource inflow_;             ///< model_.inflow's inlets and what came in
   MomentumLedger momentum_;         ///< impulses of the reported loads on the free particles
   bool outflow_pending_ = false;    ///< a grain left a box in the last drift (on some rank)
+  /// Per owned particle, 1 where it is an end of an intact bond (flag_turning_particles()).
+  std::vector<std::uint8_t> turning_;
+  /// Every owned particle is flagged: turning() passes no flags.
+  bool all_turning_ = false;
   std::vector<Vec3> body_position_at_rebuild_;
   std::vector<Quat> body_orientation_at_rebuild_;
   std::array<double, kPhaseCount> phase_seconds_{};

@@ -109,6 +109,7 @@ struct ParticleRows {
   const double* alpha;  ///< null where nothing in the model is damped
   double* dissipated;   ///< the ledger's global-damping columns, null where it keeps none
   double* power;
+  const std::uint8_t* turning = nullptr;  ///< Integrator::Turning::only, null: all turn
 };
 
 ParticleRows rows_of(ParticleStore& p) {
@@ -124,7 +125,8 @@ ParticleRows rows_of(ParticleStore& p) {
           p.motion.data(),
           p.tracks_damping() ? p.damping.data() : nullptr,
           ledger ? p.dissipated_global.data() : nullptr,
-          ledger ? p.power_global.data() : nullptr};
+          ledger ? p.power_global.data() : nullptr,
+          nullptr};
 }
 
 /// The last n < 4 particles of a pass in four lanes; the others are fixed particles at rest
@@ -135,6 +137,7 @@ struct TailLanes {
   double mass[4]{1.0, 1.0, 1.0, 1.0}, radius[4]{1.0, 1.0, 1.0, 1.0};
   Motion motion[4]{Motion::kFixed, Motion::kFixed, Motion::kFixed, Motion::kFixed};
   double alpha[4]{}, dissipated[4]{}, power[4]{};
+  std::uint8_t turning[4]{};
 
   TailLanes(const ParticleRows& r, std::size_t k, std::size_t n) {
     for (std::size_t i = 0; i < n; ++i) {
@@ -150,6 +153,7 @@ struct TailLanes {
       if (r.alpha) alpha[i] = r.alpha[k + i];
       if (r.dissipated) dissipated[i] = r.dissipated[k + i];
       if (r.power) power[i] = r.power[k + i];
+      if (r.turning) turning[i] = r.turning[k + i];
     }
   }
   ParticleRows rows(const ParticleRows& like) {
@@ -164,7 +168,8 @@ struct TailLanes {
             motion,
             like.alpha ? alpha : nullptr,
             like.dissipated ? dissipated : nullptr,
-            like.power ? power : nullptr};
+            like.power ? power : nullptr,
+            like.turning ? turning : nullptr};
   }
   void write_back(const ParticleRows& r, std::size_t k, std::size_t n) const {
     for (std::size_t i = 0; i < n; ++i) {
@@ -260,6 +265,19 @@ inline void drift_four(const ParticleRows& r, std::size_t k, double dt, const Ro
 /// drift_four): rotated(q, omega * moving, dt), cayley_turned() in its order: p = (1, h) q
 /// brought to unit norm by inverse_norm_near_one().
 inline void turn_four(const ParticleRows& r, std::size_t k, double dt) {
+  // Where only some particles turn, four that do not are skipped, and of four that partly do
+  // the others keep their orientation (the lanes' select); the ones that turn get the same
+  // operations as without flags, so the same bits.
+  lanes::Mask4 turns{};
+  if (r.turning) {
+    using Bytes4 = std::uint8_t __attribute__((vector_size(4)));
+    Bytes4 bytes;
+    std::memcpy(&bytes, r.turning + k, sizeof bytes);
+    std::uint32_t any = 0;
+    std::memcpy(&any, &bytes, sizeof any);
+    if (any == 0) return;
+    turns = __builtin_convertvector(bytes, V4) != V4{};
+  }
   const double half = 0.5 * dt;
   const V4 moving = motion_lanes(r.motion + k).moving;
   const Columns3 wc = lanes::columns(lanes::load_rows(r.w + k));
@@ -272,7 +290,12 @@ inline void turn_four(const ParticleRows& r, std::size_t k, double dt) {
   const V4 n2 = pw * pw + px * px + py * py + pz * pz;
   const V4 y = 0.5 * (3.0 - n2);
   const V4 scale = y * (0.5 * (3.0 - n2 * y * y));
-  lanes::store_quats(r.q + k, {pw * scale, px * scale, py * scale, pz * scale});
+  if (r.turning)
+    lanes::store_quats(
+        r.q + k, {lanes::select(turns, pw * scale, b.w), lanes::select(turns, px * scale, b.x),
+                  lanes::select(turns, py * scale, b.y), lanes::select(turns, pz * scale, b.z)});
+  else
+    lanes::store_quats(r.q + k, {pw * scale, px * scale, py * scale, pz * scale});
 }
 
 /// The drift over owned particles [begin, end), with the orientation update compiled in or
@@ -280,13 +303,15 @@ inline void turn_four(const ParticleRows& r, std::size_t k, double dt) {
 /// factors of each four from begin, or null.
 template <bool kTurn>
 void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt,
-                 const Vec3& gravity, const HalfKicks* kept, DriftMaxima& m) {
+                 const Vec3& gravity, const std::uint8_t* turning, const HalfKicks* kept,
+                 DriftMaxima& m) {
   // The components of gravity in the layout of four rows.
   const Rows3 gravity_rows{V4{gravity.x, gravity.y, gravity.z, gravity.x},
                            V4{gravity.y, gravity.z, gravity.x, gravity.y},
                            V4{gravity.z, gravity.x, gravity.y, gravity.z}};
   V4 max_v2 = lanes::splat(m.max_v2), max_w2 = lanes::splat(m.max_w2);
-  const ParticleRows rows = rows_of(p);
+  ParticleRows rows = rows_of(p);
+  rows.turning = turning;
   // The orientations in a pass of their own over each chunk, after its drift (in cache): the
   // quaternion update of four particles ends in a long chain of dependent operations, which
   // the drift's long iterations could not overlap; in short iterations of its own they do
@@ -309,11 +334,12 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
 }
 
 void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt,
-                 const Vec3& gravity, bool orientations, const HalfKicks* kept, DriftMaxima& m) {
-  if (orientations)
-    drift_range<true>(p, begin, end, dt, gravity, kept, m);
+                 const Vec3& gravity, Integrator::Turning turning, const HalfKicks* kept,
+                 DriftMaxima& m) {
+  if (turning.orientations)
+    drift_range<true>(p, begin, end, dt, gravity, turning.only, kept, m);
   else
-    drift_range<false>(p, begin, end, dt, gravity, kept, m);
+    drift_range<false>(p, begin, end, dt, gravity, nullptr, kept, m);
 }
 
 /// What the drift passes saw (their largest squared speeds, order-free maxima) as the
@@ -346,9 +372,9 @@ Integrator::Drift drift_result(const ParticleStore& p, const DriftMaxima& m, dou
 }  // namespace
 
 Integrator::Drift Integrator::first_half(ParticleStore& p, double dt, const Vec3& gravity,
-                                         double max_step, double max_turn, bool orientations) {
+                                         double max_step, double max_turn, Turning turning) {
   DriftMaxima m;
-  drift_range(p, 0, p.n_local(), dt, gravity, orientations, nullptr, m);
+  drift_range(p, 0, p.n_local(), dt, gravity, turning, nullptr, m);
   return drift_result(p, m, dt, max_step, max_turn);
 }
 
@@ -462,7 +488,7 @@ void Integrator::second_half(ParticleStore& p, double dt) {
 
 Integrator::Drift Integrator::second_then_first_half(
     ParticleStore& p, double dt, const Vec3& gravity, double max_step, double max_turn,
-    bool orientations, const std::function<void(std::size_t end)>& between) {
+    Turning turning, const std::function<void(std::size_t end)>& between) {
   // Block by block, while a block's particles are in cache: the same operations on each
   // particle in the same order as second_half(), between(), first_half(), so the same bits,
   // with one pass from memory over the particles' columns instead of three.
@@ -477,7 +503,7 @@ Integrator::Drift Integrator::second_then_first_half(
     for (std::size_t c = begin; c < end; c += kChunk)
       second_half_chunk(p, c, std::min(end, c + kChunk), dt, kept.data() + (c - begin) / 4);
     between(end);
-    drift_range(p, begin, end, dt, gravity, orientations, kept.data(), m);
+    drift_range(p, begin, end, dt, gravity, turning, kept.data(), m);
   }
   return drift_result(p, m, dt, max_step, max_turn);
 }

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -15,6 +16,16 @@ namespace ringdem {
 /// quaternion turning by 2 atan(|omega dt|/2) = |omega dt| (1 - |omega dt|^2/12 + ...) about
 /// omega, inverted exactly by cay(-omega dt), so the update stays time-reversible.
 struct Integrator {
+  /// Which owned particles turn their orientations in the drift. Only bonds read orientations
+  /// (spheres are isotropic): none where the store keeps none, else every particle, or only
+  /// those flagged in `only` (one byte per owned particle, 1 to turn), whose others keep their
+  /// orientation unchanged.
+  struct Turning {
+    bool orientations = false;
+    const std::uint8_t* only = nullptr;
+    Turning(bool turn_all) : orientations(turn_all) {}  // NOLINT: a bool reads as "all or none"
+    Turning(bool turn, const std::uint8_t* flagged) : orientations(turn), only(flagged) {}
+  };
   /// What the drift pass saw, folded into its one pass over the particles.
   struct Drift {
     /// Largest speed |v| dt of this drift: the neighbour-list test adds it up over the steps
@@ -27,12 +38,12 @@ struct Integrator {
     std::size_t worst_index = 0;  ///< the particle of worst_runaway
   };
   static constexpr double kRunaway = 1e300;
-  /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles. `orientations`:
-  /// also turn the orientations (only bonds read them; spheres are isotropic). Once a
+  /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles, turning the
+  /// orientations as `turning` says. Once a
   /// particle's load has kicked it, the same pass starts the next step's load: F = m g, T = 0
   /// (GatherMap::initialise_loads without a second pass over the particles).
   static Drift first_half(ParticleStore& p, double dt, const Vec3& gravity, double max_step,
-                          double max_turn, bool orientations);
+                          double max_turn, Turning turning);
   /// Applies the global damping to the new loads (physics.md §4), then v += F/m dt/2,
   /// omega += T/I dt/2 for owned free particles; the damped loads stay for the next step.
   /// Adds the energy the damping took out (its power at the new velocities, times dt) to the
@@ -44,7 +55,7 @@ struct Integrator {
   /// the number of owned particles. The same bits as the three in turn, in one pass from
   /// memory over the particles instead of three (a million grains' columns do not stay in cache).
   static Drift second_then_first_half(ParticleStore& p, double dt, const Vec3& gravity,
-                                      double max_step, double max_turn, bool orientations,
+                                      double max_step, double max_turn, Turning turning,
                                       const std::function<void(std::size_t end)>& between);
   /// Particles a chunk of the second half kick: each chunk takes the damped or the undamped
   /// way as a whole (a multiple of the passes' four lanes).
