@@ -654,24 +654,46 @@ void DomainDecomposition::update_ghosts(ParticleStore& p) {
   const auto n_ranks = static_cast<std::size_t>(comm_.size());
   if (n_ranks == 1) return;
   const unsigned flags = field_flag::kGhostStep;
-  // Buffers are members: cleared, not freed, so the step loop does not allocate.
+  const std::size_t size = record_size(p, flags);
+  // Column by column within each rank's block: a column's values for all the ghosts a rank
+  // gets, in a row, copied in a tight loop on the way out and in one piece on the way in (the
+  // ghosts from one rank are stored together, in the order sent). A record per particle went
+  // through the registry once per particle and field, a tenth of the debris demo's loop on 2
+  // ranks (docs/performance.md, twenty-sixth round). Buffers are members: resized, not freed,
+  // so the step loop does not allocate.
   ghost_send_buffers_.resize(n_ranks);
   for (std::size_t r = 0; r < n_ranks; ++r) {
-    ghost_send_buffers_[r].clear();
-    for (std::uint32_t k : ghost_send_[r])
-      pack_fields(p, k, flags, ghost_send_buffers_[r]);
+    const std::vector<std::uint32_t>& send = ghost_send_[r];
+    std::vector<char>& buffer = ghost_send_buffers_[r];
+    buffer.resize(send.size() * size);
+    char* out = buffer.data();
+    p.for_each_field([&](const FieldInfo& f, auto& v) {
+      if (!(f.flags & flags)) return;
+      constexpr std::size_t kBytes = sizeof(v[0]);
+      for (const std::uint32_t k : send) {
+        std::memcpy(out, static_cast<const void*>(&v[k]), kBytes);
+        out += kBytes;
+      }
+    });
   }
-  const std::size_t size = record_size(p, flags);
   ghost_recv_bytes_.resize(n_ranks);
   for (std::size_t r = 0; r < n_ranks; ++r)
     ghost_recv_bytes_[r] = static_cast<int>(static_cast<std::size_t>(ghost_recv_count_[r]) * size);
   comm_.exchange_bytes(ghost_send_buffers_, ghost_recv_bytes_, ghost_recv_buffer_);
+  if (ghost_recv_buffer_.size() != p.n_ghost() * size)
+    throw std::logic_error("ghost update: count changed");
   const char* data = ghost_recv_buffer_.data();
-  const std::size_t first = p.n_local();
-  const std::size_t n_ghost = ghost_recv_buffer_.size() / size;
-  if (n_ghost != p.n_ghost()) throw std::logic_error("ghost update: count changed");
-  for (std::size_t k = 0; k < n_ghost; ++k)
-    data = unpack_fields(p, first + k, flags, data);
+  std::size_t ghost = p.n_local();
+  for (std::size_t r = 0; r < n_ranks; ++r) {
+    const auto n = static_cast<std::size_t>(ghost_recv_count_[r]);
+    p.for_each_field([&](const FieldInfo& f, auto& v) {
+      if (!(f.flags & flags)) return;
+      const std::size_t bytes = n * sizeof(v[0]);
+      if (bytes > 0) std::memcpy(static_cast<void*>(&v[ghost]), data, bytes);
+      data += bytes;
+    });
+    ghost += n;
+  }
 }
 
 double DomainDecomposition::imbalance(const ParticleStore& p) const {

@@ -101,17 +101,25 @@ void expect_one_block_ghost_layer(const ParticleStore& p, const Vec3& shift) {
   }
 }
 
-/// Rank-encoded refresh: owners write rank + 1, ghosts (poisoned first) must read their
-/// owner's rank + 1 after update_ghosts.
+/// Rank-encoded refresh: owners write rank + 1 and their particles' gids into two of the
+/// fields refreshed each step, ghosts (poisoned first) must read their owner's rank + 1 and
+/// their own gid in each, so that neither ghosts nor fields are mixed up on the way.
 void expect_rank_encoded_refresh(const Communicator& c, ParticleStore& p, DomainDecomposition& d,
                                  const std::map<std::int64_t, int>& owner) {
-  for (std::size_t k = 0; k < p.n_local(); ++k)
-    p.velocity[k] = {c.rank() + 1.0, 0, 0};
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    const auto gid = static_cast<double>(p.gid[k]);
+    p.velocity[k] = {c.rank() + 1.0, gid, 0.5};
+    p.omega[k] = {-gid, 2.0, c.rank() + 1.0};
+  }
   for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
-    p.velocity[k] = {-1, 0, 0};
+    p.velocity[k] = p.omega[k] = {-1, -1, -1};
   d.update_ghosts(p);
-  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
-    EXPECT_EQ(p.velocity[k].x, owner.at(p.gid[k]) + 1.0) << "ghost gid " << p.gid[k];
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k) {
+    const auto gid = static_cast<double>(p.gid[k]);
+    const double encoded = owner.at(p.gid[k]) + 1.0;
+    EXPECT_EQ(p.velocity[k], (Vec3{encoded, gid, 0.5})) << "ghost gid " << p.gid[k];
+    EXPECT_EQ(p.omega[k], (Vec3{-gid, 2.0, encoded})) << "ghost gid " << p.gid[k];
+  }
 }
 
 TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
