@@ -23,7 +23,8 @@ struct Integrator {
   struct Turning {
     bool orientations = false;
     const std::uint8_t* only = nullptr;
-    Turning(bool turn_all) : orientations(turn_all) {}  // NOLINT: a bool reads as "all or none"
+    /// Implicit: `true` turns every particle, `false` none (the store keeps no orientations).
+    Turning(bool turn_all) : orientations(turn_all) {}
     Turning(bool turn, const std::uint8_t* flagged) : orientations(turn), only(flagged) {}
   };
   /// What the drift pass saw, folded into its one pass over the particles.
