@@ -1,5 +1,7 @@
 #include "comm/ExactSum.hpp"
 
+#include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -78,28 +80,32 @@ ExactSum ExactSum::from_words(const std::int64_t* words) {
 }
 
 ExactSum::LimbRange ExactSum::balanced_limbs(std::array<std::int64_t, kLimbs>& out) const {
-  LimbRange range;
   int lowest = 0;
   while (lowest < kLimbs && limb_[static_cast<std::size_t>(lowest)] == 0)
     ++lowest;
-  if (lowest == kLimbs) return range;  // zero
+  if (lowest == kLimbs) return {};  // zero
   int highest = kLimbs - 1;
   while (limb_[static_cast<std::size_t>(highest)] == 0)
     --highest;
+  return balance(limb_.data(), lowest, highest, out);
+}
+
+ExactSum::LimbRange ExactSum::balance(const std::int64_t* in, int lowest, int highest,
+                                      std::array<std::int64_t, kLimbs>& out) {
   // Carries upwards from the lowest nonzero limb: digit = limb + carry rounded into
   // [-2^31, 2^31) by (x + 2^31) >> 32 (floor), until the carry dies out above the highest
-  // limb; the top limb keeps what is left. A limb holds less than 2^57 and a carry less than
-  // 2^26, so nothing overflows.
+  // limb; the top limb keeps what is left. A limb holds less than 2^62 and a carry less than
+  // 2^31, so nothing overflows.
   constexpr std::int64_t kHalf = std::int64_t{1} << 31;
   std::int64_t carry = 0;
   int i = lowest;
   for (; i < kLimbs - 1 && (i <= highest || carry != 0); ++i) {
-    const std::int64_t x = limb_[static_cast<std::size_t>(i)] + carry;
+    const std::int64_t x = (i <= highest ? in[i] : 0) + carry;
     carry = (x + kHalf) >> 32;
     out[static_cast<std::size_t>(i)] = x - carry * kDigit;
   }
   if (i == kLimbs - 1) {
-    out[static_cast<std::size_t>(i)] = limb_[static_cast<std::size_t>(i)] + carry;
+    out[static_cast<std::size_t>(i)] = (i <= highest ? in[i] : 0) + carry;
     ++i;
   }
   // The nonzero digits: a carry can cancel a limb, so trim both ends.
@@ -108,8 +114,8 @@ ExactSum::LimbRange ExactSum::balanced_limbs(std::array<std::int64_t, kLimbs>& o
     ++first;
   while (last >= first && out[static_cast<std::size_t>(last)] == 0)
     --last;
-  if (first <= last) range = {first, last};
-  return range;
+  if (first <= last) return {first, last};
+  return {};
 }
 
 ExactSum ExactSum::from_limbs(const std::int64_t* limbs, int first, int last) {
@@ -120,27 +126,55 @@ ExactSum ExactSum::from_limbs(const std::int64_t* limbs, int first, int last) {
   return s;
 }
 
+double ExactSum::value_of_limbs(const std::int64_t* limbs, int first, int last) {
+  // The window's limbs at their places (zeros elsewhere), then the same digits and rounding
+  // as value(): only the window and the carries above it are walked.
+  std::array<std::int64_t, kLimbs> in{};
+  int lowest = kLimbs, highest = -1;
+  for (int i = first; i <= last; ++i) {
+    in[static_cast<std::size_t>(i)] = limbs[i - first];
+    if (limbs[i - first] != 0) {
+      lowest = std::min(lowest, i);
+      highest = i;
+    }
+  }
+  if (highest < 0) return 0.0;
+  std::array<std::int64_t, kLimbs> d{};
+  const LimbRange range = balance(in.data(), lowest, highest, d);
+  return range.first > range.last ? 0.0 : round_digits(d, range);
+}
+
 double ExactSum::value() const {
   if (nan_ > 0 || (pos_inf_ > 0 && neg_inf_ > 0)) return std::numeric_limits<double>::quiet_NaN();
   if (pos_inf_ > 0) return std::numeric_limits<double>::infinity();
   if (neg_inf_ > 0) return -std::numeric_limits<double>::infinity();
-  ExactSum m = *this;
-  m.normalise();
-  const bool negative = m.limb_.back() < 0;
-  if (negative) {
-    for (auto& l : m.limb_)
-      l = -l;
-    m.normalise();
+  std::array<std::int64_t, kLimbs> d{};
+  const LimbRange range = balanced_limbs(d);
+  return range.first > range.last ? 0.0 : round_digits(d, range);
+}
+
+double ExactSum::round_digits(std::array<std::int64_t, kLimbs>& d, LimbRange range) {
+  // The sign is the top nonzero digit's (the ones below it are under half a unit of it).
+  const bool negative = d[static_cast<std::size_t>(range.last)] < 0;
+  if (negative)
+    for (int i = range.first; i <= range.last; ++i)
+      d[static_cast<std::size_t>(i)] = -d[static_cast<std::size_t>(i)];
+  // The magnitude in digits [0, 2^32) by floor carries. It is positive, so the carries (0 or
+  // -1) end in the top digit, which stays >= 0 (and may hold more than 32 bits only as the
+  // last limb).
+  std::int64_t carry = 0;
+  for (int i = range.first; i < range.last; ++i) {
+    const std::int64_t x = d[static_cast<std::size_t>(i)] + carry;
+    carry = x >> 32;
+    d[static_cast<std::size_t>(i)] = x - carry * kDigit;
   }
-  // Now a magnitude: limbs 0..kLimbs-2 are digits in [0, 2^32), the top limb is >= 0 and may
-  // hold more than 32 bits.
-  int top = kLimbs - 1;
-  while (top >= 0 && m.limb_[static_cast<std::size_t>(top)] == 0)
+  d[static_cast<std::size_t>(range.last)] += carry;
+  int top = range.last;
+  while (top >= range.first && d[static_cast<std::size_t>(top)] == 0)
     --top;
-  if (top < 0) return 0.0;
+  if (top < range.first) return 0.0;
   const auto limb = [&](int i) {
-    return i < 0 ? std::uint64_t{0}
-                 : static_cast<std::uint64_t>(m.limb_[static_cast<std::size_t>(i)]);
+    return i < 0 ? std::uint64_t{0} : static_cast<std::uint64_t>(d[static_cast<std::size_t>(i)]);
   };
   // The top three limbs as one integer: window bit j is bit base + j of the sum. The top limb
   // is nonzero, so the window reaches 64 bits above base: more than the 53 kept and the
@@ -157,9 +191,10 @@ double ExactSum::value() const {
   auto mantissa = static_cast<std::uint64_t>(window >> shift);
   if (lsb > 0) {
     const bool round_bit = ((window >> (shift - 1)) & 1u) != 0;
-    // Whether any bit below the rounding bit is set: in the window, or in a lower limb.
+    // Whether any bit below the rounding bit is set: in the window, or in a lower limb (the
+    // digits below range.first are zeros).
     bool sticky = (window & ((Window{1} << (shift - 1)) - 1)) != 0;
-    for (int j = 0; j < top - 2 && !sticky; ++j)
+    for (int j = range.first; j < top - 2 && !sticky; ++j)
       sticky = limb(j) != 0;
     if (round_bit && (sticky || (mantissa & 1u) != 0))
       ++mantissa;  // round half to even; 2^53 stays exact and ldexp moves the exponent

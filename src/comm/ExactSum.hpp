@@ -85,12 +85,22 @@ class ExactSum {
   /// The finite sum whose limbs first..last are limbs[0..last-first] (any integers below
   /// 2^62 in magnitude, such as sums of balanced digits) and the others zero.
   static ExactSum from_limbs(const std::int64_t* limbs, int first, int last);
+  /// from_limbs(limbs, first, last).value() without building the whole sum: a reduction that
+  /// recurs every step (ExactSumReducer) rounds its window's few limbs only.
+  static double value_of_limbs(const std::int64_t* limbs, int first, int last);
 
  private:
   /// Terms between carry propagations: a limb then stays below 2^32 (1 + 2^24) < 2^57.
   static constexpr std::int64_t kMaxPending = std::int64_t{1} << 24;
   void add_non_finite(double x);
   void normalise();
+  /// Balanced digits of the integer whose limb i is in[i] (zero outside [lowest, highest], each
+  /// below 2^62 in magnitude) into out, as balanced_limbs() describes.
+  static LimbRange balance(const std::int64_t* in, int lowest, int highest,
+                           std::array<std::int64_t, kLimbs>& out);
+  /// The finite sum of balanced digits d (zero outside range, which is not empty), rounded
+  /// to the nearest double. Overwrites d.
+  static double round_digits(std::array<std::int64_t, kLimbs>& d, LimbRange range);
 
   std::array<std::int64_t, kLimbs> limb_{};
   std::int64_t nan_ = 0, pos_inf_ = 0, neg_inf_ = 0;

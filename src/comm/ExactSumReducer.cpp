@@ -50,7 +50,7 @@ const std::vector<double>& ExactSumReducer::sum(const Communicator& comm,
   }
   totals_.resize(partial.size());
   for (std::size_t c = 0; c < partial.size(); ++c)
-    totals_[c] = width == 0 ? 0.0 : ExactSum::from_limbs(&words_[1 + c * width], lo_, hi_).value();
+    totals_[c] = width == 0 ? 0.0 : ExactSum::value_of_limbs(&words_[1 + c * width], lo_, hi_);
   return totals_;
 }
 

@@ -297,7 +297,41 @@ TEST(ExactSum, BalancedLimbsRoundTripAndAdd) {
       sum[static_cast<std::size_t>(i - first)] += db[static_cast<std::size_t>(i)];
     EXPECT_EQ(bits(ExactSum::from_limbs(sum.data(), first, last).value()), bits(total.value()))
         << "trial " << trial;
+    // The reducer's path: the same limbs rounded in place, and in a window padded with zeros
+    // on both sides (wider than the sums need), against the whole sum's value().
+    EXPECT_EQ(bits(ExactSum::value_of_limbs(sum.data(), first, last)), bits(total.value()))
+        << "trial " << trial;
+    const int pad_lo = std::max(first - 2, 0), pad_hi = std::min(last + 2, ExactSum::kLimbs - 1);
+    std::vector<std::int64_t> padded(static_cast<std::size_t>(pad_hi - pad_lo + 1), 0);
+    for (int i = first; i <= last; ++i)
+      padded[static_cast<std::size_t>(i - pad_lo)] = sum[static_cast<std::size_t>(i - first)];
+    EXPECT_EQ(bits(ExactSum::value_of_limbs(padded.data(), pad_lo, pad_hi)), bits(total.value()))
+        << "trial " << trial;
   }
+  // Digits of many partial sums added limb by limb (limbs far beyond 32 bits, as on thousands
+  // of ranks), of either sign and cancelling: rounded in place as the whole sum rounds.
+  for (int trial = 0; trial < 50; ++trial) {
+    ExactSum total;
+    std::vector<std::int64_t> limbs(ExactSum::kLimbs, 0);
+    const int e = expo(rng);
+    for (int part = 0; part < 3000; ++part) {
+      ExactSum s;
+      for (int k = 0; k < 3; ++k) {
+        const double x = std::ldexp(mant(rng), e - static_cast<int>(rng() % 90));
+        s.add(x);
+        total.add(x);
+      }
+      std::array<std::int64_t, ExactSum::kLimbs> d{};
+      const auto r = s.balanced_limbs(d);
+      for (int i = r.first; i <= r.last; ++i)
+        limbs[static_cast<std::size_t>(i)] += d[static_cast<std::size_t>(i)];
+    }
+    EXPECT_EQ(bits(ExactSum::value_of_limbs(limbs.data(), 0, ExactSum::kLimbs - 1)),
+              bits(total.value()))
+        << "trial " << trial;
+  }
+  EXPECT_EQ(bits(ExactSum::value_of_limbs(std::vector<std::int64_t>(5, 0).data(), 3, 7)),
+            bits(0.0));
   std::array<std::int64_t, ExactSum::kLimbs> d{};
   const auto zero = ExactSum{}.balanced_limbs(d);
   EXPECT_GT(zero.first, zero.last);
