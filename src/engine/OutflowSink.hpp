@@ -47,8 +47,12 @@ class OutflowSink {
   bool empty() const { return boxes_.empty(); }
   /// Owned particle k is a grain (free, in no ring) of a box's groups, outside that box.
   bool leaving(const ParticleStore& p, std::size_t k) const;
-  /// Some owned particle is leaving (this rank).
-  bool any_leaving(const ParticleStore& p) const;
+  /// Notes how near the owned grains that a box takes are to its faces, at the positions of a
+  /// neighbour-list rebuild: until they have moved that far, none can be outside.
+  void note_positions(const ParticleStore& p);
+  /// Some owned particle is leaving (this rank). `moved` bounds how far any owned particle
+  /// moved since note_positions(): below the clearance noted there, no position is read.
+  bool any_leaving(const ParticleStore& p, double moved) const;
   /// Takes the owned grains that are leaving out of `p`, adding what they carry to this rank's
   /// sums, with the elastic and the tangential spring energy that their contacts held after
   /// the last step (EnergyLedger::held_by_leaving(), this rank's sums over them). Owned
@@ -65,8 +69,12 @@ class OutflowSink {
   void import_totals(const std::vector<std::int64_t>& words, bool root);
 
  private:
+  static constexpr double kClearanceMargin = 1e-6;  ///< m
   std::vector<OutflowBox> boxes_;
   std::vector<ExactSum> partial_;
+  /// The least distance of a grain that may leave to the face of its box at note_positions(),
+  /// less a margin for the rounding of the drifts; 0 (every step scans) until noted.
+  double clearance_ = 0.0;
 };
 
 }  // namespace ringdem

@@ -299,6 +299,7 @@ double Simulation::sort_width_due() {
 void Simulation::rebuild(double sort_width) {
   build_lists(sort_width);
   move_bound_ = 0.0;
+  move_bound_at_outflow_note_ = 0.0;
   body_position_at_rebuild_.clear();
   body_orientation_at_rebuild_.clear();
   for (const auto& b : model_.bodies) {
@@ -340,6 +341,8 @@ void Simulation::build_lists(double sort_width) {
   slots_.assign(allocator_.size());
   gather_.finish(p);
   flag_turning_particles();
+  outflow_.note_positions(p);
+  move_bound_at_outflow_note_ = move_bound_;  // after a restart, the checkpoint's bound
   ledger_.rebuild(gather_, allocator_.size());
   // A rebuild is collective (every rank rebuilds at the same step): so is this flag.
   if (!model_.bodies.empty() && body_term_ != nullptr)
@@ -405,7 +408,9 @@ bool Simulation::needs_rebuild() {
       runaway = Integrator::kRunaway;
   // Grains out of an outflow box at the positions this drift reached leave before the next
   // step, when the state is synchronised (OutflowSink); they ride on the same reduction.
-  const bool leaving = outflow_.any_leaving(model_.particles);
+  // The particles moved at most the bound since the outflow noted them, plus this drift.
+  const bool leaving = outflow_.any_leaving(
+      model_.particles, move_bound_ - move_bound_at_outflow_note_ + drift_.max_speed * dt_);
   const auto global =
       comm_.max(std::array<double, 5>{drift_.max_speed, topology_changed ? 1.0 : 0.0,
                                       stop_local_ ? 1.0 : 0.0, runaway, leaving ? 1.0 : 0.0});

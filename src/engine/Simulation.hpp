@@ -318,6 +318,8 @@ class Simulation {
   bool stop_local_ = false;
   bool stop_agreed_ = false;
   double move_bound_ = 0.0;  ///< no particle moved farther since the last rebuild (all ranks)
+  /// move_bound_ when the outflow noted the positions (OutflowSink::note_positions)
+  double move_bound_at_outflow_note_ = 0.0;
   bool track_orientations_ = true;  ///< some particle has a bond (Integrator::first_half)
   Integrator::Drift drift_;         ///< the last drift pass (this rank), for the divergence guard
   EnergyGuard energy_guard_;        ///< the divergence guard's energy part, at every energies()
