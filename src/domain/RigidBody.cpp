@@ -25,14 +25,11 @@ double RigidBody::extent() const {
   return std::numeric_limits<double>::infinity();
 }
 
-RigidBody::SurfacePoint RigidBody::closest(const Vec3& p) const {
+RigidBody::SurfacePoint RigidBody::closest_curved(const Vec3& p) const {
   const Vec3 d = p - position;
   switch (shape) {
-    case RigidShape::kPlane: {
-      const Vec3 n = rotate(orientation, {0, 0, 1});
-      const double dist = dot(d, n);
-      return {dist, n, p - n * dist};
-    }
+    case RigidShape::kPlane:
+      break;  // inline in closest()
     case RigidShape::kSphere: {
       const double r = norm(d);
       const Vec3 n = r > 0.0 ? d / r : Vec3{0, 0, 1};

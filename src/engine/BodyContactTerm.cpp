@@ -57,8 +57,20 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
     for (std::size_t w = range.begin; w < range.end; ++w) {
       const std::uint32_t k = particle_[w];
       const RigidBody& body = ctx.bodies[body_[w]];
-      const auto sp = body.closest(p.position[k]);
-      const double overlap = p.radius[k] - sp.distance;
+      // A plane's distance and normal without the closest point: the aggregate went through
+      // the stack in pieces that a wide load read back (a store-forwarding stall, most of the
+      // body contacts' time in a debris channel, whose bed and walls are planes).
+      Vec3 outward;
+      double distance = 0.0;
+      if (body.shape == RigidShape::kPlane) {
+        outward = body.plane_normal();
+        distance = dot(p.position[k] - body.position, outward);
+      } else {
+        const auto sp = body.closest(p.position[k]);
+        outward = sp.normal;
+        distance = sp.distance;
+      }
+      const double overlap = p.radius[k] - distance;
       if (overlap <= 0.0) {
         const std::uint32_t slot = slots_.begin + static_cast<std::uint32_t>(w);
         spring[w] = {};
@@ -66,7 +78,7 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
         ledger.record(slot) = {};
         continue;
       }
-      const Vec3 n = -sp.normal;  // from the particle to the body
+      const Vec3 n = -outward;  // from the particle to the body
       const double arm = p.radius[k] - 0.5 * overlap;
       const Vec3 contact = p.position[k] + n * arm;
       const double r_body = body.contact_radius();
@@ -95,13 +107,16 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
       const Vec3 force = chunk.force.get(c);
       spring[w] = chunk.spring.get(c);
       slots.set(slot, force, chunk.torque.get(c));
-      ledger.record(slot) = {chunk.damping.get(c),
-                             spring[w],
-                             n * arm,
-                             chunk.rolling.get(c),
-                             chunk.tangential_energy[c],
-                             chunk.elastic_energy[c],
-                             static_cast<std::int32_t>(body_[w])};
+      // Member by member: an aggregate went through the stack in pieces that wide loads read
+      // back, a store-forwarding stall (as the pair loop's springs, docs/performance.md).
+      DissipationRecord& record = ledger.record(slot);
+      record.damping = chunk.damping.get(c);
+      record.friction = spring[w];
+      record.arm = n * arm;
+      record.rolling = chunk.rolling.get(c);
+      record.tangential_energy = chunk.tangential_energy[c];
+      record.elastic_energy = chunk.elastic_energy[c];
+      record.body = static_cast<std::int32_t>(body_[w]);
       const Vec3 contact = p.position[k] + n * arm;
       const Vec3 torque_on_body = cross(contact - body.position, -force);
       ExactSum* const sums = &body_load_sums_[kLoadColumns * body_[w]];
