@@ -21,7 +21,7 @@ void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::u
                             std::floor((hi.y - lo.y) * inv_h_) + 1.0,
                             std::floor((hi.z - lo.z) * inv_h_) + 1.0};
   dense_ = n > 0 && extent[0] * extent[1] * extent[2] <= 2.0 * static_cast<double>(n) + 64.0;
-  cells_.clear();
+  n_cells_ = 0;
   keyed_.clear();
   if (dense_) {
     for (int d = 0; d < 3; ++d)
@@ -50,12 +50,23 @@ void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::u
     keyed_[m] = {key(cell(x.x, lo_.x), cell(x.y, lo_.y), cell(x.z, lo_.z)), members[m]};
   }
   std::sort(keyed_.begin(), keyed_.end());
-  cells_.reserve(n);
+  for (std::size_t s = 0; s < n; ++s)
+    n_cells_ += s == 0 || keyed_[s].first != keyed_[s - 1].first;
+  // At least twice as many slots as cells, so that a probe ends soon at an empty one.
+  int bits = 4;
+  while ((std::size_t{1} << bits) < 2 * n_cells_)
+    ++bits;
+  table_.assign(std::size_t{1} << bits, Cell{});
+  table_mask_ = (std::uint64_t{1} << bits) - 1;
+  table_shift_ = 64 - bits;
   for (std::uint32_t s = 0; s < n;) {
     std::uint32_t e = s + 1;
     while (e < n && keyed_[e].first == keyed_[s].first)
       ++e;
-    cells_.emplace(keyed_[s].first, std::make_pair(s, e));
+    std::uint64_t i = home_slot(keyed_[s].first);
+    while (table_[i].end != 0)
+      i = (i + 1) & table_mask_;
+    table_[i] = {keyed_[s].first, s, e};
     s = e;
   }
 }

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -27,7 +26,8 @@ class CellGrid {
     for (auto* v : {&cell_start_, &fill_, &cell_of_member_, &in_cells_})
       std::vector<std::uint32_t>().swap(*v);
     std::vector<std::pair<std::uint64_t, std::uint32_t>>().swap(keyed_);
-    cells_ = {};
+    std::vector<Cell>().swap(table_);
+    n_cells_ = 0;
   }
 
  private:
@@ -46,9 +46,30 @@ class CellGrid {
   std::int64_t dims_[3] = {0, 0, 0};
   // Dense: members by cell (cells numbered x fastest, z slowest), and each cell's range.
   std::vector<std::uint32_t> cell_start_, fill_, cell_of_member_, in_cells_;
-  // Hashed: (cell key, member) sorted, and each key's range.
+  // Hashed: (cell key, member) sorted, and each occupied cell's range of it in a table with
+  // open addressing (linear probing, a power of two slots, at most half of them used; an
+  // empty slot has end 0). A std::unordered_map's lookups, a division and a node each, were
+  // half of the debris demo's list builds.
+  struct Cell {
+    std::uint64_t key = 0;
+    std::uint32_t begin = 0, end = 0;
+  };
+  /// Fibonacci hashing: the key's bits mixed by one multiplication, the top ones kept.
+  std::uint64_t home_slot(std::uint64_t k) const {
+    return (k * 0x9E3779B97F4A7C15ull) >> table_shift_;
+  }
+  const Cell* find(std::uint64_t k) const {
+    for (std::uint64_t i = home_slot(k);; i = (i + 1) & table_mask_) {
+      const Cell& c = table_[i];
+      if (c.end == 0) return nullptr;
+      if (c.key == k) return &c;
+    }
+  }
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed_;
-  std::unordered_map<std::uint64_t, std::pair<std::uint32_t, std::uint32_t>> cells_;
+  std::vector<Cell> table_;
+  std::uint64_t table_mask_ = 0;
+  int table_shift_ = 64;
+  std::size_t n_cells_ = 0;  ///< occupied cells
 };
 
 template <class F>
@@ -81,7 +102,7 @@ void CellGrid::for_each_near(const Vec3& x, double reach, F&& f) const {
   const double box = static_cast<double>(hi[0] - lo[0] + 1) *
                      static_cast<double>(hi[1] - lo[1] + 1) *
                      static_cast<double>(hi[2] - lo[2] + 1);
-  if (box > static_cast<double>(cells_.size())) {
+  if (box > static_cast<double>(n_cells_)) {
     for (const auto& [k, member] : keyed_)
       f(member);
     return;
@@ -89,9 +110,9 @@ void CellGrid::for_each_near(const Vec3& x, double reach, F&& f) const {
   for (std::int64_t cx = lo[0]; cx <= hi[0]; ++cx)
     for (std::int64_t cy = lo[1]; cy <= hi[1]; ++cy)
       for (std::int64_t cz = lo[2]; cz <= hi[2]; ++cz) {
-        const auto it = cells_.find(key(cx, cy, cz));
-        if (it == cells_.end()) continue;
-        for (std::uint32_t s = it->second.first; s < it->second.second; ++s)
+        const Cell* const c = find(key(cx, cy, cz));
+        if (c == nullptr) continue;
+        for (std::uint32_t s = c->begin; s < c->end; ++s)
           f(keyed_[s].second);
       }
 }
