@@ -23,9 +23,9 @@ void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::u
   dense_ = n > 0 && extent[0] * extent[1] * extent[2] <= 2.0 * static_cast<double>(n) + 64.0;
   n_cells_ = 0;
   keyed_.clear();
+  for (int d = 0; d < 3; ++d)  // no cells without members
+    dims_[d] = n > 0 ? static_cast<std::int64_t>(extent[d]) : 0;
   if (dense_) {
-    for (int d = 0; d < 3; ++d)
-      dims_[d] = static_cast<std::int64_t>(extent[d]);
     const auto n_cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
     cell_start_.assign(n_cells + 1, 0);
     cell_of_member_.resize(n);

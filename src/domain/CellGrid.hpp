@@ -43,7 +43,7 @@ class CellGrid {
   Vec3 lo_;
   double inv_h_ = 1.0;
   bool dense_ = false;
-  std::int64_t dims_[3] = {0, 0, 0};
+  std::int64_t dims_[3] = {0, 0, 0};  ///< cells of the members' bounding box, on each axis
   // Dense: members by cell (cells numbered x fastest, z slowest), and each cell's range.
   std::vector<std::uint32_t> cell_start_, fill_, cell_of_member_, in_cells_;
   // Hashed: (cell key, member) sorted, and each occupied cell's range of it in a table with
@@ -78,12 +78,14 @@ void CellGrid::for_each_near(const Vec3& x, double reach, F&& f) const {
                         cell(x.z - reach, lo_.z)};
   std::int64_t hi[3] = {cell(x.x + reach, lo_.x), cell(x.y + reach, lo_.y),
                         cell(x.z + reach, lo_.z)};
+  // Only the cells of the members' bounding box (cells 0 .. dims - 1 on each axis): a grain
+  // far from a level's members (a debris grain and the net's beads) looks up no cell of it.
+  for (int d = 0; d < 3; ++d) {
+    lo[d] = std::max<std::int64_t>(lo[d], 0);
+    hi[d] = std::min<std::int64_t>(hi[d], dims_[d] - 1);
+    if (lo[d] > hi[d]) return;
+  }
   if (dense_) {
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = std::max<std::int64_t>(lo[d], 0);
-      hi[d] = std::min<std::int64_t>(hi[d], dims_[d] - 1);
-      if (lo[d] > hi[d]) return;
-    }
     // Rows of cells along x, as the grains are stored after a re-sort (SpatialBins: x
     // fastest): a row's members are a run in storage, so the search reads nine runs, not
     // one particle a layer apart at each step along z (a quarter of the rebuilds' time at 10^6
