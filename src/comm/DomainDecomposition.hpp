@@ -84,6 +84,11 @@ class DomainDecomposition {
     std::int64_t rows;  ///< the weight of the pair-store rows (bonds) counted in the cell
     int rank;           ///< a rank with particles in the cell (the smallest, after merging)
   };
+  /// A cell's vertex weight in the partition: its particles and weighted rows, plus one.
+  static std::int64_t cell_weight(const CellLoad& c) { return c.particles + c.rows + 1; }
+  /// max / mean - 1 of the ranks' summed cell weights, each cell counted for its owner (the
+  /// repartition test at a rebuild, after the new cells are assigned).
+  double cell_imbalance(const std::vector<CellLoad>& cells) const;
   /// Occupied cells of all ranks, merged and sorted by key (identical on every rank).
   std::vector<CellLoad> global_cells(const ParticleStore& p,
                                      const std::vector<PairStore>& stores) const;
