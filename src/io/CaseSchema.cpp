@@ -50,7 +50,9 @@ const Table<SimulationConfig>& simulation_table() {
                          "Particle contact law"),
           schema::number("imbalance_threshold", &S::imbalance_threshold, at_least(0), "",
                          "Repartition the ranks (METIS) at a neighbour-list rebuild when the "
-                         "largest rank holds more than (1 + this) times the mean particles"),
+                         "largest rank holds more than (1 + this) times the mean load (what "
+                         "the partition balances: particles, bonds twice, one per cell; "
+                         "docs/parallel.md)"),
           schema::number("initial_overlap_tolerance", &S::initial_overlap_tolerance,
                          interval(0, true, 1, true), "",
                          "A fresh start refuses (exit code 2) particles that overlap another "
