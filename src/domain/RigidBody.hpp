@@ -56,13 +56,13 @@ struct RigidBody {
     Vec3 normal;      ///< outward
     Vec3 point;       ///< closest surface point
   };
-  /// The plane's case inline: a debris channel's bed and walls are most of the body contacts,
-  /// and out of line its result went through the stack in pieces that a wide load read back
-  /// (a store-forwarding stall, most of the call's time).
   /// closest() of every shape but the plane.
   SurfacePoint closest_curved(const Vec3& p) const;
   /// A plane's outward normal (its local z axis).
   Vec3 plane_normal() const { return rotate(orientation, {0, 0, 1}); }
+  /// The plane's case inline: a debris channel's bed and walls are most of the body contacts,
+  /// and out of line its result went through the stack in pieces that a wide load read back
+  /// (a store-forwarding stall, most of the call's time).
   SurfacePoint closest(const Vec3& p) const {
     if (shape == RigidShape::kPlane) {
       const Vec3 n = plane_normal();
