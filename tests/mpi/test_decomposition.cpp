@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include "comm/DomainDecomposition.hpp"
@@ -390,6 +391,21 @@ std::int64_t make_net_beside_grains(const Communicator& c, ParticleStore& p, Bon
   return bond_id;
 }
 
+/// This rank's bonds counted here, and its weight in the partition's graph counted by hand: a
+/// cell weighs its particles, its weighted bonds and 1 (no cell weighs nothing; with one
+/// particle a cell that 1 counts too).
+std::pair<std::int64_t, std::int64_t> hand_counted_weight(const Communicator& c,
+                                                          const ParticleStore& p,
+                                                          const BondStore& bonds,
+                                                          const DomainDecomposition& d) {
+  std::int64_t counted = 0;
+  for (std::size_t b = 0; b < bonds.size(); ++b)
+    counted += counted_here(p, bonds, b) ? 1 : 0;
+  const std::int64_t cells = d.report(p, bonds)[static_cast<std::size_t>(c.rank())].cells;
+  return {counted,
+          static_cast<std::int64_t>(p.n_local()) + BondStore::kBlockWeight * counted + cells};
+}
+
 // The net beside the grains in one-block cells. Each rank's particles plus weighted bonds are
 // the same to within METIS's tolerance; counted by particles alone, the net's rank would look
 // light.
@@ -400,14 +416,7 @@ TEST_F(Decomposition, BondsWeighTheirCellsSoANetIsShared) {
   const std::int64_t n_bonds = make_net_beside_grains(c, p, bonds);
   DomainDecomposition d(c, kBlock, /*imbalance_threshold=*/0.0, /*cell_blocks=*/1);
   d.distribute_initial(p, {&bonds});
-  std::int64_t counted = 0;
-  for (std::size_t b = 0; b < bonds.size(); ++b)
-    counted += counted_here(p, bonds, b) ? 1 : 0;
-  // A cell's weight in the graph is its particles, its weighted bonds and 1 (no cell weighs
-  // nothing); with one particle a cell that 1 counts too.
-  const std::int64_t cells = d.report(p, bonds)[static_cast<std::size_t>(c.rank())].cells;
-  const std::int64_t weight =
-      static_cast<std::int64_t>(p.n_local()) + BondStore::kBlockWeight * counted + cells;
+  const auto [counted, weight] = hand_counted_weight(c, p, bonds, d);
   const double mean = static_cast<double>(c.sum(weight)) / c.size();
   const double most = static_cast<double>(c.max(weight));
   EXPECT_EQ(c.sum(counted), n_bonds);
@@ -424,7 +433,7 @@ TEST_F(Decomposition, BondsWeighTheirCellsSoANetIsShared) {
 // The repartition test weighs what the partition balances. After a weighted partition the
 // particle counts stay uneven (the net's rank holds fewer); tested by particles alone, every
 // rebuild partitioned again. Rebuilds of the unmoved particles keep this partition, whose
-// weights (counted here by hand, as in the test above) are within the threshold.
+// weights (counted by hand) are within the threshold.
 TEST_F(Decomposition, ABalancedLoadIsNotPartitionedAgainForItsParticleCounts) {
   const Communicator c(comm_);
   ParticleStore p;
@@ -436,12 +445,7 @@ TEST_F(Decomposition, ABalancedLoadIsNotPartitionedAgainForItsParticleCounts) {
   for (int rebuild = 0; rebuild < 3; ++rebuild)
     d.redistribute(p, {&bonds});
   EXPECT_EQ(d.repartitions(), partitions) << "a balanced load was partitioned again";
-  std::int64_t counted = 0;
-  for (std::size_t b = 0; b < bonds.size(); ++b)
-    counted += counted_here(p, bonds, b) ? 1 : 0;
-  const std::int64_t cells = d.report(p, bonds)[static_cast<std::size_t>(c.rank())].cells;
-  const std::int64_t weight =
-      static_cast<std::int64_t>(p.n_local()) + BondStore::kBlockWeight * counted + cells;
+  const std::int64_t weight = hand_counted_weight(c, p, bonds, d).second;
   const double mean = static_cast<double>(c.sum(weight)) / c.size();
   EXPECT_LE(static_cast<double>(c.max(weight)) / mean - 1.0, 0.1);
   if (c.size() > 1) {
