@@ -1,7 +1,5 @@
 #include "comm/DomainDecomposition.hpp"
 
-#include <metis.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -10,63 +8,18 @@
 #include <tuple>
 #include <unordered_set>
 
+#include "comm/BlockKeys.hpp"
+#include "comm/CellGraph.hpp"
+
 namespace ringdem {
 
 namespace {
 
-constexpr std::int64_t kBlockBias = std::int64_t{1} << 20;  // 21 bits per axis
-
-std::uint64_t pack_block(std::int64_t i, std::int64_t j, std::int64_t k) {
-  return (static_cast<std::uint64_t>(i + kBlockBias) << 42) |
-         (static_cast<std::uint64_t>(j + kBlockBias) << 21) |
-         static_cast<std::uint64_t>(k + kBlockBias);
-}
-
-void unpack_block(std::uint64_t key, std::int64_t& i, std::int64_t& j, std::int64_t& k) {
-  const std::uint64_t mask = (std::uint64_t{1} << 21) - 1;
-  i = static_cast<std::int64_t>((key >> 42) & mask) - kBlockBias;
-  j = static_cast<std::int64_t>((key >> 21) & mask) - kBlockBias;
-  k = static_cast<std::int64_t>(key & mask) - kBlockBias;
-}
-
-template <class F>
-void for_each_neighbour_block(std::uint64_t key, F&& f) {
-  std::int64_t i, j, k;
-  unpack_block(key, i, j, k);
-  for (std::int64_t di = -1; di <= 1; ++di)
-    for (std::int64_t dj = -1; dj <= 1; ++dj)
-      for (std::int64_t dk = -1; dk <= 1; ++dk)
-        f(pack_block(i + di, j + dj, k + dk));
-}
-
-/// floor(v / n) for n > 0, also for negative v.
-std::int64_t floor_div(std::int64_t v, std::int64_t n) {
-  return v >= 0 ? v / n : -((-v + n - 1) / n);
-}
-
-/// The cells of `cell_blocks` blocks a side that hold the 27 blocks around block `key`, each
-/// once: per axis the distinct cells of i - 1, i and i + 1 (one, or two at a cell's face, for
-/// cells of two blocks or more; three for one-block cells), and their product. The same set as
-/// mapping each of for_each_neighbour_block's blocks to its cell, without the 27 divisions and
-/// the search for repeats (most particles sit inside a cell: one cell, their own).
-template <class F>
-void for_each_cell_around_block(std::uint64_t key, std::int64_t cell_blocks, F&& f) {
-  std::int64_t b[3];
-  unpack_block(key, b[0], b[1], b[2]);
-  std::int64_t cells[3][3];
-  int count[3];
-  for (int a = 0; a < 3; ++a) {
-    count[a] = 0;
-    for (std::int64_t d = -1; d <= 1; ++d) {
-      const std::int64_t c = floor_div(b[a] + d, cell_blocks);  // rises with d: repeats adjoin
-      if (count[a] == 0 || cells[a][count[a] - 1] != c) cells[a][count[a]++] = c;
-    }
-  }
-  for (int x = 0; x < count[0]; ++x)
-    for (int y = 0; y < count[1]; ++y)
-      for (int z = 0; z < count[2]; ++z)
-        f(pack_block(cells[0][x], cells[1][y], cells[2][z]));
-}
+using block_keys::floor_div;
+using block_keys::for_each_cell_around_block;
+using block_keys::for_each_neighbour;
+using block_keys::pack;
+using block_keys::unpack;
 
 /// Appends the fields of element i that carry any of `flags` to buf, as bytes, in registry
 /// order; unpack_fields reads them back in the same order.
@@ -127,16 +80,16 @@ DomainDecomposition::DomainDecomposition(const Communicator& comm, double block_
 std::uint64_t DomainDecomposition::cell_of_block(std::uint64_t block) const {
   if (cell_blocks_ == 1) return block;
   std::int64_t i, j, k;
-  unpack_block(block, i, j, k);
+  unpack(block, i, j, k);
   const std::int64_t n = cell_blocks_;
-  return pack_block(floor_div(i, n), floor_div(j, n), floor_div(k, n));
+  return pack(floor_div(i, n), floor_div(j, n), floor_div(k, n));
 }
 
 std::uint64_t DomainDecomposition::block_of(const Vec3& x) const {
   const double inv = 1.0 / block_size_;
-  return pack_block(static_cast<std::int64_t>(std::floor(x.x * inv)),
-                    static_cast<std::int64_t>(std::floor(x.y * inv)),
-                    static_cast<std::int64_t>(std::floor(x.z * inv)));
+  return pack(static_cast<std::int64_t>(std::floor(x.x * inv)),
+              static_cast<std::int64_t>(std::floor(x.y * inv)),
+              static_cast<std::int64_t>(std::floor(x.z * inv)));
 }
 
 int DomainDecomposition::owner_of(const Vec3& x) const {
@@ -146,7 +99,7 @@ int DomainDecomposition::owner_of(const Vec3& x) const {
   return it->second;
 }
 
-std::vector<DomainDecomposition::CellLoad> DomainDecomposition::global_cells(
+std::vector<CellLoad> DomainDecomposition::global_cells(
     const ParticleStore& p, const std::vector<PairStore>& stores) const {
   // Counted by sorting cell keys, not in a hash map: with one-block cells a cell holds about
   // one grain, and a map node per cell cost six times the keys' memory.
@@ -214,45 +167,9 @@ void DomainDecomposition::partition(const ParticleStore& p, const std::vector<Pa
     ++repartitions_;
     return;
   }
-  const int n_parts = comm_.size();
+  // The graph is partitioned on the root alone (METIS is serial) and its parts broadcast.
   std::vector<std::int32_t> part(blocks.size(), 0);
-  if (n_parts > 1 && comm_.is_root()) {
-    const auto n = static_cast<idx_t>(blocks.size());
-    std::unordered_map<std::uint64_t, idx_t> index;
-    for (idx_t v = 0; v < n; ++v)
-      index.emplace(blocks[static_cast<std::size_t>(v)].key, v);
-    std::vector<idx_t> xadj{0}, adjncy, adjwgt, vwgt;
-    for (idx_t v = 0; v < n; ++v) {
-      const CellLoad& b = blocks[static_cast<std::size_t>(v)];
-      vwgt.push_back(static_cast<idx_t>(cell_weight(b)));
-      for_each_neighbour_block(b.key, [&](std::uint64_t other) {
-        const auto it = index.find(other);
-        if (it == index.end() || it->second == v) return;
-        const CellLoad& o = blocks[static_cast<std::size_t>(it->second)];
-        adjncy.push_back(it->second);
-        // Interactions across the face scale with the smaller population of the two.
-        adjwgt.push_back(static_cast<idx_t>(std::min(b.particles, o.particles)) + 1);
-      });
-      xadj.push_back(static_cast<idx_t>(adjncy.size()));
-    }
-    if (n <= n_parts) {
-      for (idx_t v = 0; v < n; ++v)
-        part[static_cast<std::size_t>(v)] = static_cast<std::int32_t>(v);
-    } else {
-      idx_t ncon = 1, nparts = n_parts, objval = 0;
-      idx_t options[METIS_NOPTIONS];
-      METIS_SetDefaultOptions(options);
-      options[METIS_OPTION_SEED] = 1;
-      std::vector<idx_t> out(static_cast<std::size_t>(n));
-      const int status = METIS_PartGraphKway(
-          const_cast<idx_t*>(&n), &ncon, xadj.data(), adjncy.data(), vwgt.data(), nullptr,
-          adjwgt.data(), &nparts, nullptr, nullptr, options, &objval, out.data());
-      if (status != METIS_OK) throw std::runtime_error("METIS_PartGraphKway failed");
-      for (idx_t v = 0; v < n; ++v)
-        part[static_cast<std::size_t>(v)] =
-            static_cast<std::int32_t>(out[static_cast<std::size_t>(v)]);
-    }
-  }
+  if (comm_.is_root()) part = CellGraph(blocks).partition(comm_.size());
   comm_.broadcast(part, 0);
   for (std::size_t v = 0; v < blocks.size(); ++v)
     owner_[blocks[v].key] = part[v];
@@ -269,7 +186,7 @@ void DomainDecomposition::assign_new_cells(const std::vector<CellLoad>& cells) {
   // cells of one block, where a cell is a block).
   const auto forget_around = [&](std::uint64_t cell) {
     if (!halo_ranks_.empty())
-      for_each_neighbour_block(cell, [&](std::uint64_t block) { halo_ranks_.erase(block); });
+      for_each_neighbour(cell, [&](std::uint64_t block) { halo_ranks_.erase(block); });
   };
   for (auto it = owner_.begin(); it != owner_.end();) {
     const std::uint64_t key = it->first;
@@ -705,8 +622,8 @@ double DomainDecomposition::cell_imbalance(const std::vector<CellLoad>& cells) c
   for (const CellLoad& c : cells) {
     const auto it = owner_.find(c.key);
     const int rank = it != owner_.end() ? it->second : c.rank;
-    load[static_cast<std::size_t>(rank)] += cell_weight(c);
-    total += cell_weight(c);
+    load[static_cast<std::size_t>(rank)] += CellGraph::vertex_weight(c);
+    total += CellGraph::vertex_weight(c);
   }
   const double mean = static_cast<double>(total) / comm_.size();
   const auto most = static_cast<double>(*std::max_element(load.begin(), load.end()));

@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "comm/CellGraph.hpp"
 #include "comm/Communicator.hpp"
 #include "domain/BondStore.hpp"
 #include "domain/PairStore.hpp"
@@ -78,14 +79,6 @@ class DomainDecomposition {
   std::int64_t cells() const { return cells_held_; }
 
  private:
-  struct CellLoad {
-    std::uint64_t key;
-    std::int64_t particles;
-    std::int64_t rows;  ///< the weight of the pair-store rows (bonds) counted in the cell
-    int rank;           ///< a rank with particles in the cell (the smallest, after merging)
-  };
-  /// A cell's vertex weight in the partition: its particles and weighted rows, plus one.
-  static std::int64_t cell_weight(const CellLoad& c) { return c.particles + c.rows + 1; }
   /// max / mean - 1 of the ranks' summed cell weights, each cell counted for its owner (the
   /// repartition test at a rebuild, after the new cells are assigned).
   double cell_imbalance(const std::vector<CellLoad>& cells) const;
