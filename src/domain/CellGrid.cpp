@@ -50,24 +50,35 @@ void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::u
     keyed_[m] = {key(cell(x.x, lo_.x), cell(x.y, lo_.y), cell(x.z, lo_.z)), members[m]};
   }
   std::sort(keyed_.begin(), keyed_.end());
-  for (std::size_t s = 0; s < n; ++s)
-    n_cells_ += s == 0 || keyed_[s].first != keyed_[s - 1].first;
-  // At least twice as many slots as cells, so that a probe ends soon at an empty one.
+  cell_x_.clear();
+  cell_begin_.clear();
+  for (std::uint32_t s = 0; s < n; ++s)
+    if (s == 0 || keyed_[s].first != keyed_[s - 1].first) {
+      cell_x_.push_back(static_cast<std::uint32_t>(keyed_[s].first & ((1u << 21) - 1)));
+      cell_begin_.push_back(s);
+    }
+  cell_begin_.push_back(static_cast<std::uint32_t>(n));
+  n_cells_ = cell_x_.size();
+  const auto row_of_cell = [this](std::size_t c) { return keyed_[cell_begin_[c]].first >> 21; };
+  std::size_t n_rows = 0;
+  for (std::size_t c = 0; c < n_cells_; ++c)
+    n_rows += c == 0 || row_of_cell(c) != row_of_cell(c - 1);
+  // At least twice as many slots as rows, so that a probe ends soon at an empty one.
   int bits = 4;
-  while ((std::size_t{1} << bits) < 2 * n_cells_)
+  while ((std::size_t{1} << bits) < 2 * n_rows)
     ++bits;
-  table_.assign(std::size_t{1} << bits, Cell{});
+  table_.assign(std::size_t{1} << bits, Row{});
   table_mask_ = (std::uint64_t{1} << bits) - 1;
   table_shift_ = 64 - bits;
-  for (std::uint32_t s = 0; s < n;) {
-    std::uint32_t e = s + 1;
-    while (e < n && keyed_[e].first == keyed_[s].first)
+  for (std::size_t c = 0; c < n_cells_;) {
+    std::size_t e = c + 1;
+    while (e < n_cells_ && row_of_cell(e) == row_of_cell(c))
       ++e;
-    std::uint64_t i = home_slot(keyed_[s].first);
+    std::uint64_t i = home_slot(row_of_cell(c));
     while (table_[i].end != 0)
       i = (i + 1) & table_mask_;
-    table_[i] = {keyed_[s].first, s, e};
-    s = e;
+    table_[i] = {row_of_cell(c), static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(e)};
+    c = e;
   }
 }
 
