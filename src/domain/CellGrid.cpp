@@ -22,7 +22,6 @@ void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::u
                             std::floor((hi.z - lo.z) * inv_h_) + 1.0};
   dense_ = n > 0 && extent[0] * extent[1] * extent[2] <= 2.0 * static_cast<double>(n) + 64.0;
   n_cells_ = 0;
-  keyed_.clear();
   for (int d = 0; d < 3; ++d)  // no cells without members
     dims_[d] = n > 0 ? static_cast<std::int64_t>(extent[d]) : 0;
   if (dense_) {
@@ -44,25 +43,32 @@ void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::u
       in_cells_[fill_[cell_of_member_[m]]++] = members[m];
     return;
   }
-  keyed_.resize(n);
+  // (cell key, member) pairs, sorted: scratch of the build. The queries read the members in
+  // that order (in_cells_, 4 bytes each, not the 16 of a pair).
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
   for (std::size_t m = 0; m < n; ++m) {
     const Vec3& x = position[members[m]];
-    keyed_[m] = {key(cell(x.x, lo_.x), cell(x.y, lo_.y), cell(x.z, lo_.z)), members[m]};
+    keyed[m] = {key(cell(x.x, lo_.x), cell(x.y, lo_.y), cell(x.z, lo_.z)), members[m]};
   }
-  std::sort(keyed_.begin(), keyed_.end());
+  std::sort(keyed.begin(), keyed.end());
+  in_cells_.resize(n);
   cell_x_.clear();
   cell_begin_.clear();
-  for (std::uint32_t s = 0; s < n; ++s)
-    if (s == 0 || keyed_[s].first != keyed_[s - 1].first) {
-      cell_x_.push_back(static_cast<std::uint32_t>(keyed_[s].first & ((1u << 21) - 1)));
+  std::vector<std::uint64_t> row_of_cell;
+  for (std::uint32_t s = 0; s < n; ++s) {
+    in_cells_[s] = keyed[s].second;
+    if (s == 0 || keyed[s].first != keyed[s - 1].first) {
+      cell_x_.push_back(static_cast<std::uint32_t>(keyed[s].first & ((1u << 21) - 1)));
       cell_begin_.push_back(s);
+      row_of_cell.push_back(keyed[s].first >> 21);
     }
+  }
   cell_begin_.push_back(static_cast<std::uint32_t>(n));
+  std::vector<std::pair<std::uint64_t, std::uint32_t>>().swap(keyed);
   n_cells_ = cell_x_.size();
-  const auto row_of_cell = [this](std::size_t c) { return keyed_[cell_begin_[c]].first >> 21; };
   std::size_t n_rows = 0;
   for (std::size_t c = 0; c < n_cells_; ++c)
-    n_rows += c == 0 || row_of_cell(c) != row_of_cell(c - 1);
+    n_rows += c == 0 || row_of_cell[c] != row_of_cell[c - 1];
   // At least twice as many slots as rows, so that a probe ends soon at an empty one.
   int bits = 4;
   while ((std::size_t{1} << bits) < 2 * n_rows)
@@ -72,12 +78,12 @@ void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::u
   table_shift_ = 64 - bits;
   for (std::size_t c = 0; c < n_cells_;) {
     std::size_t e = c + 1;
-    while (e < n_cells_ && row_of_cell(e) == row_of_cell(c))
+    while (e < n_cells_ && row_of_cell[e] == row_of_cell[c])
       ++e;
-    std::uint64_t i = home_slot(row_of_cell(c));
+    std::uint64_t i = home_slot(row_of_cell[c]);
     while (table_[i].end != 0)
       i = (i + 1) & table_mask_;
-    table_[i] = {row_of_cell(c), static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(e)};
+    table_[i] = {row_of_cell[c], static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(e)};
     c = e;
   }
 }

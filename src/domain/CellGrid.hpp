@@ -26,7 +26,6 @@ class CellGrid {
   void release_memory() {
     for (auto* v : {&cell_start_, &fill_, &cell_of_member_, &in_cells_, &cell_x_, &cell_begin_})
       std::vector<std::uint32_t>().swap(*v);
-    std::vector<std::pair<std::uint64_t, std::uint32_t>>().swap(keyed_);
     std::vector<Row>().swap(table_);
     n_cells_ = 0;
   }
@@ -49,14 +48,15 @@ class CellGrid {
   double inv_h_ = 1.0;
   bool dense_ = false;
   std::int64_t dims_[3] = {0, 0, 0};  ///< cells of the members' bounding box, on each axis
-  // Dense: members by cell (cells numbered x fastest, z slowest), and each cell's range.
+  // Dense: members by cell (cells numbered x fastest, z slowest; in_cells_), and each cell's
+  // range.
   std::vector<std::uint32_t> cell_start_, fill_, cell_of_member_, in_cells_;
-  // Hashed: (cell key, member) sorted; the occupied cells in key order, each with its x index
-  // and its range of the pairs; and each occupied row of cells along x (a y and a z) with its
-  // range of the cells, in a table with open addressing (linear probing, a power of two slots,
-  // at most half of them used; an empty slot has end 0). A query looks up its rows, not each of
-  // its cells: a search along the grains' order (x fastest) meets the same few rows again and
-  // again, where a lookup per cell missed the cache at nearly every cell (a polydisperse bed's
+  // Hashed: the members sorted by cell key (in_cells_); the occupied cells in key order, each
+  // with its x index and its range of the members; and each occupied row of cells along x (a y and
+  // a z) with its range of the cells, in a table with open addressing (linear probing, a power of
+  // two slots, at most half of them used; an empty slot has end 0). A query looks up its rows, not
+  // each of its cells: a search along the grains' order (x fastest) meets the same few rows again
+  // and again, where a lookup per cell missed the cache at nearly every cell (a polydisperse bed's
   // list build at 10^6 grains took eight times the monodisperse one's).
   struct Row {
     std::uint64_t key = 0;
@@ -73,9 +73,8 @@ class CellGrid {
       if (r.key == k) return &r;
     }
   }
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed_;
   std::vector<std::uint32_t> cell_x_;      ///< per occupied cell: its x index + kBias
-  std::vector<std::uint32_t> cell_begin_;  ///< per occupied cell, and one more: into keyed_
+  std::vector<std::uint32_t> cell_begin_;  ///< per occupied cell, and one more: into in_cells_
   std::vector<Row> table_;
   std::uint64_t table_mask_ = 0;
   int table_shift_ = 64;
@@ -115,7 +114,7 @@ void CellGrid::for_each_near(const Vec3& x, double reach, F&& f) const {
                      static_cast<double>(hi[1] - lo[1] + 1) *
                      static_cast<double>(hi[2] - lo[2] + 1);
   if (box > static_cast<double>(n_cells_)) {
-    for (const auto& [k, member] : keyed_)
+    for (const std::uint32_t member : in_cells_)
       f(member);
     return;
   }
@@ -130,7 +129,7 @@ void CellGrid::for_each_near(const Vec3& x, double reach, F&& f) const {
                std::lower_bound(row_x + row->first, row_x + row->end, x_first) - row_x);
            c < row->end && row_x[c] <= x_last; ++c)
         for (std::uint32_t s = cell_begin_[c]; s < cell_begin_[c + 1]; ++s)
-          f(keyed_[s].second);
+          f(in_cells_[s]);
     }
 }
 
