@@ -163,6 +163,44 @@ TEST(NeighbourSearch, SizeLevelsEqualBruteForce) {
   EXPECT_EQ(expect_key_order(p, cells), 0u);
 }
 
+// A polydisperse bed's layout (docs/performance.md, `poly`): columns of stacked grains of 5-25 mm
+// on a grid 50 mm apart, around the origin (negative cells too), binned by space. Each size
+// level is sparse in its bounding box, so it is hashed, and its rows along x hold many cells: a
+// query's range of x is found in them by a binary search (CellGrid's hashed rows).
+TEST(NeighbourSearch, HashedRowsOfManyCellsEqualBruteForce) {
+  ParticleStore p;
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> radius(0.005, 0.025), shift(-0.004, 0.004);
+  std::int64_t gid = 0;
+  for (int i = -10; i <= 10; ++i)
+    for (int j = -10; j <= 10; ++j) {
+      double z = -0.1;
+      for (int k = 0; k < 6; ++k) {
+        ParticleStore::NewParticle np;
+        np.gid = gid++;
+        np.radius = radius(rng);
+        z += 0.0002 + np.radius;
+        np.position = {0.05 * i + shift(rng), 0.05 * j + shift(rng), z};
+        z += np.radius;
+        np.density = 2600.0;
+        p.add(np);
+      }
+    }
+  SpatialBins::assign(p, 0.01);
+  p.rebuild_index();
+  NeighbourSearch search;
+  PairCandidates cells;
+  search.build(p, 0.001, PairExclusions{}, cells);
+  ASSERT_GE(search.n_levels(), 2u);
+  for (std::size_t l = 0; l < search.n_levels(); ++l)
+    EXPECT_FALSE(search.used_dense_grid(l)) << "level " << l;
+  const PairCandidates brute = brute_force_pairs(p, 0.001, PairExclusions{});
+  ASSERT_GT(brute.size(), 1500u);  // mostly each stack's neighbours
+  EXPECT_EQ(cells.size(), brute.size());
+  EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
+  EXPECT_GT(expect_key_order(p, cells), cells.size() / 10) << "the bins must reorder the pairs";
+}
+
 // Ghosts: pairs of two ghosts are never candidates; owned–ghost pairs are, in one key order.
 TEST(NeighbourSearch, SkipsGhostGhostPairs) {
   ParticleStore p = random_cloud(600, 0.08, 0.003, 0.003, 7, 0.01);
