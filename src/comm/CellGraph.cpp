@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
-#include "comm/BlockKeys.hpp"
+#include "core/CellKeys.hpp"
 
 namespace ringdem {
 
@@ -25,7 +25,7 @@ std::vector<std::int32_t> CellGraph::partition(int n_parts) const {
   for (idx_t v = 0; v < n; ++v) {
     const CellLoad& b = cells_[static_cast<std::size_t>(v)];
     vwgt.push_back(static_cast<idx_t>(vertex_weight(b)));
-    block_keys::for_each_neighbour(b.key, [&](std::uint64_t other) {
+    cell_keys::for_each_neighbour(b.key, [&](std::uint64_t other) {
       const auto it = index.find(other);
       if (it == index.end() || it->second == v) return;
       const CellLoad& o = cells_[static_cast<std::size_t>(it->second)];

@@ -8,18 +8,18 @@
 #include <tuple>
 #include <unordered_set>
 
-#include "comm/BlockKeys.hpp"
 #include "comm/CellGraph.hpp"
+#include "core/CellKeys.hpp"
 
 namespace ringdem {
 
 namespace {
 
-using block_keys::floor_div;
-using block_keys::for_each_cell_around_block;
-using block_keys::for_each_neighbour;
-using block_keys::pack;
-using block_keys::unpack;
+using cell_keys::floor_div;
+using cell_keys::for_each_cell_around_block;
+using cell_keys::for_each_neighbour;
+using cell_keys::pack;
+using cell_keys::unpack;
 
 /// Appends the fields of element i that carry any of `flags` to buf, as bytes, in registry
 /// order; unpack_fields reads them back in the same order.

@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/CellKeys.hpp"
 #include "core/Vec3.hpp"
 
 namespace ringdem {
@@ -34,15 +35,13 @@ class CellGrid {
   std::int64_t cell(double coordinate, double origin) const {
     return static_cast<std::int64_t>(std::floor((coordinate - origin) * inv_h_));
   }
-  static constexpr std::int64_t kBias = std::int64_t{1} << 20;  // 21 bits per axis
+  static constexpr std::int64_t kBias = cell_keys::kBias;
   /// z slowest and x fastest, as the dense grid numbers its cells and as a re-sort stores the
   /// grains: sorted, the keys put each row of cells along x together, in x order.
   static std::uint64_t key(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
-    return (row_key(cy, cz) << 21) | static_cast<std::uint64_t>(cx + kBias);
+    return cell_keys::pack(cz, cy, cx);
   }
-  static std::uint64_t row_key(std::int64_t cy, std::int64_t cz) {
-    return (static_cast<std::uint64_t>(cz + kBias) << 21) | static_cast<std::uint64_t>(cy + kBias);
-  }
+  static std::uint64_t row_key(std::int64_t cy, std::int64_t cz) { return key(0, cy, cz) >> 21; }
 
   Vec3 lo_;
   double inv_h_ = 1.0;

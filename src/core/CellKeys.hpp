@@ -2,10 +2,12 @@
 
 #include <cstdint>
 
-namespace ringdem::block_keys {
+namespace ringdem::cell_keys {
 
-/// Keys of the decomposition's cubic blocks (and of its partition cells, which are keyed the
-/// same way at their own size): 21 bits per axis, biased so that negative indices pack too.
+/// Keys of cubic cells by their integer indices (i, j, k), i in the top bits and k in the
+/// bottom ones: 21 bits per axis, biased so that negative indices pack too. The decomposition
+/// keys its blocks and partition cells (x, y, z); a neighbour grid its cells (z, y, x), so that
+/// sorted keys run along x.
 inline constexpr std::int64_t kBias = std::int64_t{1} << 20;
 
 inline std::uint64_t pack(std::int64_t i, std::int64_t j, std::int64_t k) {
@@ -60,4 +62,4 @@ void for_each_cell_around_block(std::uint64_t key, std::int64_t cell_blocks, F&&
         f(pack(cells[0][x], cells[1][y], cells[2][z]));
 }
 
-}  // namespace ringdem::block_keys
+}  // namespace ringdem::cell_keys
