@@ -246,9 +246,12 @@ class Simulation {
   void flag_turning_particles();
   /// Which particles the drift turns: none without orientations, else the flagged ones.
   Integrator::Turning turning() const;
-  /// The width of the re-sort due at this step (twice the smallest radius of the grains it
-  /// bins, over the ranks), or 0 where none is due or there is nothing to bin. Collective on
-  /// the steps where one is due; the same step numbers on every rank and after a restart.
+  /// The width of a re-sort: twice the smallest radius of the grains it bins, over the ranks
+  /// (collective), or 0 where there is nothing to bin.
+  double sort_width();
+  /// sort_width() where a re-sort is due at this step's evaluation, else 0: at every positive
+  /// multiple of sort_every, the same step numbers on every rank and after a restart. Step 0's
+  /// comes at set-up, before the initial evaluation (see the constructor).
   double sort_width_due();
   /// Every term's pair store (bonds, contact springs), in term order: what migration moves.
   std::vector<PairStore> pair_stores();
