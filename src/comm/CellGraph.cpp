@@ -10,9 +10,9 @@
 
 namespace ringdem {
 
-std::vector<std::int32_t> CellGraph::partition(int n_parts) const {
-  const auto n = static_cast<idx_t>(cells_.size());
-  std::vector<std::int32_t> part(cells_.size(), 0);
+std::vector<std::int32_t> CellGraph::partition(const std::vector<CellLoad>& cells, int n_parts) {
+  const auto n = static_cast<idx_t>(cells.size());
+  std::vector<std::int32_t> part(cells.size(), 0);
   if (n <= n_parts) {
     for (idx_t v = 0; v < n; ++v)
       part[static_cast<std::size_t>(v)] = static_cast<std::int32_t>(v);
@@ -20,15 +20,15 @@ std::vector<std::int32_t> CellGraph::partition(int n_parts) const {
   }
   std::unordered_map<std::uint64_t, idx_t> index;
   for (idx_t v = 0; v < n; ++v)
-    index.emplace(cells_[static_cast<std::size_t>(v)].key, v);
+    index.emplace(cells[static_cast<std::size_t>(v)].key, v);
   std::vector<idx_t> xadj{0}, adjncy, adjwgt, vwgt;
   for (idx_t v = 0; v < n; ++v) {
-    const CellLoad& b = cells_[static_cast<std::size_t>(v)];
+    const CellLoad& b = cells[static_cast<std::size_t>(v)];
     vwgt.push_back(static_cast<idx_t>(vertex_weight(b)));
     cell_keys::for_each_neighbour(b.key, [&](std::uint64_t other) {
       const auto it = index.find(other);
       if (it == index.end() || it->second == v) return;
-      const CellLoad& o = cells_[static_cast<std::size_t>(it->second)];
+      const CellLoad& o = cells[static_cast<std::size_t>(it->second)];
       adjncy.push_back(it->second);
       // Interactions across the face scale with the smaller population of the two.
       adjwgt.push_back(static_cast<idx_t>(std::min(b.particles, o.particles)) + 1);

@@ -22,16 +22,11 @@ class CellGraph {
   /// cell still counts (the same weight the repartition test at a rebuild sums per rank).
   static std::int64_t vertex_weight(const CellLoad& c) { return c.particles + c.rows + 1; }
 
-  /// `cells` sorted by key, each key once (DomainDecomposition's merged list); the graph
-  /// refers to them and is built by partition().
-  explicit CellGraph(const std::vector<CellLoad>& cells) : cells_(cells) {}
-
-  /// The part of each cell, in the order of `cells`: METIS k-way with a fixed seed (the same
-  /// parts for the same cells), or one part a cell when there are no more cells than parts.
-  std::vector<std::int32_t> partition(int n_parts) const;
-
- private:
-  const std::vector<CellLoad>& cells_;
+  /// The part of each of `cells` (sorted by key, each key once: DomainDecomposition's merged
+  /// list), in their order: METIS k-way on their graph with a fixed seed (the same parts for
+  /// the same cells), or one part a cell when there are no more cells than parts. The graph
+  /// lives only inside the call.
+  static std::vector<std::int32_t> partition(const std::vector<CellLoad>& cells, int n_parts);
 };
 
 }  // namespace ringdem

@@ -169,7 +169,7 @@ void DomainDecomposition::partition(const ParticleStore& p, const std::vector<Pa
   }
   // The graph is partitioned on the root alone (METIS is serial) and its parts broadcast.
   std::vector<std::int32_t> part(blocks.size(), 0);
-  if (comm_.is_root()) part = CellGraph(blocks).partition(comm_.size());
+  if (comm_.is_root()) part = CellGraph::partition(blocks, comm_.size());
   comm_.broadcast(part, 0);
   for (std::size_t v = 0; v < blocks.size(); ++v)
     owner_[blocks[v].key] = part[v];
