@@ -1,0 +1,23 @@
+#pragma once
+
+#include <cstddef>
+
+namespace ringdem {
+
+/// The size of a transparent huge page on x86-64 and most Linux targets.
+inline constexpr std::size_t kHugePage = std::size_t{2} << 20;
+/// Blocks of at least this many bytes are advised as huge pages by the process's operator new
+/// (core/HugePageAdvice.cpp): the columns and lists of large models, not the many small
+/// objects.
+inline constexpr std::size_t kAdviseFrom = std::size_t{4} << 20;
+
+/// Advises the kernel to back the 2 MiB-aligned pages wholly inside [block, block + bytes) with
+/// transparent huge pages, where `bytes` >= kAdviseFrom (smaller blocks are left alone). Changes
+/// no value; a kernel without transparent huge pages ignores it.
+void advise_huge_pages(void* block, std::size_t bytes);
+
+/// Whether this build's operator new advises large blocks (Linux, and not under
+/// AddressSanitizer, whose own operators stay).
+bool huge_page_advice_built();
+
+}  // namespace ringdem

@@ -1,0 +1,100 @@
+// The process's operator new advises large blocks as transparent huge pages
+// (core/HugePageAdvice.cpp). The kernel's own record is the oracle: /proc/self/smaps lists the
+// mapping that holds a block with the flag "hg" (VM_HUGEPAGE) where madvise(MADV_HUGEPAGE) was
+// applied to it.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/HugePageAdvice.hpp"
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
+namespace ringdem {
+namespace {
+
+/// The VmFlags of the mapping of /proc/self/smaps that holds `address`, or "" where none does.
+std::string vm_flags_at(const void* address) {
+  const auto a = reinterpret_cast<std::uintptr_t>(address);
+  std::ifstream smaps("/proc/self/smaps");
+  std::string line;
+  bool inside = false;
+  while (std::getline(smaps, line)) {
+    unsigned long long begin = 0, end = 0;
+    if (std::sscanf(line.c_str(), "%llx-%llx ", &begin, &end) == 2 && line.find('-') < 17) {
+      inside = a >= begin && a < end;
+      continue;
+    }
+    if (inside && line.rfind("VmFlags:", 0) == 0) return line.substr(8);
+  }
+  return "";
+}
+
+bool has_flag(const std::string& flags, const std::string& flag) {
+  std::istringstream words(flags);
+  std::string w;
+  while (words >> w)
+    if (w == flag) return true;
+  return false;
+}
+
+bool kernel_has_huge_pages() {
+  return static_cast<bool>(std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled"));
+}
+
+TEST(HugePageAdvice, ALargeVectorsPagesAreAdvisedAsHugePages) {
+  if (!huge_page_advice_built()) GTEST_SKIP() << "this build keeps the default operator new";
+  if (!kernel_has_huge_pages()) GTEST_SKIP() << "no transparent huge pages in this kernel";
+  // 16 MiB, well above kAdviseFrom: at least six whole 2 MiB pages lie inside it.
+  std::vector<double> column(std::size_t{2} << 20, 1.0);
+  const void* middle = column.data() + column.size() / 2;
+  const std::string flags = vm_flags_at(middle);
+  ASSERT_FALSE(flags.empty()) << "no mapping in /proc/self/smaps holds the vector";
+  EXPECT_TRUE(has_flag(flags, "hg")) << "VmFlags:" << flags;
+}
+
+TEST(HugePageAdvice, AnAlignedLargeBlockIsAdvisedToo) {
+  if (!huge_page_advice_built()) GTEST_SKIP() << "this build keeps the default operator new";
+  if (!kernel_has_huge_pages()) GTEST_SKIP() << "no transparent huge pages in this kernel";
+  struct alignas(64) Line {
+    double v[8];
+  };
+  // The aligned operator new (a cache-line type, as the ledger's entries are).
+  const auto lines = std::make_unique<Line[]>(std::size_t{1} << 18);  // 16 MiB
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(lines.get()) % 64, 0u);
+  EXPECT_TRUE(has_flag(vm_flags_at(lines.get() + (std::size_t{1} << 17)), "hg"));
+}
+
+TEST(HugePageAdvice, ABlockBelowTheThresholdIsLeftAlone) {
+  // Advised by hand, a block under kAdviseFrom changes nothing; the whole mapping is advised.
+#if defined(__linux__)
+  if (!kernel_has_huge_pages()) GTEST_SKIP() << "no transparent huge pages in this kernel";
+  // A block just under the threshold, in a fresh mapping (so that nothing else advised it)
+  // of twice the threshold: its first whole 2 MiB page lies inside the small block too.
+  const std::size_t mapped = 2 * kAdviseFrom;
+  void* block = mmap(nullptr, mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  ASSERT_NE(block, MAP_FAILED);
+  const auto first_page =
+      (reinterpret_cast<std::uintptr_t>(block) + kHugePage - 1) & ~(kHugePage - 1);
+  const void* first_huge = reinterpret_cast<const void*>(first_page);
+  ASSERT_LE(first_page + kHugePage, reinterpret_cast<std::uintptr_t>(block) + kAdviseFrom - 4096);
+  advise_huge_pages(block, kAdviseFrom - 4096);
+  EXPECT_FALSE(has_flag(vm_flags_at(first_huge), "hg"));
+  advise_huge_pages(block, mapped);
+  EXPECT_TRUE(has_flag(vm_flags_at(first_huge), "hg"));
+  munmap(block, mapped);
+#else
+  GTEST_SKIP() << "Linux only";
+#endif
+}
+
+}  // namespace
+}  // namespace ringdem
