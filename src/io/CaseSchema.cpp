@@ -69,14 +69,15 @@ const Table<SimulationConfig>& simulation_table() {
                           "columns, turns the energy guard off, steps a flow of many grains "
                           "faster and keeps 64-72 bytes less a grain in contact (16 more a "
                           "particle where something is damped); the motion is the same bits"),
-          schema::integer("sort_every", &S::sort_every, at_least(0),
-                          "Steps between re-sorts of the grains (particles of no ring or clump) "
-                          "by space: at every multiple the neighbour lists are rebuilt with the "
-                          "grains stored and their contacts summed in the order of bins of twice "
-                          "the smallest grain radius, so that a flow whose grains have mixed keeps "
-                          "its neighbours near in memory. The results are the same bits on any "
-                          "rank count and change at round-off with this value; 0: never (gid "
-                          "order)"),
+          schema::integer(
+              "sort_every", &S::sort_every, at_least(0),
+              "Steps between re-sorts of the grains (particles of no ring or clump) "
+              "by space: at set-up and at every multiple the neighbour lists are built with the "
+              "grains stored and their contacts summed in the order of bins of twice "
+              "the smallest grain radius, so that a flow whose grains have mixed keeps "
+              "its neighbours near in memory. The results are the same bits on any "
+              "rank count and change at round-off with this value; 0: never (gid "
+              "order)"),
       }};
   return table;
 }
