@@ -22,6 +22,26 @@ Simulation make_simulation(const CaseConfig& c, const Communicator& comm, std::i
   return Simulation(build_model(c, comm), comm, s);
 }
 
+double smallest_radius(const ParticleStore& p) {
+  double r_min = INFINITY;
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    r_min = std::min(r_min, p.radius[k]);
+  return r_min;
+}
+
+/// Each owned grain holds the bin of its present position (cubes of twice the smallest radius),
+/// the grains are stored in key order, and that order is not the gid order.
+void expect_stored_by_bins(const ParticleStore& p, double r_min) {
+  std::size_t out_of_gid_order = 0;
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    ASSERT_EQ(p.sort_bin[k], SpatialBins::bin_of(p.position[k], 2.0 * r_min)) << "grain " << k;
+    if (k == 0) continue;
+    ASSERT_TRUE(p.sorts_before(k - 1, k)) << "stored out of key order at " << k;
+    out_of_gid_order += p.gid[k - 1] > p.gid[k];
+  }
+  EXPECT_GT(out_of_gid_order, p.n_local() / 10) << "the bins must reorder the grains";
+}
+
 TEST(GrainResort, StoresGrainsByTheirBinsAndMovesThemAsGidOrderDoesToRoundOff) {
   const CaseConfig c = testing::colliding_clouds();
   const Communicator comm = testing::self_comm();
@@ -38,17 +58,8 @@ TEST(GrainResort, StoresGrainsByTheirBinsAndMovesThemAsGidOrderDoesToRoundOff) {
   const ParticleStore& q = by_gid.model().particles;
   ASSERT_EQ(p.n_local(), q.n_local());
   ASSERT_GT(p.n_local(), 200u);
-  double r_min = INFINITY;
-  for (std::size_t k = 0; k < p.n_local(); ++k)
-    r_min = std::min(r_min, p.radius[k]);
-  std::size_t out_of_gid_order = 0;
-  for (std::size_t k = 0; k < p.n_local(); ++k) {
-    ASSERT_EQ(p.sort_bin[k], SpatialBins::bin_of(p.position[k], 2.0 * r_min)) << "grain " << k;
-    if (k == 0) continue;
-    ASSERT_TRUE(p.sorts_before(k - 1, k)) << "stored out of key order at " << k;
-    out_of_gid_order += p.gid[k - 1] > p.gid[k];
-  }
-  EXPECT_GT(out_of_gid_order, p.n_local() / 10) << "the bins must reorder the grains";
+  const double r_min = smallest_radius(p);
+  ASSERT_NO_FATAL_FAILURE(expect_stored_by_bins(p, r_min));
   for (std::size_t k = 0; k < q.n_local(); ++k) {
     ASSERT_EQ(q.sort_bin[k], 0u);
     if (k > 0) {
@@ -78,17 +89,7 @@ TEST(GrainResort, AFreshRunIsSortedAtSetUpAndItsFirstStepDoesNotRebuild) {
   Simulation sim = make_simulation(c, comm, 100);
   const ParticleStore& p = sim.model().particles;
   ASSERT_GT(p.n_local(), 200u);
-  double r_min = INFINITY;
-  for (std::size_t k = 0; k < p.n_local(); ++k)
-    r_min = std::min(r_min, p.radius[k]);
-  std::size_t out_of_gid_order = 0;
-  for (std::size_t k = 0; k < p.n_local(); ++k) {
-    ASSERT_EQ(p.sort_bin[k], SpatialBins::bin_of(p.position[k], 2.0 * r_min)) << "grain " << k;
-    if (k == 0) continue;
-    ASSERT_TRUE(p.sorts_before(k - 1, k)) << "stored out of key order at " << k;
-    out_of_gid_order += p.gid[k - 1] > p.gid[k];
-  }
-  EXPECT_GT(out_of_gid_order, p.n_local() / 10) << "the bins must reorder the grains";
+  ASSERT_NO_FATAL_FAILURE(expect_stored_by_bins(p, smallest_radius(p)));
   // One rebuild at set-up; the clouds' grains move far less than the skin in 10 steps of 1 us
   // (their speed times 1e-5 s against a skin of 0.5 mm), so nothing rebuilds the lists until
   // the re-sort at step 100.
