@@ -63,6 +63,15 @@ class SpringSlots {
   std::size_t n_candidates() const { return slot_.size(); }
   /// Whether candidate m has a spring (it touched at its last evaluation).
   bool holds(std::size_t m) const { return slot_[m] != kNoSpring; }
+  /// Bit c set where candidate begin + c holds a spring, for the n <= 64 candidates from
+  /// `begin`: a kernel that visits only the candidates of a chunk that touch, or that held a
+  /// spring to give back (release()), asks for the chunk's at once.
+  std::uint64_t held_mask(std::size_t begin, std::size_t n) const {
+    std::uint64_t mask = 0;
+    for (std::size_t c = 0; c < n; ++c)
+      mask |= std::uint64_t{slot_[begin + c] != kNoSpring} << c;
+    return mask;
+  }
   /// Candidate m's spring; only where holds(m).
   const Vec3& value(std::size_t m) const { return pool_[slot_[m]]; }
   Vec3& value(std::size_t m) { return pool_[slot_[m]]; }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 
 namespace ringdem {
 
@@ -30,6 +31,16 @@ template <class F>
 [[gnu::always_inline]] inline void for_each_in_order(IndexRange r, F&& f) {
   for (std::size_t i = r.begin; i < r.end; ++i)
     f(i);
+}
+
+/// Calls f(i) in ascending order for the i of r (at most 64 items) whose bit i - r.begin is set
+/// in `selected`: for_each_in_order over the items a kernel's first pass picked (the candidates
+/// of a chunk that touch), without a test of each of the others.
+template <class F>
+[[gnu::always_inline]] inline void for_each_selected_in_order(IndexRange r, std::uint64_t selected,
+                                                              F&& f) {
+  for (; selected != 0; selected &= selected - 1)
+    f(r.begin + static_cast<std::size_t>(__builtin_ctzll(selected)));
 }
 
 /// Calls f(chunk) for consecutive chunks of at most `chunk` items covering r (kernels that

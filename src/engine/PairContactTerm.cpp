@@ -8,6 +8,32 @@
 
 namespace ringdem {
 
+namespace {
+/// Bit c set where candidate range.begin + c touches (range.size() <= 64): the distance test
+/// of the pair loop below, the same operations in the same order, in a loop of its own without
+/// branches. Most candidates of a loose or flowing packing do not touch. Tested one at a time in
+/// the pair loop, between its spring slots and its pointers reloaded after every store, they
+/// cost about 5 ns each, and a flowing block spent half its contact phase there
+/// (docs/performance.md, thirtieth round). (Vectorised with gathers it ran slower still.)
+[[gnu::optimize("no-tree-vectorize")]] std::uint64_t touching_mask(IndexRange range,
+                                                                   const std::uint32_t* pair_a,
+                                                                   const std::uint32_t* pair_b,
+                                                                   const Vec3* position,
+                                                                   const double* radius) {
+  const std::size_t n = range.size();
+  const std::uint32_t* const a = pair_a + range.begin;
+  const std::uint32_t* const b = pair_b + range.begin;
+  std::uint64_t mask = 0;
+#pragma GCC unroll 4
+  for (std::size_t c = 0; c < n; ++c) {
+    const Vec3 d = position[b[c]] - position[a[c]];
+    const double reach = radius[a[c]] + radius[b[c]];
+    mask |= std::uint64_t{!(norm2(d) >= reach * reach)} << c;
+  }
+  return mask;
+}
+}  // namespace
+
 double PairContactTerm::ghost_width(const ParticleStore& p) const {
   double r_max = 0.0;
   for (std::size_t k = 0; k < p.n_local(); ++k)
@@ -170,22 +196,30 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
   // 50 %.
   const std::size_t n_pairs = pairs_.size();
   constexpr std::size_t kPrefetchAhead = 16;
-  bool prefetch = true;
+  bool most_touch = true;
   // Particle contacts (physics.md §3), a chunk of candidates at a time: the touching ones are
   // copied into the chunk's columns, the contact law runs over them vectorised, and their
   // loads are added in pair order. The pairs come in ascending order of their ends' sort keys
   // (NeighbourSearch), and each adds its loads to both ends at once: every particle then gets
   // its contacts in ascending partner key, the gather order (DESIGN §4), without a slot per
-  // pair. Most candidates of a loose packing do not touch: they cost a distance test and a
-  // slot read, and hold no spring.
+  // pair. Most candidates of a loose packing do not touch: they cost a distance test in
+  // touching_mask() and a bit of held_mask(), and hold no spring.
   for_each_chunk(IndexRange{0, pairs_.size()}, PairContactChunk::kSize, [&](IndexRange range) {
     chunk.n = 0;
     chunk.any_rolling = false;
-    for_each_in_order(
-        range, [&](std::size_t m) __attribute__((always_inline)) {
+    // The candidates to visit: those that touch, and those whose contact opened since the
+    // last step (their springs go back). Where most of the last chunk's candidates touched (a
+    // packing in contact), all of them: the filter would only repeat the test below.
+    static_assert(PairContactChunk::kSize <= 64, "a chunk's candidates are one 64-bit mask");
+    const std::uint64_t visit = most_touch
+                                    ? ~std::uint64_t{0} >> (64 - range.size())
+                                    : touching_mask(range, pair_a, pair_b, position, radius) |
+                                          springs.held_mask(range.begin, range.size());
+    for_each_selected_in_order(
+        range, visit, [&](std::size_t m) __attribute__((always_inline)) {
           const std::uint32_t a = pair_a[m];
           const std::uint32_t b = pair_b[m];
-          if (prefetch && m + kPrefetchAhead < n_pairs) {
+          if (most_touch && m + kPrefetchAhead < n_pairs) {
             const std::uint32_t ahead =
                 std::max(pair_a[m + kPrefetchAhead], pair_b[m + kPrefetchAhead]);
             __builtin_prefetch(&position[ahead]);
@@ -225,7 +259,7 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             }
           }
         });
-    prefetch = 2 * chunk.n > range.size();
+    most_touch = 2 * chunk.n > range.size();
     chunk.compute<kBook>(ctx.dt);
     // Each end's loads, and for the ledger its viscous and spring loads and moments
     // (ContactMoments) with half of the pair's tangential and elastic energy.
