@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -47,6 +48,15 @@ TEST(SpringSlots, AgreesWithASpringColumn) {
       ASSERT_EQ(value.x, column[m].x);
       ASSERT_EQ(value.y, column[m].y);
       ASSERT_EQ(value.z, column[m].z);
+    }
+    // A chunk's mask against the column, for chunks of 64 from several starts and a short one.
+    for (const std::size_t begin : {std::size_t{0}, std::size_t{37}, kCandidates - 64}) {
+      for (const std::size_t n : {std::size_t{64}, std::size_t{5}}) {
+        std::uint64_t expected = 0;
+        for (std::size_t c = 0; c < n; ++c)
+          if (touching[begin + c]) expected |= std::uint64_t{1} << c;
+        ASSERT_EQ(slots.held_mask(begin, n), expected) << "step " << step << " from " << begin;
+      }
     }
   }
   EXPECT_GT(largest_pool_use, 0u);
