@@ -10,6 +10,9 @@
 // "always" the advice changes nothing, with "never" it is ignored. The advice changes no value:
 // the same bits with it or without (docs/performance.md, twenty-ninth round).
 //
+// RINGDEM_HUGE_PAGES=off (or 0) in the environment turns the advice off for the process
+// (core/HugePageAdvice.hpp, docs/parallel.md).
+//
 // Only blocks of kAdviseFrom bytes or more are advised, and only the 2 MiB-aligned pages that
 // lie wholly inside the block, so that no huge page reaches beyond memory the caller asked for.
 // Under AddressSanitizer its own operators stay (it checks that new pairs with delete).
@@ -17,6 +20,7 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <new>
 
 #if defined(__linux__)
@@ -33,9 +37,18 @@ bool huge_page_advice_built() {
 #endif
 }
 
+bool huge_page_advice_on() {
+  // getenv allocates nothing, so operator new may ask it; the guarded static neither.
+  static const bool on = [] {
+    const char* value = std::getenv(kHugePagesVariable);
+    return value == nullptr || (std::strcmp(value, "off") != 0 && std::strcmp(value, "0") != 0);
+  }();
+  return on;
+}
+
 void advise_huge_pages(void* block, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-  if (block == nullptr || bytes < kAdviseFrom) return;
+  if (block == nullptr || bytes < kAdviseFrom || !huge_page_advice_on()) return;
   const auto begin = reinterpret_cast<std::uintptr_t>(block);
   const std::uintptr_t first = (begin + kHugePage - 1) & ~(kHugePage - 1);
   const std::uintptr_t last = (begin + bytes) & ~(kHugePage - 1);

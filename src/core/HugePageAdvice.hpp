@@ -11,13 +11,23 @@ inline constexpr std::size_t kHugePage = std::size_t{2} << 20;
 /// objects.
 inline constexpr std::size_t kAdviseFrom = std::size_t{4} << 20;
 
+/// The environment variable that turns the advice off for a process: "off" or "0". A node
+/// whose memory is fragmented may compact it synchronously when an advised block first
+/// faults in (the kernel's defrag setting "madvise"); there a user trades the rebuilds' gain
+/// for steady steps.
+inline constexpr const char* kHugePagesVariable = "RINGDEM_HUGE_PAGES";
+
 /// Advises the kernel to back the 2 MiB-aligned pages wholly inside [block, block + bytes) with
-/// transparent huge pages, where `bytes` >= kAdviseFrom (smaller blocks are left alone). Changes
-/// no value; a kernel without transparent huge pages ignores it.
+/// transparent huge pages, where `bytes` >= kAdviseFrom (smaller blocks are left alone) and
+/// huge_page_advice_on(). Changes no value; a kernel without transparent huge pages ignores it.
 void advise_huge_pages(void* block, std::size_t bytes);
 
 /// Whether this build's operator new advises large blocks (Linux, and not under
 /// AddressSanitizer, whose own operators stay).
 bool huge_page_advice_built();
+
+/// Whether this process advises: not turned off by kHugePagesVariable, read once at the first
+/// call (the first large allocation).
+bool huge_page_advice_on();
 
 }  // namespace ringdem

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -50,8 +51,17 @@ bool kernel_has_huge_pages() {
   return static_cast<bool>(std::ifstream("/sys/kernel/mm/transparent_hugepage/enabled"));
 }
 
+/// Whether this process was started with the advice turned off (the ctest entry
+/// HugePageAdvice.OffInTheEnvironment sets RINGDEM_HUGE_PAGES=off), read here from the
+/// environment itself, not from the code under test.
+bool started_with_advice_off() {
+  const char* value = std::getenv("RINGDEM_HUGE_PAGES");
+  return value != nullptr && std::string(value) == "off";
+}
+
 TEST(HugePageAdvice, ALargeVectorsPagesAreAdvisedAsHugePages) {
   if (!huge_page_advice_built()) GTEST_SKIP() << "this build keeps the default operator new";
+  if (started_with_advice_off()) GTEST_SKIP() << "the advice is off in this process";
   if (!kernel_has_huge_pages()) GTEST_SKIP() << "no transparent huge pages in this kernel";
   // 16 MiB, well above kAdviseFrom: at least six whole 2 MiB pages lie inside it.
   std::vector<double> column(std::size_t{2} << 20, 1.0);
@@ -63,6 +73,7 @@ TEST(HugePageAdvice, ALargeVectorsPagesAreAdvisedAsHugePages) {
 
 TEST(HugePageAdvice, AnAlignedLargeBlockIsAdvisedToo) {
   if (!huge_page_advice_built()) GTEST_SKIP() << "this build keeps the default operator new";
+  if (started_with_advice_off()) GTEST_SKIP() << "the advice is off in this process";
   if (!kernel_has_huge_pages()) GTEST_SKIP() << "no transparent huge pages in this kernel";
   struct alignas(64) Line {
     double v[8];
@@ -77,6 +88,7 @@ TEST(HugePageAdvice, ABlockBelowTheThresholdIsLeftAlone) {
   // Advised by hand, a block under kAdviseFrom changes nothing; the whole mapping is advised.
 #if defined(__linux__)
   if (!kernel_has_huge_pages()) GTEST_SKIP() << "no transparent huge pages in this kernel";
+  if (started_with_advice_off()) GTEST_SKIP() << "the advice is off in this process";
   // A block just under the threshold, in a fresh mapping (so that nothing else advised it)
   // of twice the threshold: its first whole 2 MiB page lies inside the small block too.
   const std::size_t mapped = 2 * kAdviseFrom;
@@ -94,6 +106,25 @@ TEST(HugePageAdvice, ABlockBelowTheThresholdIsLeftAlone) {
 #else
   GTEST_SKIP() << "Linux only";
 #endif
+}
+
+// Run by its own ctest entry with RINGDEM_HUGE_PAGES=off (tests/CMakeLists.txt); skipped
+// elsewhere. A large vector and a large aligned block must not be advised, and the process says
+// so.
+TEST(HugePageAdvice, OffInTheEnvironmentLeavesLargeBlocksAlone) {
+  if (!started_with_advice_off()) GTEST_SKIP() << "run with RINGDEM_HUGE_PAGES=off";
+  if (!huge_page_advice_built()) GTEST_SKIP() << "this build keeps the default operator new";
+  if (!kernel_has_huge_pages()) GTEST_SKIP() << "no transparent huge pages in this kernel";
+  EXPECT_FALSE(huge_page_advice_on());
+  std::vector<double> column(std::size_t{2} << 20, 1.0);  // 16 MiB
+  const std::string flags = vm_flags_at(column.data() + column.size() / 2);
+  ASSERT_FALSE(flags.empty()) << "no mapping in /proc/self/smaps holds the vector";
+  EXPECT_FALSE(has_flag(flags, "hg")) << "VmFlags:" << flags;
+  struct alignas(64) Line {
+    double v[8];
+  };
+  const auto lines = std::make_unique<Line[]>(std::size_t{1} << 18);  // 16 MiB
+  EXPECT_FALSE(has_flag(vm_flags_at(lines.get() + (std::size_t{1} << 17)), "hg"));
 }
 
 }  // namespace
