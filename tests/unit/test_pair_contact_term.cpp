@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <ostream>
 #include <random>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -62,6 +64,7 @@ ParticleStore dense_cloud(int n, int n_ghost, unsigned seed, double bin_width = 
 }
 
 struct CloudCase {
+  const char* name;         ///< in the test's name
   double bin_width;         ///< 0: unbinned
   double side;              ///< of the cube the centres fill
   double skin;              ///< of the neighbour lists
@@ -69,15 +72,23 @@ struct CloudCase {
   double touching_at_most;  ///< of the candidates, at most this fraction touching
 };
 
+// The case's name where gtest (and ctest's discovery) print the parameter.
+void PrintTo(const CloudCase& cloud, std::ostream* out) {
+  *out << cloud.name;
+}
+
 class PairContactTermOrder : public ::testing::TestWithParam<CloudCase> {};
 
 // Unbinned (every key (0, gid): gid order) and binned in cubes of 6 mm (5 a side of the cloud);
 // and a loose cloud, where most candidates of a chunk do not touch and the kernel visits only
 // those that the distance filter picks (PairContactTerm.cpp, touching_mask()).
-INSTANTIATE_TEST_SUITE_P(BinWidths, PairContactTermOrder,
-                         ::testing::Values(CloudCase{0.0, 0.03, 0.0005, 500, 1.0},
-                                           CloudCase{0.006, 0.03, 0.0005, 500, 1.0},
-                                           CloudCase{0.006, 0.06, 0.004, 60, 0.3}));
+INSTANTIATE_TEST_SUITE_P(Clouds, PairContactTermOrder,
+                         ::testing::Values(CloudCase{"Unbinned", 0.0, 0.03, 0.0005, 500, 1.0},
+                                           CloudCase{"Binned", 0.006, 0.03, 0.0005, 500, 1.0},
+                                           CloudCase{"LooseBinned", 0.006, 0.06, 0.004, 60, 0.3}),
+                         [](const ::testing::TestParamInfo<CloudCase>& param_info) {
+                           return std::string(param_info.param.name);
+                         });
 
 TEST_P(PairContactTermOrder, EachParticleGetsItsContactsInAscendingPartnerKey) {
   const CloudCase cloud = GetParam();
