@@ -4,7 +4,6 @@
 #include <nlopt.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <exception>
@@ -20,6 +19,7 @@
 #include "app/RunCommand.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "app/TensileTest.hpp"
+#include "app/WallClock.hpp"
 #include "core/Version.hpp"
 #include "domain/RingGenerator.hpp"
 #include "io/CaseLoader.hpp"
@@ -319,8 +319,6 @@ MinimumFound minimise_nelder_mead(const BatchObjective& objective, std::vector<d
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 [[noreturn]] void option_error(const std::string& option, const std::string& message) {
   throw InputError({Diagnostic{"(command line)", 0, 0, option, message}});
 }
@@ -379,14 +377,10 @@ LoadCurve curve_of(const TensileResult& r) {
   return c;
 }
 
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
 }  // namespace
 
 CalibrationResult run_calibration(const CalibrationOptions& options, const Communicator& world) {
-  const auto wall_start = Clock::now();
+  const auto wall_start = WallClock::now();
   check_options(options);
   CaseConfig base = load_case(options.case_path, options.overrides);
   if (scenario_kind(base) != ScenarioKind::kTensileTest)

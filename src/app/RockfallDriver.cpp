@@ -12,6 +12,7 @@
 #include "app/GroupExtent.hpp"
 #include "app/RunCommand.hpp"
 #include "app/RunControl.hpp"
+#include "app/WallClock.hpp"
 #include "core/Version.hpp"
 #include "engine/BrakeLoads.hpp"
 #include "engine/Simulation.hpp"
@@ -20,12 +21,7 @@ namespace ringdem {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr const char* kBoulderName = "boulder";
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
 
 int group_or_throw(const Model& m, const std::string& name, const char* key) {
   const int g = m.group_id(name);
@@ -127,7 +123,7 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
           output_dir_ + "/resettle.csv",
           {"time_s", "after_impact", "kinetic_J", "net_top_near_axis_m"}, until);
   }
-  segment_start_ = impact_start_ = Clock::now();
+  segment_start_ = impact_start_ = WallClock::now();
 
   if (control_->restarted()) {
     // The net's damping of this phase, from the case (a restart may have applied a change).
@@ -333,7 +329,7 @@ void RockfallDriver::release(Simulation& sim) {
   apply_phase_time_step(sim);
   next_record_ = sim.time();
   no_contact_limit_ = sim.time() + std::sqrt(2.0 * (rf_.drop_height + 1.0) / g_) + 1.0;  // generous
-  impact_start_ = Clock::now();
+  impact_start_ = WallClock::now();
   if (!print_) return;
   const std::string fall =
       rf_.integrate_free_fall

@@ -1,7 +1,6 @@
 #pragma once
 
 #include <array>
-#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -11,6 +10,7 @@
 
 #include "app/ImpactRecord.hpp"
 #include "app/ScenarioDriver.hpp"
+#include "app/WallClock.hpp"
 #include "core/Vec3.hpp"
 #include "io/ResultsWriter.hpp"
 
@@ -50,7 +50,6 @@ class RockfallDriver : public ScenarioDriver {
   void finish(Simulation& sim, const LoopTimes& times) override;
 
  private:
-  using Clock = std::chrono::steady_clock;
   enum Phase { kSag = 0, kImpact = 1, kResettle = 2 };
 
   /// What is due between two steps: the sag check and the release, the rows of series.csv, the
@@ -135,8 +134,8 @@ class RockfallDriver : public ScenarioDriver {
 
   // ---- this segment only ----
   double kinetic_ = std::numeric_limits<double>::infinity();  ///< at the last sag check
-  Clock::time_point segment_start_ = Clock::now();
-  Clock::time_point impact_start_ = Clock::now();
+  WallClock::time_point segment_start_ = WallClock::now();
+  WallClock::time_point impact_start_ = WallClock::now();
 };
 
 }  // namespace ringdem

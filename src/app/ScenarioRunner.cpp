@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -11,6 +10,7 @@
 #include "app/OutputLock.hpp"
 #include "app/RunCommand.hpp"
 #include "app/RunControl.hpp"
+#include "app/WallClock.hpp"
 #include "engine/DivergenceError.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
@@ -19,17 +19,11 @@
 
 namespace ringdem {
 
-namespace {
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-}  // namespace
+namespace {}  // namespace
 
 int run_scenario(ScenarioDriver& driver, const ScenarioRunOptions& options,
                  const Communicator& comm) {
-  const auto wall_start = Clock::now();
+  const auto wall_start = WallClock::now();
   const CaseConfig& config = driver.config();
   const bool print = comm.is_root() && options.verbose;
   // Before anything is read or written: no second run into this folder, and a folder that
@@ -73,7 +67,7 @@ int run_scenario(ScenarioDriver& driver, const ScenarioRunOptions& options,
   bool done = driver.start(sim, ScenarioContext{control, options.output_dir, options.verbose});
   // Built once: after_step takes it every step.
   const std::function<DriverState()> driver_state = [&driver] { return driver.state(); };
-  const auto loop_start = Clock::now();
+  const auto loop_start = WallClock::now();
   auto last_progress = loop_start;
   const std::int64_t first_step = sim.steps();
   Simulation::BodyObserver observe_bodies;
@@ -106,7 +100,7 @@ int run_scenario(ScenarioDriver& driver, const ScenarioRunOptions& options,
     done = driver.after_steps(sim);
     if (control.after_step(sim, driver_state)) return kExitCheckpointed;
     if (print && seconds_since(last_progress) >= config.simulation.progress_interval) {
-      last_progress = Clock::now();
+      last_progress = WallClock::now();
       const double rate = static_cast<double>(sim.steps() - first_step) / seconds_since(loop_start);
       fmt::print("{}\n", driver.progress(sim, rate));
       std::fflush(stdout);

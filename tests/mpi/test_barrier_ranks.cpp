@@ -7,8 +7,8 @@
 #include <mpi.h>
 
 #include <cmath>
-#include <cstring>
 
+#include "SameBits.hpp"
 #include "TestCases.hpp"
 #include "app/BarrierMonitor.hpp"
 #include "app/ScenarioDriver.hpp"
@@ -57,9 +57,7 @@ CaseConfig flow_into_barrier() {
   return c;
 }
 
-bool same(double a, double b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
+using testing::same_bits;
 
 TEST(BarrierRanks, MeasuresAreTheSameBitsOnAnyRankCount) {
   const CaseConfig c = flow_into_barrier();
@@ -96,7 +94,7 @@ TEST(BarrierRanks, MeasuresAreTheSameBitsOnAnyRankCount) {
             std::tuple{a.utilisation_at.x, b.utilisation_at.x, "utilisation_at.x"},
             std::tuple{a.utilisation_at.y, b.utilisation_at.y, "utilisation_at.y"},
             std::tuple{a.utilisation_at.z, b.utilisation_at.z, "utilisation_at.z"}})
-        EXPECT_TRUE(same(x, y)) << name << " at block " << block << ": " << x << " vs " << y;
+        EXPECT_TRUE(same_bits(x, y)) << name << " at block " << block << ": " << x << " vs " << y;
       largest_force = std::max(largest_force, std::abs(a.net_force) + std::abs(a.posts_force));
       largest_utilisation = std::max(largest_utilisation, a.max_utilisation);
     }

@@ -10,8 +10,8 @@
 #include <mpi.h>
 
 #include <cstdio>
-#include <cstring>
 
+#include "SameBits.hpp"
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "engine/Simulation.hpp"
@@ -68,13 +68,7 @@ CaseConfig flow_through_grate() {
   return c;
 }
 
-bool same(double a, double b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-
-bool same(const Vec3& a, const Vec3& b) {
-  return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z);
-}
+using testing::same_bits;
 
 TEST(MomentumBalance, ClosesWithInflowOutflowAndHeldParticlesOnAnyRankCount) {
   const CaseConfig c = flow_through_grate();
@@ -98,12 +92,12 @@ TEST(MomentumBalance, ClosesWithInflowOutflowAndHeldParticlesOnAnyRankCount) {
       for (const Vec3& body : a.bodies)
         scale += norm(body);
       EXPECT_LE(norm(a.residual()), 1e-12 * scale) << "block " << block;
-      EXPECT_TRUE(same(a.residual(), b.residual()))
+      EXPECT_TRUE(same_bits(a.residual(), b.residual()))
           << "block " << block << ": residual (" << a.residual().x << ", " << a.residual().y << ", "
           << a.residual().z << ") on one rank, (" << b.residual().x << ", " << b.residual().y
           << ", " << b.residual().z << ") here";
-      EXPECT_TRUE(same(a.impulse(), b.impulse())) << "block " << block;
-      EXPECT_TRUE(same(a.held, b.held)) << "block " << block;
+      EXPECT_TRUE(same_bits(a.impulse(), b.impulse())) << "block " << block;
+      EXPECT_TRUE(same_bits(a.held, b.held)) << "block " << block;
       last = a;
     }
     // Every path was taken: grains came in and went out, some while touching (their missed

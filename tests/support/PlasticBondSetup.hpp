@@ -8,8 +8,8 @@
 // hardening ratio E_t/E = 0.03, E = 200 GPa.
 
 #include <cmath>
-#include <cstring>
 
+#include "SameBits.hpp"
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
 #include "physics/BondTimoshenko.hpp"
@@ -80,12 +80,7 @@ inline Quat rot(const Vec3& phi) {
   return quat_from_rotation_vector(phi);
 }
 
-inline bool same_bits(double a, double b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
-}
-inline bool same_bits(const Vec3& a, const Vec3& b) {
-  return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
-}
+using testing::same_bits;
 inline bool same_bits(const Quat& a, const Quat& b) {
   return same_bits(a.w, b.w) && same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
 }

@@ -23,7 +23,7 @@ namespace {
 
 using Bond = BondTimoshenko;
 
-constexpr double kL0 = 0.0097, kRadius = 0.0045;
+constexpr double kRestLength = 0.0097, kRadius = 0.0045;
 
 Bond::Params ring_bond() {
   Bond::Params p;
@@ -36,7 +36,7 @@ Bond::Params ring_bond() {
 }
 
 ParticleStore straight_chain(std::size_t n) {
-  return testing::straight_chain(n, kL0, kRadius);
+  return testing::straight_chain(n, kRestLength, kRadius);
 }
 
 /// Each particle moved by up to 0.2 mm and turned by up to 0.05 rad (scaled per particle by

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "StepSettings.hpp"
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "engine/ModelBuilder.hpp"
@@ -26,12 +27,7 @@ using testing::self_comm;
 
 constexpr double kG = 9.81;
 
-SimulationSettings settings(const CaseConfig& c, double dt, double skin = 0.001) {
-  SimulationSettings s = settings_from_case(c);
-  s.dt = dt;
-  s.skin = skin;
-  return s;
-}
+using testing::settings_at;
 
 RigidBodyConfig floor_plane() {
   RigidBodyConfig floor;
@@ -68,7 +64,7 @@ Bounce bounce(double dt) {
   c.spheres = {s};
   c.rigid_bodies = {floor_plane()};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c, comm), comm, settings(c, dt));
+  Simulation sim(build_model(c, comm), comm, settings_at(c, dt));
   Bounce b;
   b.drop = sim.model().particles.mass[0] * kG * h;
   const Energies e0 = sim.energies();
@@ -140,7 +136,7 @@ TEST(BodyContact, PairFrictionActsOnRigidBodyContacts) {
   ASSERT_EQ(model.materials.pair(0, 0).friction, 1.0);
   model.particles.position[0] = {0, 0, r - resting_overlap(model.particles.mass[0], r)};
   const Communicator comm = self_comm();
-  Simulation sim(std::move(model), comm, settings(c, 0.0));
+  Simulation sim(std::move(model), comm, settings_at(c, 0.0));
   const double t_roll = 2.0 * v0 / (7.0 * 0.3 * kG);
   sim.run_steps(static_cast<std::int64_t>(0.5 * t_roll / sim.dt()));
   // Sliding starts within a step and the tangential spring is stiff: 1e-3 covers both.
@@ -177,8 +173,8 @@ PairCollision oblique_collision(double dt_fraction, int idle_spheres = 0) {
     c.spheres.push_back(idle);
   }
   const Communicator comm = self_comm();
-  const double dt = Simulation(build_model(c, comm), comm, settings(c, 0.0)).dt() * dt_fraction;
-  Simulation sim(build_model(c, comm), comm, settings(c, dt));
+  const double dt = Simulation(build_model(c, comm), comm, settings_at(c, 0.0)).dt() * dt_fraction;
+  Simulation sim(build_model(c, comm), comm, settings_at(c, dt));
   const Energies e0 = sim.energies();
   PairCollision out;
   out.impact = e0.kinetic;
@@ -237,7 +233,7 @@ TEST(EnergyLedger, SlidingSphereFriction) {
   Model model = build_model(c);
   model.particles.position[0] = {0, 0, r - resting_overlap(model.particles.mass[0], r)};
   const Communicator comm = self_comm();
-  Simulation sim(std::move(model), comm, settings(c, 0.0));
+  Simulation sim(std::move(model), comm, settings_at(c, 0.0));
   const double m = sim.model().particles.mass[0];
   const double expected = m * v0 * v0 / 7.0;
   const Energies e0 = sim.energies();
@@ -279,7 +275,7 @@ TEST(EnergyLedger, RollingSphereRollingFriction) {
   const double m = model.particles.mass[0];
   model.particles.position[0] = {0, 0, r - resting_overlap(m, r)};
   const Communicator comm = self_comm();
-  Simulation sim(std::move(model), comm, settings(c, 0.0));
+  Simulation sim(std::move(model), comm, settings_at(c, 0.0));
   const Energies e0 = sim.energies();
   double worst = 0.0, distance = 0.0;
   Energies e;
@@ -314,7 +310,7 @@ TEST(EnergyLedger, ExternalForceWork) {
   const Vec3 load{200.0, 30.0, 0.0};  // stretches and bends the bond, far below failure
   model.point_loads = {{model.particles.gid[1], load}};
   const Communicator comm = self_comm();
-  SimulationSettings st = settings(c, 0.0);
+  SimulationSettings st = settings_at(c, 0.0);
   st.dt_safety = 0.05;
   Simulation sim(std::move(model), comm, st);
   const Energies e0 = sim.energies();
@@ -342,7 +338,7 @@ TEST(EnergyLedger, FallingSphereGlobalDamping) {
   c.damping.global = alpha;
   c.spheres = {SphereConfig{}};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c, comm), comm, settings(c, 1e-5));
+  Simulation sim(build_model(c, comm), comm, settings_at(c, 1e-5));
   const Energies e0 = sim.energies();
   sim.run_steps(10000);
   const Energies e = sim.energies();
@@ -371,7 +367,7 @@ TEST(EnergyLedger, VibratingChainGlobalDamping) {
     model.particles.omega[k] = Vec3{n(rng), n(rng), n(rng)} * 2.0;
   }
   const Communicator comm = self_comm();
-  SimulationSettings st = settings(c, 0.0);
+  SimulationSettings st = settings_at(c, 0.0);
   st.dt_safety = 0.05;
   Simulation sim(std::move(model), comm, st);
   const Energies e0 = sim.energies();
@@ -403,7 +399,7 @@ TEST(EnergyLedger, BondLoadedToFailure) {
   Model model = build_model(c);
   add_bond(model, 0, 1, 0, 1);
   const Communicator comm = self_comm();
-  Simulation sim(std::move(model), comm, settings(c, 0.0));
+  Simulation sim(std::move(model), comm, settings_at(c, 0.0));
   const Energies e0 = sim.energies();
   double before = 0.0, worst = 0.0, max_work = 0.0;
   Energies e = e0;
@@ -440,7 +436,7 @@ TEST(EnergyLedger, DrivenPlaneBoundaryWork) {
   piston.velocity = {speed, 0, 0};
   c.rigid_bodies = {piston};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c, comm), comm, settings(c, 1e-8, 0.0005));
+  Simulation sim(build_model(c, comm), comm, settings_at(c, 1e-8, 0.0005));
   const Energies e0 = sim.energies();
   double worst = 0.0;
   Energies e;
@@ -479,7 +475,7 @@ TEST(EnergyLedger, RingDroppedOnPlaneCloses) {
   c.rings.push_back(ring);
   c.rigid_bodies = {floor_plane()};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c, comm), comm, settings(c, 0.0));
+  Simulation sim(build_model(c, comm), comm, settings_at(c, 0.0));
   const Energies e0 = sim.energies();
   std::vector<Energies> series;
   for (int k = 0; k < 100; ++k) {

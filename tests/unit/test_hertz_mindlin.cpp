@@ -17,7 +17,7 @@ namespace {
 // Steel spheres of the paper: E = 200 GPa, nu = 0.3, r = 4.5 mm, rho = 7850 kg/m^3.
 constexpr double kYoungs = 200e9;
 constexpr double kPoisson = 0.3;
-constexpr double kRadius = 4.5e-3;
+constexpr double kSphereRadius = 4.5e-3;
 constexpr double kDensity = 7850.0;
 
 double sphere_mass(double r) {
@@ -53,8 +53,8 @@ HertzMindlin::Input make_input(const Vec3& n, double delta, double r_star, doubl
   in.m_star = m_star;
   in.v_rel = Vec3{};
   in.dt = 1e-7;
-  in.arm_i = kRadius - 0.5 * delta;
-  in.arm_j = kRadius - 0.5 * delta;
+  in.arm_i = kSphereRadius - 0.5 * delta;
+  in.arm_j = kSphereRadius - 0.5 * delta;
   in.omega_i = Vec3{};
   in.omega_j = Vec3{};
   return in;
@@ -67,9 +67,9 @@ const Vec3 kNormal = Vec3{1.0, 2.0, -2.0} / 3.0;
 // 1. Normal force and stiffness of two steel spheres at rest.
 TEST(HertzMindlinAnalytic, NormalForceMatchesHertz) {
   const auto p = HertzMindlin::Params::mix(kYoungs, kPoisson, kYoungs, kPoisson, 0.5, 0.3, 0.0);
-  const double es = e_star(kYoungs, kPoisson, kYoungs, kPoisson);  // = E / (2 (1 - nu^2))
-  const double rs = 1.0 / (1.0 / kRadius + 1.0 / kRadius);         // = r / 2
-  const double ms = 0.5 * sphere_mass(kRadius);
+  const double es = e_star(kYoungs, kPoisson, kYoungs, kPoisson);       // = E / (2 (1 - nu^2))
+  const double rs = 1.0 / (1.0 / kSphereRadius + 1.0 / kSphereRadius);  // = r / 2
+  const double ms = 0.5 * sphere_mass(kSphereRadius);
   for (const double delta : {1e-7, 1e-6, 1e-5, 5e-5}) {
     Vec3 spring{};
     const auto r = HertzMindlin::compute(p, make_input(kNormal, delta, rs, ms), spring);
@@ -90,8 +90,8 @@ TEST(HertzMindlinAnalytic, NormalForceMatchesHertz) {
 TEST(HertzMindlinAnalytic, NormalStiffnessIsDerivativeOfForce) {
   const auto p = HertzMindlin::Params::mix(kYoungs, kPoisson, kYoungs, kPoisson, 0.5, 0.3, 0.0);
   const double es = e_star(kYoungs, kPoisson, kYoungs, kPoisson);
-  const double rs = 0.5 * kRadius;
-  const double ms = 0.5 * sphere_mass(kRadius);
+  const double rs = 0.5 * kSphereRadius;
+  const double ms = 0.5 * sphere_mass(kSphereRadius);
   auto force = [&](double delta) {
     Vec3 spring{};
     return HertzMindlin::compute(p, make_input(kNormal, delta, rs, ms), spring).normal_force;
@@ -110,8 +110,8 @@ TEST(HertzMindlinAnalytic, NormalStiffnessIsDerivativeOfForce) {
 // 2. Restitution of a head-on collision of two equal spheres, integrated here with RK4.
 double measured_restitution(double e) {
   const auto p = HertzMindlin::Params::mix(kYoungs, kPoisson, kYoungs, kPoisson, e, 0.3, 0.0);
-  const double m = sphere_mass(kRadius);
-  const double rs = 0.5 * kRadius;
+  const double m = sphere_mass(kSphereRadius);
+  const double rs = 0.5 * kSphereRadius;
   const double ms = 0.5 * m;
   const double es = e_star(kYoungs, kPoisson, kYoungs, kPoisson);
   const double v_in = 1.0;  // approach speed, m/s
@@ -126,7 +126,7 @@ double measured_restitution(double e) {
   };
   // Force on j along n (+F_n repulsive); i gets the opposite. No force without overlap.
   auto accel = [&](const State& s, double& ai, double& aj) {
-    const double delta = 2.0 * kRadius - (s.xj - s.xi);
+    const double delta = 2.0 * kSphereRadius - (s.xj - s.xi);
     if (delta <= 0.0) {
       ai = aj = 0.0;
       return;
@@ -149,7 +149,7 @@ double measured_restitution(double e) {
   };
 
   // Start exactly at touching, approaching symmetrically.
-  State s{-kRadius, kRadius, 0.5 * v_in, -0.5 * v_in};
+  State s{-kSphereRadius, kSphereRadius, 0.5 * v_in, -0.5 * v_in};
   for (int step = 0; step < 200000; ++step) {
     const State k1 = deriv(s);
     const State k2 = deriv(axpy(s, 0.5 * h, k1));
@@ -160,8 +160,8 @@ double measured_restitution(double e) {
     next.xj += h / 6.0 * (k1.xj + 2.0 * k2.xj + 2.0 * k3.xj + k4.xj);
     next.vi += h / 6.0 * (k1.vi + 2.0 * k2.vi + 2.0 * k3.vi + k4.vi);
     next.vj += h / 6.0 * (k1.vj + 2.0 * k2.vj + 2.0 * k3.vj + k4.vj);
-    const double delta_now = 2.0 * kRadius - (s.xj - s.xi);
-    const double delta_next = 2.0 * kRadius - (next.xj - next.xi);
+    const double delta_now = 2.0 * kSphereRadius - (s.xj - s.xi);
+    const double delta_next = 2.0 * kSphereRadius - (next.xj - next.xi);
     if (step > 10 && delta_next <= 0.0) {
       // Separation: interpolate the relative velocity linearly to delta = 0.
       const double frac = delta_now / (delta_now - delta_next);

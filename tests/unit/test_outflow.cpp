@@ -15,7 +15,7 @@
 namespace ringdem {
 namespace {
 
-constexpr double kG = 9.81;
+constexpr double kStandardGravity = 9.81;
 constexpr double kDt = 1e-4;
 constexpr double kEdge = 0.05;  ///< the outflow box ends at x = kEdge
 
@@ -23,7 +23,7 @@ constexpr double kEdge = 0.05;  ///< the outflow box ends at x = kEdge
 /// under gravity, and an outflow box that ends at x = kEdge.
 CaseConfig flying_grains() {
   CaseConfig c = testing::base_case();
-  c.simulation.gravity = {0, 0, -kG};
+  c.simulation.gravity = {0, 0, -kStandardGravity};
   c.simulation.dt = kDt;
   LatticeConfig lat;
   lat.group = "debris";
@@ -63,11 +63,13 @@ TEST(Outflow, GrainsLeaveWhenTheirTrajectoryCrossesTheBoxAndCarryTheirState) {
     if (n + 1 > n_steps - 1) continue;  // found after the last step's drift: still here
     gone += 4;
     const double t = (n + 1) * kDt;
-    const double vz = -kG * t;
-    const double z_drop = -0.5 * kG * t * t;  // z - z0; the lattice's z0 are 0 and 0.01
+    const double vz = -kStandardGravity * t;
+    const double z_drop =
+        -0.5 * kStandardGravity * t * t;  // z - z0; the lattice's z0 are 0 and 0.01
     momentum_z += 4 * m * vz;
     // Kinetic + potential (-m g.x = m g z) of the four grains of this column.
-    energy += 4 * (0.5 * m * (1.0 + vz * vz)) + m * kG * (2 * z_drop + 2 * (0.01 + z_drop));
+    energy +=
+        4 * (0.5 * m * (1.0 + vz * vz)) + m * kStandardGravity * (2 * z_drop + 2 * (0.01 + z_drop));
   }
   ASSERT_GT(gone, 0);
   ASSERT_LT(gone, 40);
@@ -118,7 +120,7 @@ TEST(Outflow, AGrainLeavingWhileSlidingTakesNoFrictionPastItsLastStep) {
   EXPECT_EQ(now.friction, last.friction) << "friction booked after the grain's last step";
   EXPECT_EQ(e.friction, last.friction) << "friction booked after the grain left";
   const double before = last.balance_error(start), after = e.balance_error(start);
-  const double half_step_of_friction = 0.5 * sim.dt() * 0.3 * m * kG * v0;
+  const double half_step_of_friction = 0.5 * sim.dt() * 0.3 * m * kStandardGravity * v0;
   EXPECT_LT(std::abs(after - before), 0.01 * half_step_of_friction)
       << "balance " << before << " J before, " << after << " J after the grain left";
 }

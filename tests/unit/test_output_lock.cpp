@@ -57,13 +57,13 @@ bool wait_for_text(const std::string& path, const std::string& text) {
   return false;
 }
 
-const std::string kBinary = RINGDEM_BINARY;
-const std::string kCase = std::string(RINGDEM_SOURCE_DIR) + "/tests/data/restart_net.yaml";
+const std::string kLockBinary = RINGDEM_BINARY;
+const std::string kLockCase = std::string(RINGDEM_SOURCE_DIR) + "/tests/data/restart_net.yaml";
 
 /// `ringdem run` of the restart test case into `out`, `extra` appended, in the foreground.
 testing::CommandResult run_into(const std::string& out, const std::string& extra = "") {
   return run_command(fmt::format("'{}' run '{}' -o '{}' -q --set simulation.end_time=2e-5 {}",
-                                 kBinary, kCase, out, extra));
+                                 kLockBinary, kLockCase, out, extra));
 }
 
 TEST(OutputLock, SecondRunIsRefusedAndRestartTakesTheLockAfterTheFirstEnded) {
@@ -72,7 +72,7 @@ TEST(OutputLock, SecondRunIsRefusedAndRestartTakesTheLockAfterTheFirstEnded) {
   const std::string lock_file = out + "/" + OutputLock::kFileName;
   // The first run: long enough to be running while the second starts; stopped by SIGUSR1.
   testing::BackgroundProcess first_run(
-      {kBinary, "run", kCase, "-o", out, "-q", "--set", "simulation.end_time=0.02"},
+      {kLockBinary, "run", kLockCase, "-o", out, "-q", "--set", "simulation.end_time=0.02"},
       dir + "/first.log");
   const pid_t first = first_run.pid();
   ASSERT_TRUE(wait_for_text(lock_file, fmt::format("pid: {}\n", first))) << read_file(lock_file);
@@ -81,8 +81,8 @@ TEST(OutputLock, SecondRunIsRefusedAndRestartTakesTheLockAfterTheFirstEnded) {
   EXPECT_FALSE(holder.start_time.empty());
   EXPECT_NE(holder.command.find("-o " + out), std::string::npos) << holder.command;
 
-  const testing::CommandResult second = run_command(
-      fmt::format("'{}' run '{}' -o '{}' -q --set simulation.end_time=0.02", kBinary, kCase, out));
+  const testing::CommandResult second = run_command(fmt::format(
+      "'{}' run '{}' -o '{}' -q --set simulation.end_time=0.02", kLockBinary, kLockCase, out));
   EXPECT_EQ(second.status, 2) << second.output;
   EXPECT_NE(second.output.find(fmt::format("pid {} on host {}, started {}", first, host_name(),
                                            holder.start_time)),
@@ -95,8 +95,8 @@ TEST(OutputLock, SecondRunIsRefusedAndRestartTakesTheLockAfterTheFirstEnded) {
   EXPECT_FALSE(fs::exists(lock_file)) << "released on the checkpointed stop";
   // What the SLURM script does next: the same command with --restart auto.
   const testing::CommandResult restart = run_command(
-      fmt::format("'{}' run '{}' -o '{}' -q --set simulation.end_time=0.02 --restart auto", kBinary,
-                  kCase, out));
+      fmt::format("'{}' run '{}' -o '{}' -q --set simulation.end_time=0.02 --restart auto",
+                  kLockBinary, kLockCase, out));
   EXPECT_EQ(restart.status, 0) << restart.output;
   EXPECT_TRUE(fs::exists(out + "/summary.json"));
   EXPECT_FALSE(fs::exists(lock_file)) << "released at the end";
@@ -107,7 +107,8 @@ TEST(OutputLock, SigtermRemovesTheLockFile) {
   const std::string dir = temp_dir("lock_sigterm");
   const std::string out = dir + "/out";
   const std::string lock_file = out + "/" + OutputLock::kFileName;
-  testing::BackgroundProcess run({kBinary, "run", kCase, "-o", out, "-q"}, dir + "/run.log");
+  testing::BackgroundProcess run({kLockBinary, "run", kLockCase, "-o", out, "-q"},
+                                 dir + "/run.log");
   ASSERT_TRUE(wait_for_text(lock_file, fmt::format("pid: {}\n", run.pid())));
   kill(run.pid(), SIGTERM);
   EXPECT_EQ(run.wait(), 128 + SIGTERM);
@@ -176,8 +177,8 @@ TEST(OutputLock, UnwritableFolderIsRefusedBeforeTheRun) {
   const std::string dir = temp_dir("lock_readonly");
   fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec);
   const std::string out = access(dir.c_str(), W_OK) == 0 ? "/proc/self" : dir;
-  const testing::CommandResult r = run_command(
-      fmt::format("'{}' run '{}' -o '{}' --set simulation.end_time=1.0", kBinary, kCase, out));
+  const testing::CommandResult r = run_command(fmt::format(
+      "'{}' run '{}' -o '{}' --set simulation.end_time=1.0", kLockBinary, kLockCase, out));
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find(out + ": error: the output folder is not writable"), std::string::npos)
       << r.output;

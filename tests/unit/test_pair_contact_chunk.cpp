@@ -17,22 +17,22 @@
 namespace ringdem {
 namespace {
 
-struct Contact {
+struct PairCase {
   Vec3 d, va, vb, wa, wb, spring;
   double ra, rb, m_star;
   HertzMindlin::Params params;
 };
 
-std::vector<Contact> random_contacts(std::size_t n, bool rolling, unsigned seed) {
+std::vector<PairCase> random_pair_cases(std::size_t n, bool rolling, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0), rad(0.004, 0.02), frac(0.0, 1.0);
   const HertzMindlin::Params rock =
       HertzMindlin::Params::mix(1e9, 0.25, 1e9, 0.25, 0.3, 0.5, rolling ? 0.1 : 0.0);
   const HertzMindlin::Params steel =
       HertzMindlin::Params::mix(2.1e11, 0.3, 1e9, 0.25, 0.5, 0.3, 0.0);
-  std::vector<Contact> out(n);
+  std::vector<PairCase> out(n);
   for (std::size_t c = 0; c < n; ++c) {
-    Contact& k = out[c];
+    PairCase& k = out[c];
     k.ra = rad(rng);
     k.rb = rad(rng);
     Vec3 dir{unit(rng), unit(rng), unit(rng)};
@@ -64,7 +64,7 @@ std::vector<Contact> random_contacts(std::size_t n, bool rolling, unsigned seed)
   return out;
 }
 
-struct Expected {
+struct PairExpected {
   Vec3 force, torque_a, torque_b, spring, damping, damping_moment_a, damping_moment_b,
       friction_moment_a, friction_moment_b;
   double half_tangential, half_elastic;
@@ -72,7 +72,7 @@ struct Expected {
 };
 
 // One contact at a time, as the term computed it before the kernel had lanes.
-Expected scalar_reference(const Contact& k, double dt) {
+PairExpected scalar_reference(const PairCase& k, double dt) {
   const double dist = std::sqrt(norm2(k.d));
   const Vec3 n = k.d / dist;
   const double reach = k.ra + k.rb;
@@ -89,7 +89,7 @@ Expected scalar_reference(const Contact& k, double dt) {
   in.arm_j = arm_b;
   in.omega_i = k.wa;
   in.omega_j = k.wb;
-  Expected e;
+  PairExpected e;
   e.spring = k.spring;
   const auto r = HertzMindlin::compute(k.params, in, e.spring);
   const Vec3 lever_a = n * arm_a, lever_b = n * -arm_b;
@@ -108,7 +108,7 @@ Expected scalar_reference(const Contact& k, double dt) {
   return e;
 }
 
-void expect_same(const Vec3& got, const Vec3& want, const char* what, std::size_t c) {
+void expect_same_vector(const Vec3& got, const Vec3& want, const char* what, std::size_t c) {
   EXPECT_EQ(got.x, want.x) << what << ", lane " << c;
   EXPECT_EQ(got.y, want.y) << what << ", lane " << c;
   EXPECT_EQ(got.z, want.z) << what << ", lane " << c;
@@ -116,12 +116,12 @@ void expect_same(const Vec3& got, const Vec3& want, const char* what, std::size_
 
 // Fills a chunk with `n` contacts, runs it, and compares every lane with the scalar path;
 // returns how many lanes slid and how many had a rolling torque.
-std::pair<int, int> check_chunk(std::size_t n, bool rolling, unsigned seed) {
+std::pair<int, int> check_pair_chunk(std::size_t n, bool rolling, unsigned seed) {
   const double dt = 2e-6;
-  const auto contacts = random_contacts(n, rolling, seed);
+  const auto contacts = random_pair_cases(n, rolling, seed);
   PairContactChunk chunk;
   for (std::size_t c = 0; c < n; ++c) {
-    const Contact& k = contacts[c];
+    const PairCase& k = contacts[c];
     chunk.add(static_cast<std::uint32_t>(c), 0, 1, k.d, norm2(k.d), k.ra, k.rb, k.m_star, k.va,
               k.vb, k.wa, k.wb, k.params, k.spring);
   }
@@ -129,16 +129,18 @@ std::pair<int, int> check_chunk(std::size_t n, bool rolling, unsigned seed) {
   chunk.compute<true>(dt);
   int sliding = 0, rolls = 0;
   for (std::size_t c = 0; c < n; ++c) {
-    const Expected e = scalar_reference(contacts[c], dt);
-    expect_same(chunk.force_a.get(c), e.force, "force", c);
-    expect_same(chunk.torque_a.get(c), e.torque_a, "torque on a", c);
-    expect_same(chunk.torque_b.get(c), e.torque_b, "torque on b", c);
-    expect_same(chunk.spring.get(c), e.spring, "spring", c);
-    expect_same(chunk.damping_a.get(c), e.damping, "viscous force", c);
-    expect_same(chunk.damping_moment_a.get(c), e.damping_moment_a, "viscous moment on a", c);
-    expect_same(chunk.damping_moment_b.get(c), e.damping_moment_b, "viscous moment on b", c);
-    expect_same(chunk.friction_moment_a.get(c), e.friction_moment_a, "spring moment on a", c);
-    expect_same(chunk.friction_moment_b.get(c), e.friction_moment_b, "spring moment on b", c);
+    const PairExpected e = scalar_reference(contacts[c], dt);
+    expect_same_vector(chunk.force_a.get(c), e.force, "force", c);
+    expect_same_vector(chunk.torque_a.get(c), e.torque_a, "torque on a", c);
+    expect_same_vector(chunk.torque_b.get(c), e.torque_b, "torque on b", c);
+    expect_same_vector(chunk.spring.get(c), e.spring, "spring", c);
+    expect_same_vector(chunk.damping_a.get(c), e.damping, "viscous force", c);
+    expect_same_vector(chunk.damping_moment_a.get(c), e.damping_moment_a, "viscous moment on a", c);
+    expect_same_vector(chunk.damping_moment_b.get(c), e.damping_moment_b, "viscous moment on b", c);
+    expect_same_vector(chunk.friction_moment_a.get(c), e.friction_moment_a, "spring moment on a",
+                       c);
+    expect_same_vector(chunk.friction_moment_b.get(c), e.friction_moment_b, "spring moment on b",
+                       c);
     EXPECT_EQ(chunk.half_tangential_energy[c], e.half_tangential) << "lane " << c;
     EXPECT_EQ(chunk.half_elastic_energy[c], e.half_elastic) << "lane " << c;
     sliding += e.sliding;
@@ -148,7 +150,7 @@ std::pair<int, int> check_chunk(std::size_t n, bool rolling, unsigned seed) {
 }
 
 TEST(PairContactChunk, LanesGiveTheScalarContactLawBitForBit) {
-  const auto [sliding, rolls] = check_chunk(PairContactChunk::kSize, true, 5);
+  const auto [sliding, rolls] = check_pair_chunk(PairContactChunk::kSize, true, 5);
   // The contacts must exercise both sides of the Coulomb cap and the rolling torque.
   EXPECT_GT(sliding, 4);
   EXPECT_LT(sliding, static_cast<int>(PairContactChunk::kSize) - 4);
@@ -158,7 +160,7 @@ TEST(PairContactChunk, LanesGiveTheScalarContactLawBitForBit) {
 TEST(PairContactChunk, WithoutRollingFrictionAndNotFull) {
   // No pair with rolling friction: the kernel without the rolling torques runs, and must give
   // what the full contact law gives (zero torques). 37 lanes: the vector loop's remainder.
-  const auto [sliding, rolls] = check_chunk(37, false, 9);
+  const auto [sliding, rolls] = check_pair_chunk(37, false, 9);
   EXPECT_GT(sliding, 2);
   EXPECT_EQ(rolls, 0);
 }

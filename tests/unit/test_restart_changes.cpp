@@ -27,7 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kCase = R"(schema_version: 1
+constexpr const char* kChangesCase = R"(schema_version: 1
 simulation: {dt: 1.0e-6, end_time: 1.0}
 materials: [{name: steel}]
 bonds: [{name: ring, youngs_modulus: 210e9}]
@@ -37,12 +37,13 @@ rigid_bodies: [{name: floor, shape: plane}]
 )";
 
 std::vector<CaseChange> changes_by(const std::vector<std::string>& overrides) {
-  return case_changes(canonical_case_text(load_case_from_string(kCase, "a.yaml")),
-                      canonical_case_text(load_case_from_string(kCase, "a.yaml", overrides)));
+  return case_changes(
+      canonical_case_text(load_case_from_string(kChangesCase, "a.yaml")),
+      canonical_case_text(load_case_from_string(kChangesCase, "a.yaml", overrides)));
 }
 
 TEST(CaseText, OneLinePerKeyWithNamedEntriesAndRoundTripNumbers) {
-  const std::string text = canonical_case_text(load_case_from_string(kCase, "a.yaml"));
+  const std::string text = canonical_case_text(load_case_from_string(kChangesCase, "a.yaml"));
   const auto keys = case_text_keys(text);
   const auto value_of = [&](const std::string& path) {
     for (const CaseKey& k : keys)
@@ -93,7 +94,7 @@ TEST(RestartRules, KindsOfTheDocumentedKeys) {
 TEST(RestartRules, FingerprintIgnoresOnlyKeysThatMayChange) {
   const auto fingerprint = [](const std::vector<std::string>& overrides) {
     return model_fingerprint(
-        canonical_case_text(load_case_from_string(kCase, "a.yaml", overrides)));
+        canonical_case_text(load_case_from_string(kChangesCase, "a.yaml", overrides)));
   };
   const std::string base = fingerprint({});
   EXPECT_EQ(base.size(), 16u);
@@ -102,7 +103,8 @@ TEST(RestartRules, FingerprintIgnoresOnlyKeysThatMayChange) {
   EXPECT_NE(fingerprint({"bonds.0.youngs_modulus=292e9"}), base);
   // The identity a checkpoint is read against: only the keys that define the model.
   const auto identity = [](const std::vector<std::string>& overrides) {
-    return model_identity(canonical_case_text(load_case_from_string(kCase, "a.yaml", overrides)));
+    return model_identity(
+        canonical_case_text(load_case_from_string(kChangesCase, "a.yaml", overrides)));
   };
   EXPECT_EQ(identity({"simulation.dt=5e-7", "simulation.end_time=2"}), identity({}));
   EXPECT_NE(identity({"bonds.0.youngs_modulus=292e9"}), identity({}));
@@ -140,7 +142,7 @@ TEST(RestartRules, RefusalNamesEveryKeyAndAllowChangesLetsAppliedOnesPass) {
 }
 
 TEST(CheckpointFormat, OlderVersionIsRefusedWithTheReason) {
-  const CaseConfig c = load_case_from_string(kCase, "a.yaml");
+  const CaseConfig c = load_case_from_string(kChangesCase, "a.yaml");
   const Communicator self = testing::self_comm();
   Simulation sim(build_model(c, self), self, settings_from_case(c));
   std::string dir = (fs::temp_directory_path() / "ringdem_format_XXXXXX").string();
@@ -172,7 +174,7 @@ TEST(CheckpointFormat, OlderVersionIsRefusedWithTheReason) {
 }
 
 /// A paper ring dropped onto a plane with damping and friction: every ledger tally moves.
-CaseConfig ring_on_floor() {
+CaseConfig damped_ring_on_floor() {
   CaseConfig c = testing::base_case();
   c.simulation.dt = 1e-6;
   c.simulation.gravity = {0, 0, -9.81};
@@ -188,7 +190,7 @@ CaseConfig ring_on_floor() {
 }
 
 TEST(TimeStepChange, LedgerTalliesGoOnAndStepsCountFromTheChange) {
-  const CaseConfig c = ring_on_floor();
+  const CaseConfig c = damped_ring_on_floor();
   const Communicator self = testing::self_comm();
   Simulation sim(build_model(c, self), self, settings_from_case(c));
   sim.run_steps(8);  // mid-contact

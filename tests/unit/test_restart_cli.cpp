@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string>
 
+#include "FileText.hpp"
 #include "TestCases.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
@@ -25,7 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kCase = R"(schema_version: 1
+constexpr const char* kTrustCase = R"(schema_version: 1
 name: trust
 simulation: {dt: 1.0e-6, end_time: 2.0e-5, gravity: [0, 0, -9.81]}
 materials: [{name: steel}]
@@ -38,15 +39,11 @@ rigid_bodies: [{name: floor, shape: plane, material: steel}]
 output: {checkpoint_interval: 1.0e-5, checkpoints_kept: 10}
 )";
 
-std::string read_text(const fs::path& p) {
-  std::stringstream s;
-  s << std::ifstream(p).rdbuf();
-  return s.str();
-}
+using testing::file_text;
 
 /// A number of summary.json ("key": value).
 double summary_number(const fs::path& summary, const std::string& key) {
-  const std::string text = read_text(summary);
+  const std::string text = file_text(summary);
   std::smatch m;
   if (!std::regex_search(text, m, std::regex("\"" + key + "\": ([-0-9.eE+]+)")))
     throw std::runtime_error(key + " not in " + summary.string());
@@ -60,7 +57,7 @@ class RestartCli : public ::testing::Test {
     ASSERT_NE(mkdtemp(templ.data()), nullptr);
     dir_ = templ;
     case_ = dir_ / "trust.yaml";
-    std::ofstream(case_) << kCase;
+    std::ofstream(case_) << kTrustCase;
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -72,8 +69,8 @@ class RestartCli : public ::testing::Test {
                                 (dir_ / out).string() + "' " + args + " > '" + o.string() +
                                 "' 2> '" + e.string() + "'";
     const int status = std::system(command.c_str());
-    out_ = read_text(o);
-    err_ = read_text(e);
+    out_ = file_text(o);
+    err_ = file_text(e);
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
   /// A first run to the end, with checkpoints after 10 and 20 steps.
@@ -144,7 +141,7 @@ TEST_F(RestartCli, ChangedDampingIsAppliedFromTheRestartOn) {
   const double damped = summary_number(dir_ / "damped/summary.json", "final_kinetic_energy_J");
 
   // The same change made in memory (library API): 10 steps, coefficient 0.6, 10 steps.
-  const CaseConfig c = load_case_from_string(kCase, "trust.yaml");
+  const CaseConfig c = load_case_from_string(kTrustCase, "trust.yaml");
   const Communicator self = testing::self_comm();
   Simulation sim(build_model(c, self), self, settings_from_case(c));
   sim.run_steps(10);
@@ -161,12 +158,12 @@ TEST_F(RestartCli, ChangedDampingIsAppliedFromTheRestartOn) {
 // --restart auto is refused, not continued from the old state (nor from an older checkpoint).
 TEST_F(RestartCli, EditedCaseIsRefusedByRestartAuto) {
   checkpoint_after_10_steps();
-  const std::string before = read_text(dir_ / "out/summary.json");
+  const std::string before = file_text(dir_ / "out/summary.json");
   EXPECT_EQ(run("out", "--restart auto -q --set materials.0.density=7000"), 2) << out_ << err_;
   EXPECT_TRUE(err_has("materials[steel].density: 7800 in the checkpoint, 7000 in the case"))
       << err_;
   EXPECT_FALSE(fs::exists(dir_ / "out/checkpoints/checkpoint_000000000030.h5"));
-  EXPECT_EQ(read_text(dir_ / "out/summary.json"), before);
+  EXPECT_EQ(file_text(dir_ / "out/summary.json"), before);
 }
 
 TEST_F(RestartCli, SphereInsideTheRingIsRefusedNamingBothParticles) {

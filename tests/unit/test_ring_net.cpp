@@ -229,15 +229,16 @@ TEST(RingNetPaperNet, NoTwoRingsTouchAtCreation) {
   // Brute force over the particles of every pair of rings whose bounding spheres, grown by
   // the contact radii and a 5 cm margin (to see the clearance itself), intersect; pairs
   // farther apart are farther apart than that margin.
-  constexpr double kMargin = 0.05;
+  constexpr double kClearanceMargin = 0.05;
   double smallest_gap = 1e9, smallest_contact_gap = 1e9;
   double smallest_centre_distance = 1e9;
   for (std::size_t a = 0; a < curves.size(); ++a)
     for (std::size_t b = a + 1; b < curves.size(); ++b) {
       const RingCurve& ca = curves[a];
       const RingCurve& cb = curves[b];
-      if (norm(ca.centre - cb.centre) >
-          ca.bounding_radius + cb.bounding_radius + ca.contact_radius + cb.contact_radius + kMargin)
+      if (norm(ca.centre - cb.centre) > ca.bounding_radius + cb.bounding_radius +
+                                            ca.contact_radius + cb.contact_radius +
+                                            kClearanceMargin)
         continue;
       for (const Vec3& x : ca.points)
         for (const Vec3& y : cb.points) {
@@ -253,7 +254,7 @@ TEST(RingNetPaperNet, NoTwoRingsTouchAtCreation) {
   EXPECT_GE(smallest_gap, 0.0);
   EXPECT_GE(smallest_contact_gap, 0.0);
   // The library's cell-grid search finds the same smallest gap (rounding: 1e-12 m).
-  const RingNetClearance c = smallest_clearance(net, contact_radius, 0.008, kMargin);
+  const RingNetClearance c = smallest_clearance(net, contact_radius, 0.008, kClearanceMargin);
   EXPECT_NEAR(c.gap, smallest_contact_gap, 1e-12);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

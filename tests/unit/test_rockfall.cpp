@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "CommandLine.hpp"
+#include "FileText.hpp"
 #include "TestCases.hpp"
 #include "app/RunCommand.hpp"
 #include "app/ScenarioRunner.hpp"
@@ -228,11 +229,7 @@ TEST(Rockfall, EndTimeCapsTheScenario) {
 
 // Repeated impact (issue 14 point 4, EAD 340059-00-0106 service energy level test): the tiny
 // case with two impacts. Helpers read the results as a user would.
-std::string file_text(const fs::path& file) {
-  std::stringstream s;
-  s << std::ifstream(file).rdbuf();
-  return s.str();
-}
+using testing::file_text;
 
 std::size_t column(const std::vector<std::string>& header, const std::string& name) {
   const auto it = std::find(header.begin(), header.end(), name);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "StepSettings.hpp"
 #include "TestCases.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
@@ -15,12 +16,7 @@ namespace {
 
 using testing::self_comm;
 
-SimulationSettings settings(const CaseConfig& c, double dt, double skin = 0.001) {
-  SimulationSettings s = settings_from_case(c);
-  s.dt = dt;
-  s.skin = skin;
-  return s;
-}
+using testing::settings_at;
 
 // A 100-particle ring pulled by two opposite small point loads P stretches along the load
 // line by (pi/4 - 2/pi) P R^3 / EI (thin ring, bending only; physics.md §5). Axial and shear
@@ -44,7 +40,7 @@ TEST(RingUnderPointLoads, ElongationMatchesThinRingTheory) {
   const double l0 = norm(p.position[0] - p.position[50]);
 
   const Communicator comm = self_comm();
-  Simulation sim(std::move(model), comm, settings(c, 0.0));
+  Simulation sim(std::move(model), comm, settings_at(c, 0.0));
   sim.run_steps(150000);
   const ParticleStore& q = sim.model().particles;
   const double elongation = norm(q.position[0] - q.position[50]) - l0;
@@ -79,7 +75,7 @@ std::vector<double> energy_errors(double dt_safety, int blocks) {
   Model model = build_model(c);
   randomise_velocities(model.particles, 11, 0.01, 2.0);
   const Communicator comm = self_comm();
-  SimulationSettings s = settings(c, 0.0);
+  SimulationSettings s = settings_at(c, 0.0);
   s.dt_safety = dt_safety;
   Simulation sim(std::move(model), comm, s);
   const double e0 = sim.energies().total();
@@ -124,7 +120,7 @@ TEST(UndampedChain, TimeReversible) {
   const std::vector<Vec3> x0 = model.particles.position;
   const std::vector<Quat> q0 = model.particles.orientation;
   const Communicator comm = self_comm();
-  Simulation sim(std::move(model), comm, settings(c, 0.0));
+  Simulation sim(std::move(model), comm, settings_at(c, 0.0));
   const int n = 20000;
   sim.run_steps(n);
   ParticleStore& p = sim.model().particles;
@@ -160,7 +156,7 @@ TEST(Collision, RestitutionThroughTheStepLoop) {
     b.velocity = {-0.5, 0, 0};
     c.spheres = {a, b};
     const Communicator comm = self_comm();
-    Simulation sim(build_model(c, comm), comm, settings(c, 1e-8, 0.0005));
+    Simulation sim(build_model(c, comm), comm, settings_at(c, 1e-8, 0.0005));
     sim.run_steps(6000);  // Hertz contact at 1 m/s lasts ~ 27 us; 60 us covers all of it
     const ParticleStore& p = sim.model().particles;
     // By gid: the re-sorts by space (every 1000 steps) may store them either way round.
@@ -181,7 +177,7 @@ TEST(Collision, RestitutionThroughTheStepLoop) {
 TEST(NeighbourLists, NoTouchingContactIsMissedBetweenRebuilds) {
   const CaseConfig c = testing::colliding_clouds();
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c, comm), comm, settings(c, 1e-6, 0.0005));
+  Simulation sim(build_model(c, comm), comm, settings_at(c, 1e-6, 0.0005));
   const ParticleStore& p = sim.model().particles;
   ASSERT_GT(p.n_local(), 200u);
   std::int64_t checked_touching = 0;
@@ -247,7 +243,7 @@ TEST(RigidBodies, PlaneCarriesWeightOfRestingSphere) {
   floor.shape = ShapeKind::kPlane;
   c.rigid_bodies = {floor};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c, comm), comm, settings(c, 0.0));
+  Simulation sim(build_model(c, comm), comm, settings_at(c, 0.0));
   sim.run_steps(100000);
   const double weight = sim.model().particles.mass[0] * 9.81;
   EXPECT_NEAR(sim.model().bodies[0].force.z / -weight, 1.0, 1e-6);
@@ -272,7 +268,7 @@ TEST(RigidBodies, FreeBodyFallsBallistically) {
   far_away.motion = Motion::kFixed;
   c.spheres = {far_away};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c, comm), comm, settings(c, 1e-4));
+  Simulation sim(build_model(c, comm), comm, settings_at(c, 1e-4));
   sim.run_steps(5000);
   const double t = sim.time();
   EXPECT_NEAR(sim.model().bodies[0].position.z, 3.0 - 0.5 * 9.81 * t * t, 1e-9);
@@ -297,7 +293,7 @@ TEST(RigidBodies, PinCarriesRingWeight) {
   pin.position = {0, 0, 0.15 - 0.0101};  // 0.1 mm below the ring's inner surface
   c.rigid_bodies = {pin};
   const Communicator comm = self_comm();
-  Simulation sim(build_model(c, comm), comm, settings(c, 0.0));
+  Simulation sim(build_model(c, comm), comm, settings_at(c, 0.0));
   sim.run_steps(200000);
   double weight = 0.0;
   for (double m : sim.model().particles.mass)

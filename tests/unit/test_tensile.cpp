@@ -11,6 +11,7 @@
 #include <random>
 #include <sstream>
 
+#include "FileText.hpp"
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "app/ScenarioRunner.hpp"
@@ -307,7 +308,7 @@ TEST(TensileRig, WritesSummaryAndSeries) {
 
 // Contents of a summary.json without its timings and memory (the lines naming a wall time, a
 // rate or the peak memory of the process).
-std::string summary_without_timings(const std::filesystem::path& file) {
+std::string summary_text_without_timings(const std::filesystem::path& file) {
   std::ifstream in(file);
   std::string line, kept;
   while (std::getline(in, line))
@@ -318,11 +319,7 @@ std::string summary_without_timings(const std::filesystem::path& file) {
   return kept;
 }
 
-std::string file_text(const std::filesystem::path& file) {
-  std::stringstream s;
-  s << std::ifstream(file).rdbuf();
-  return s.str();
-}
+using testing::file_text;
 
 // A tensile test continued from a checkpoint ends exactly as the run never interrupted: its
 // series.csv and summary.json (timings aside) are the same bytes, numbers written with 17
@@ -384,8 +381,8 @@ void expect_restarts_bit_for_bit(const std::string& case_text,
     ASSERT_EQ(run_scenario(*driver, run, testing::self_comm()), 0);
     const TensileResult& r = dynamic_cast<const TensileDriver&>(*driver).result();
     EXPECT_EQ(file_text(restarted / "series.csv"), file_text(dir / "straight/series.csv"));
-    EXPECT_EQ(summary_without_timings(restarted / "summary.json"),
-              summary_without_timings(dir / "straight/summary.json"));
+    EXPECT_EQ(summary_text_without_timings(restarted / "summary.json"),
+              summary_text_without_timings(dir / "straight/summary.json"));
     EXPECT_EQ(r.stop_reason, straight.stop_reason);
     EXPECT_EQ(r.analysis.peak_load, straight.analysis.peak_load);
     EXPECT_EQ(r.elongation_at_failure, straight.elongation_at_failure);
