@@ -19,8 +19,6 @@
 
 namespace ringdem {
 
-namespace {}  // namespace
-
 int run_scenario(ScenarioDriver& driver, const ScenarioRunOptions& options,
                  const Communicator& comm) {
   const auto wall_start = WallClock::now();
