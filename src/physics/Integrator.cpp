@@ -87,10 +87,7 @@ struct MotionLanes {
   V4 free, moving;
 };
 inline MotionLanes motion_lanes(const Motion* motion) {
-  using Bytes4 = std::uint8_t __attribute__((vector_size(4)));
-  Bytes4 bytes;
-  std::memcpy(&bytes, motion, sizeof bytes);
-  const V4 kind = __builtin_convertvector(bytes, V4);
+  const V4 kind = lanes::from_bytes(reinterpret_cast<const std::uint8_t*>(motion));
   const V4 zero{}, one = lanes::splat(1.0);
   return {lanes::select(kind == zero, one, zero), lanes::select(kind != one, one, zero)};
 }
@@ -229,9 +226,10 @@ inline void add_scaled(Rows3& a, const Rows3& b, const Rows3& s) {
 /// The drift of four particles from k: v += F dt/2m, omega += T dt/2I, x += v dt, the next
 /// step's initial loads (F = m g, T = 0; GatherMap::initialise_loads) and the largest squared
 /// speeds per lane.
-/// `kept`: the factors of this step's second half kick (kick_factors() otherwise).
+/// `kept`: the factors of this step's second half kick (kick_factors() otherwise). `turn`, where
+/// not null, gets the half turns h = omega moving dt/2 as columns for turn_four().
 inline void drift_four(const ParticleRows& r, std::size_t k, double dt, const Rows3& gravity,
-                       const HalfKicks* kept, V4& max_v2, V4& max_w2) {
+                       const HalfKicks* kept, V4& max_v2, V4& max_w2, Columns3* turn) {
   const double half = 0.5 * dt;
   HalfKicks f;
   if (kept) {
@@ -256,32 +254,30 @@ inline void drift_four(const ParticleRows& r, std::size_t k, double dt, const Ro
   // The largest squared speeds, scaled after the pass: scaling by a positive constant keeps the
   // order, so max(scaled) is the scaled max. NaN compares false: it counts as infinite.
   const V4 infinite = lanes::splat(std::numeric_limits<double>::infinity());
-  const V4 v2 = lanes::norm2(lanes::columns(v)), w2 = lanes::norm2(lanes::columns(w));
+  const Columns3 wc = lanes::columns(w);
+  const V4 v2 = lanes::norm2(lanes::columns(v)), w2 = lanes::norm2(wc);
   max_v2 = lanes::select(v2 <= max_v2, max_v2, lanes::select(v2 == v2, v2, infinite));
   max_w2 = lanes::select(w2 <= max_w2, max_w2, lanes::select(w2 == w2, w2, infinite));
+  // The columns of omega are at hand here; turn_four() would load and transpose them again.
+  if (turn) *turn = {wc.x * moving * half, wc.y * moving * half, wc.z * moving * half};
 }
 
 /// The orientation update of four particles from k with their new angular velocities (after
-/// drift_four): rotated(q, omega * moving, dt), cayley_turned() in its order: p = (1, h) q
-/// brought to unit norm by inverse_norm_near_one().
-inline void turn_four(const ParticleRows& r, std::size_t k, double dt) {
+/// drift_four, which left their half turns h = omega moving dt/2 as columns):
+/// rotated(q, omega * moving, dt), cayley_turned() in its order: p = (1, h) q brought to unit
+/// norm by inverse_norm_near_one().
+inline void turn_four(const ParticleRows& r, std::size_t k, const Columns3& h) {
   // Where only some particles turn, four that do not are skipped, and of four that partly do
   // the others keep their orientation (the lanes' select); the ones that turn get the same
   // operations as without flags, so the same bits.
   lanes::Mask4 turns{};
   if (r.turning) {
-    using Bytes4 = std::uint8_t __attribute__((vector_size(4)));
-    Bytes4 bytes;
-    std::memcpy(&bytes, r.turning + k, sizeof bytes);
     std::uint32_t any = 0;
-    std::memcpy(&any, &bytes, sizeof any);
+    std::memcpy(&any, r.turning + k, sizeof any);
     if (any == 0) return;
-    turns = __builtin_convertvector(bytes, V4) != V4{};
+    turns = lanes::from_bytes(r.turning + k) != V4{};
   }
-  const double half = 0.5 * dt;
-  const V4 moving = motion_lanes(r.motion + k).moving;
-  const Columns3 wc = lanes::columns(lanes::load_rows(r.w + k));
-  const V4 hx = wc.x * moving * half, hy = wc.y * moving * half, hz = wc.z * moving * half;
+  const V4 &hx = h.x, &hy = h.y, &hz = h.z;
   const Columns4 b = lanes::load_quats(r.q + k);
   const V4 pw = 1.0 * b.w - hx * b.x - hy * b.y - hz * b.z;
   const V4 px = 1.0 * b.x + hx * b.w + hy * b.z - hz * b.y;
@@ -317,17 +313,21 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
   // the drift's long iterations could not overlap; in short iterations of its own they do
   // (BM_IntegrateRings 3 % faster, docs/performance.md, twenty-fourth round). The same
   // operations on the same values: the same bits.
+  // The drift hands each four's half turns to the orientation pass (6 kB a chunk, in L1).
   constexpr std::size_t kTurnChunk = 256;
+  Columns3 turns[kTurnChunk / 4];
   for (std::size_t c = begin; c < end; c += kTurnChunk) {
     const std::size_t c_end = std::min(end, c + kTurnChunk);
     const HalfKicks* const chunk_kept = kept ? kept + (c - begin) / 4 : nullptr;
     for_each_four(rows, c, c_end, [&](const ParticleRows& r, std::size_t k, std::size_t group) {
-      drift_four(r, k, dt, gravity_rows, chunk_kept ? chunk_kept + group : nullptr, max_v2, max_w2);
+      drift_four(r, k, dt, gravity_rows, chunk_kept ? chunk_kept + group : nullptr, max_v2, max_w2,
+                 kTurn ? turns + group : nullptr);
     });
     if constexpr (kTurn)
-      for_each_four(rows, c, c_end, [dt](const ParticleRows& r, std::size_t k, std::size_t) {
-        turn_four(r, k, dt);
-      });
+      for_each_four(rows, c, c_end,
+                    [&turns](const ParticleRows& r, std::size_t k, std::size_t group) {
+                      turn_four(r, k, turns[group]);
+                    });
   }
   m.max_v2 = lanes::max_lane(max_v2);
   m.max_w2 = lanes::max_lane(max_w2);
