@@ -262,6 +262,26 @@ inline void drift_four(const ParticleRows& r, std::size_t k, double dt, const Ro
   if (turn) *turn = {wc.x * moving * half, wc.y * moving * half, wc.z * moving * half};
 }
 
+/// Quaternions as columns of lanes of type V (four or eight).
+template <class V>
+struct QuatColumns {
+  V w, x, y, z;
+};
+
+/// cayley_turned() lane by lane, in its order: p = (1, h) q brought to unit norm by
+/// inverse_norm_near_one().
+template <class V>
+inline QuatColumns<V> cayley_lanes(const V& hx, const V& hy, const V& hz, const QuatColumns<V>& b) {
+  const V pw = 1.0 * b.w - hx * b.x - hy * b.y - hz * b.z;
+  const V px = 1.0 * b.x + hx * b.w + hy * b.z - hz * b.y;
+  const V py = 1.0 * b.y - hx * b.z + hy * b.w + hz * b.x;
+  const V pz = 1.0 * b.z + hx * b.y - hy * b.x + hz * b.w;
+  const V n2 = pw * pw + px * px + py * py + pz * pz;
+  const V y = 0.5 * (3.0 - n2);
+  const V scale = y * (0.5 * (3.0 - n2 * y * y));
+  return {pw * scale, px * scale, py * scale, pz * scale};
+}
+
 /// The orientation update of four particles from k with their new angular velocities (after
 /// drift_four, which left their half turns h = omega moving dt/2 as columns):
 /// rotated(q, omega * moving, dt), cayley_turned() in its order: p = (1, h) q brought to unit
@@ -277,21 +297,65 @@ inline void turn_four(const ParticleRows& r, std::size_t k, const Columns3& h) {
     if (any == 0) return;
     turns = lanes::from_bytes(r.turning + k) != V4{};
   }
-  const V4 &hx = h.x, &hy = h.y, &hz = h.z;
   const Columns4 b = lanes::load_quats(r.q + k);
-  const V4 pw = 1.0 * b.w - hx * b.x - hy * b.y - hz * b.z;
-  const V4 px = 1.0 * b.x + hx * b.w + hy * b.z - hz * b.y;
-  const V4 py = 1.0 * b.y - hx * b.z + hy * b.w + hz * b.x;
-  const V4 pz = 1.0 * b.z + hx * b.y - hy * b.x + hz * b.w;
-  const V4 n2 = pw * pw + px * px + py * py + pz * pz;
-  const V4 y = 0.5 * (3.0 - n2);
-  const V4 scale = y * (0.5 * (3.0 - n2 * y * y));
+  const QuatColumns<V4> p = cayley_lanes(h.x, h.y, h.z, QuatColumns<V4>{b.w, b.x, b.y, b.z});
   if (r.turning)
-    lanes::store_quats(
-        r.q + k, {lanes::select(turns, pw * scale, b.w), lanes::select(turns, px * scale, b.x),
-                  lanes::select(turns, py * scale, b.y), lanes::select(turns, pz * scale, b.z)});
+    lanes::store_quats(r.q + k, {lanes::select(turns, p.w, b.w), lanes::select(turns, p.x, b.x),
+                                 lanes::select(turns, p.y, b.y), lanes::select(turns, p.z, b.z)});
   else
-    lanes::store_quats(r.q + k, {pw * scale, px * scale, py * scale, pz * scale});
+    lanes::store_quats(r.q + k, {p.w, p.x, p.y, p.z});
+}
+
+/// Eight lanes: one AVX-512 register where the build has it, else two or four narrower ones.
+using V8 = double __attribute__((vector_size(64)));
+using Mask8 = std::int64_t __attribute__((vector_size(64)));
+
+/// turn_four() of eight particles from k at once, whose half turns are `low` (the first
+/// four) and `high`: the same operations lane by lane, the same bits. The transposes of eight
+/// quaternions take as many shuffles as those of four, in registers twice as wide.
+inline void turn_eight(const ParticleRows& r, std::size_t k, const Columns3& low,
+                       const Columns3& high) {
+  Mask8 turns{};
+  if (r.turning) {
+    std::uint64_t any = 0;
+    std::memcpy(&any, r.turning + k, sizeof any);
+    if (any == 0) return;
+    const V4 flags_low = lanes::from_bytes(r.turning + k);
+    const V4 flags_high = lanes::from_bytes(r.turning + k + 4);
+    turns = __builtin_shufflevector(flags_low, flags_high, 0, 1, 2, 3, 4, 5, 6, 7) != V8{};
+  }
+  const V8 hx = __builtin_shufflevector(low.x, high.x, 0, 1, 2, 3, 4, 5, 6, 7);
+  const V8 hy = __builtin_shufflevector(low.y, high.y, 0, 1, 2, 3, 4, 5, 6, 7);
+  const V8 hz = __builtin_shufflevector(low.z, high.z, 0, 1, 2, 3, 4, 5, 6, 7);
+  // Rows (w x y z of a quaternion next to each other), two quaternions a register, to columns.
+  double* const q = &r.q[k].w;
+  V8 q01, q23, q45, q67;
+  std::memcpy(&q01, q, sizeof q01);
+  std::memcpy(&q23, q + 8, sizeof q23);
+  std::memcpy(&q45, q + 16, sizeof q45);
+  std::memcpy(&q67, q + 24, sizeof q67);
+  const V8 wx0123 = __builtin_shufflevector(q01, q23, 0, 4, 8, 12, 1, 5, 9, 13);
+  const V8 yz0123 = __builtin_shufflevector(q01, q23, 2, 6, 10, 14, 3, 7, 11, 15);
+  const V8 wx4567 = __builtin_shufflevector(q45, q67, 0, 4, 8, 12, 1, 5, 9, 13);
+  const V8 yz4567 = __builtin_shufflevector(q45, q67, 2, 6, 10, 14, 3, 7, 11, 15);
+  const QuatColumns<V8> b{__builtin_shufflevector(wx0123, wx4567, 0, 1, 2, 3, 8, 9, 10, 11),
+                          __builtin_shufflevector(wx0123, wx4567, 4, 5, 6, 7, 12, 13, 14, 15),
+                          __builtin_shufflevector(yz0123, yz4567, 0, 1, 2, 3, 8, 9, 10, 11),
+                          __builtin_shufflevector(yz0123, yz4567, 4, 5, 6, 7, 12, 13, 14, 15)};
+  QuatColumns<V8> p = cayley_lanes(hx, hy, hz, b);
+  if (r.turning) p = {turns ? p.w : b.w, turns ? p.x : b.x, turns ? p.y : b.y, turns ? p.z : b.z};
+  const V8 wx_low = __builtin_shufflevector(p.w, p.x, 0, 1, 2, 3, 8, 9, 10, 11);
+  const V8 wx_high = __builtin_shufflevector(p.w, p.x, 4, 5, 6, 7, 12, 13, 14, 15);
+  const V8 yz_low = __builtin_shufflevector(p.y, p.z, 0, 1, 2, 3, 8, 9, 10, 11);
+  const V8 yz_high = __builtin_shufflevector(p.y, p.z, 4, 5, 6, 7, 12, 13, 14, 15);
+  q01 = __builtin_shufflevector(wx_low, yz_low, 0, 4, 8, 12, 1, 5, 9, 13);
+  q23 = __builtin_shufflevector(wx_low, yz_low, 2, 6, 10, 14, 3, 7, 11, 15);
+  q45 = __builtin_shufflevector(wx_high, yz_high, 0, 4, 8, 12, 1, 5, 9, 13);
+  q67 = __builtin_shufflevector(wx_high, yz_high, 2, 6, 10, 14, 3, 7, 11, 15);
+  std::memcpy(q, &q01, sizeof q01);
+  std::memcpy(q + 8, &q23, sizeof q23);
+  std::memcpy(q + 16, &q45, sizeof q45);
+  std::memcpy(q + 24, &q67, sizeof q67);
 }
 
 /// The drift over owned particles [begin, end), with the orientation update compiled in or
@@ -323,11 +387,14 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
       drift_four(r, k, dt, gravity_rows, chunk_kept ? chunk_kept + group : nullptr, max_v2, max_w2,
                  kTurn ? turns + group : nullptr);
     });
-    if constexpr (kTurn)
-      for_each_four(rows, c, c_end,
-                    [&turns](const ParticleRows& r, std::size_t k, std::size_t group) {
-                      turn_four(r, k, turns[group]);
-                    });
+    if constexpr (kTurn) {
+      std::size_t k = c, group = 0;
+      for (; k + 8 <= c_end; k += 8, group += 2)
+        turn_eight(rows, k, turns[group], turns[group + 1]);
+      for_each_four(rows, k, c_end, [&](const ParticleRows& r, std::size_t four, std::size_t g) {
+        turn_four(r, four, turns[group + g]);
+      });
+    }
   }
   m.max_v2 = lanes::max_lane(max_v2);
   m.max_w2 = lanes::max_lane(max_w2);
