@@ -1,5 +1,6 @@
 // The process's operator new and delete: large blocks are advised to the kernel as transparent
-// huge pages (madvise MADV_HUGEPAGE), everything else is plain malloc and free.
+// huge pages (madvise MADV_HUGEPAGE) and start on a cache line, everything else is plain
+// malloc and free.
 //
 // Why: at 10^6 grains a rank's columns and lists are tens of MB each, and the neighbour rebuild
 // gives its scratch back and takes it again (docs/performance.md, fifteenth round: that keeps a
@@ -72,6 +73,10 @@ void* allocate(std::size_t bytes, std::size_t alignment) {
   if (bytes == 0) bytes = 1;
   for (;;) {
     void* block = nullptr;
+    // A large block on a cache line (core/HugePageAdvice.hpp, kAlignFrom): the columns the
+    // vector passes read.
+    if (alignment <= alignof(std::max_align_t) && bytes >= ringdem::kAlignFrom)
+      alignment = ringdem::kCacheLine;
     if (alignment <= alignof(std::max_align_t)) {
       block = std::malloc(bytes);
     } else {

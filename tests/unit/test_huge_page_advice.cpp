@@ -84,6 +84,29 @@ TEST(HugePageAdvice, AnAlignedLargeBlockIsAdvisedToo) {
   EXPECT_TRUE(has_flag(vm_flags_at(lines.get() + (std::size_t{1} << 17)), "hg"));
 }
 
+// Columns from kAlignFrom bytes on start on a cache line, whatever malloc would have given
+// (16 bytes past a page for the mmap'd ones), so that the passes' vector loads do not span two
+// lines; with the advice on or off. Sizes about the threshold and well above it (mmap'd).
+TEST(HugePageAdvice, ALargeBlockStartsOnACacheLine) {
+  if (!huge_page_advice_built()) GTEST_SKIP() << "this build keeps the default operator new";
+  for (const std::size_t bytes :
+       {kAlignFrom, kAlignFrom + 8, std::size_t{100} << 10, std::size_t{3} << 20}) {
+    // Several at once, so that they do not all take the same freed block.
+    std::vector<std::vector<double>> columns;
+    for (int copy = 0; copy < 4; ++copy) {
+      columns.emplace_back(bytes / sizeof(double), 1.0);
+      EXPECT_EQ(reinterpret_cast<std::uintptr_t>(columns.back().data()) % kCacheLine, 0u)
+          << bytes << " bytes, copy " << copy;
+    }
+  }
+  // A type that asks for more than a cache line still gets its own alignment.
+  struct alignas(256) Wide {
+    double v[32];
+  };
+  const auto wide = std::make_unique<Wide[]>(64);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(wide.get()) % 256, 0u);
+}
+
 TEST(HugePageAdvice, ABlockBelowTheThresholdIsLeftAlone) {
   // Advised by hand, a block under kAdviseFrom changes nothing; the whole mapping is advised.
 #if defined(__linux__)
