@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "core/Lanes4.hpp"
+#include "core/Lanes8.hpp"
 #include "core/Select.hpp"
 
 // The passes hand vectors of four doubles between inline functions of this file (see
@@ -306,56 +307,25 @@ inline void turn_four(const ParticleRows& r, std::size_t k, const Columns3& h) {
     lanes::store_quats(r.q + k, {p.w, p.x, p.y, p.z});
 }
 
-/// Eight lanes: one AVX-512 register where the build has it, else two or four narrower ones.
-using V8 = double __attribute__((vector_size(64)));
-using Mask8 = std::int64_t __attribute__((vector_size(64)));
-
-/// turn_four() of eight particles from k at once, whose half turns are `low` (the first
-/// four) and `high`: the same operations lane by lane, the same bits. The transposes of eight
-/// quaternions take as many shuffles as those of four, in registers twice as wide.
+/// turn_four() of eight particles from k at once (core/Lanes8.hpp), whose half turns are `low`
+/// (the first four) and `high`: the same operations lane by lane, the same bits. The
+/// transposes of eight quaternions take as many shuffles as those of four.
 inline void turn_eight(const ParticleRows& r, std::size_t k, const Columns3& low,
                        const Columns3& high) {
-  Mask8 turns{};
+  using lanes8::V8;
+  lanes8::Mask8 turns{};
   if (r.turning) {
     std::uint64_t any = 0;
     std::memcpy(&any, r.turning + k, sizeof any);
     if (any == 0) return;
-    const V4 flags_low = lanes::from_bytes(r.turning + k);
-    const V4 flags_high = lanes::from_bytes(r.turning + k + 4);
-    turns = __builtin_shufflevector(flags_low, flags_high, 0, 1, 2, 3, 4, 5, 6, 7) != V8{};
+    turns = lanes8::from_bytes(r.turning + k) != V8{};
   }
-  const V8 hx = __builtin_shufflevector(low.x, high.x, 0, 1, 2, 3, 4, 5, 6, 7);
-  const V8 hy = __builtin_shufflevector(low.y, high.y, 0, 1, 2, 3, 4, 5, 6, 7);
-  const V8 hz = __builtin_shufflevector(low.z, high.z, 0, 1, 2, 3, 4, 5, 6, 7);
-  // Rows (w x y z of a quaternion next to each other), two quaternions a register, to columns.
-  double* const q = &r.q[k].w;
-  V8 q01, q23, q45, q67;
-  std::memcpy(&q01, q, sizeof q01);
-  std::memcpy(&q23, q + 8, sizeof q23);
-  std::memcpy(&q45, q + 16, sizeof q45);
-  std::memcpy(&q67, q + 24, sizeof q67);
-  const V8 wx0123 = __builtin_shufflevector(q01, q23, 0, 4, 8, 12, 1, 5, 9, 13);
-  const V8 yz0123 = __builtin_shufflevector(q01, q23, 2, 6, 10, 14, 3, 7, 11, 15);
-  const V8 wx4567 = __builtin_shufflevector(q45, q67, 0, 4, 8, 12, 1, 5, 9, 13);
-  const V8 yz4567 = __builtin_shufflevector(q45, q67, 2, 6, 10, 14, 3, 7, 11, 15);
-  const QuatColumns<V8> b{__builtin_shufflevector(wx0123, wx4567, 0, 1, 2, 3, 8, 9, 10, 11),
-                          __builtin_shufflevector(wx0123, wx4567, 4, 5, 6, 7, 12, 13, 14, 15),
-                          __builtin_shufflevector(yz0123, yz4567, 0, 1, 2, 3, 8, 9, 10, 11),
-                          __builtin_shufflevector(yz0123, yz4567, 4, 5, 6, 7, 12, 13, 14, 15)};
-  QuatColumns<V8> p = cayley_lanes(hx, hy, hz, b);
+  const lanes8::Columns4 b = lanes8::load_quats(r.q + k);
+  QuatColumns<V8> p =
+      cayley_lanes(lanes8::join(low.x, high.x), lanes8::join(low.y, high.y),
+                   lanes8::join(low.z, high.z), QuatColumns<V8>{b.w, b.x, b.y, b.z});
   if (r.turning) p = {turns ? p.w : b.w, turns ? p.x : b.x, turns ? p.y : b.y, turns ? p.z : b.z};
-  const V8 wx_low = __builtin_shufflevector(p.w, p.x, 0, 1, 2, 3, 8, 9, 10, 11);
-  const V8 wx_high = __builtin_shufflevector(p.w, p.x, 4, 5, 6, 7, 12, 13, 14, 15);
-  const V8 yz_low = __builtin_shufflevector(p.y, p.z, 0, 1, 2, 3, 8, 9, 10, 11);
-  const V8 yz_high = __builtin_shufflevector(p.y, p.z, 4, 5, 6, 7, 12, 13, 14, 15);
-  q01 = __builtin_shufflevector(wx_low, yz_low, 0, 4, 8, 12, 1, 5, 9, 13);
-  q23 = __builtin_shufflevector(wx_low, yz_low, 2, 6, 10, 14, 3, 7, 11, 15);
-  q45 = __builtin_shufflevector(wx_high, yz_high, 0, 4, 8, 12, 1, 5, 9, 13);
-  q67 = __builtin_shufflevector(wx_high, yz_high, 2, 6, 10, 14, 3, 7, 11, 15);
-  std::memcpy(q, &q01, sizeof q01);
-  std::memcpy(q + 8, &q23, sizeof q23);
-  std::memcpy(q + 16, &q45, sizeof q45);
-  std::memcpy(q + 24, &q67, sizeof q67);
+  lanes8::store_quats(r.q + k, {p.w, p.x, p.y, p.z});
 }
 
 /// The drift over owned particles [begin, end), with the orientation update compiled in or
@@ -447,16 +417,23 @@ Integrator::Drift Integrator::first_half(ParticleStore& p, double dt, const Vec3
 
 namespace {
 
-/// The Cundall load of each component of four rows of loads against their velocities
-/// (damping_component, lane by lane), taken off where the particle is damped; the velocities
-/// take their kick from the damped loads, and `power` gets each component's damping power at
-/// the new velocity.
-inline void damp_and_kick(V4& load, V4& velocity, const V4& alpha, const V4& factor, V4& power) {
-  const V4 zero{}, one = lanes::splat(1.0);
-  const V4 sign =
-      lanes::select(velocity > zero, one, zero) - lanes::select(velocity < zero, one, zero);
-  const V4 df = alpha * lanes::abs(load) * sign;
-  const V4 g = lanes::select(alpha != zero, load - df, load);
+inline V4 magnitude(const V4& a) {
+  return lanes::abs(a);
+}
+inline lanes8::V8 magnitude(const lanes8::V8& a) {
+  return lanes8::abs(a);
+}
+
+/// The Cundall load of each component of a register of rows of loads against their velocities
+/// (damping_component, lane by lane; four lanes or eight), taken off where the particle is
+/// damped; the velocities take their kick from the damped loads, and `power` gets each
+/// component's damping power at the new velocity.
+template <class V>
+inline void damp_and_kick(V& load, V& velocity, const V& alpha, const V& factor, V& power) {
+  const V zero{}, one = zero + 1.0;
+  const V sign = (velocity > zero ? one : zero) - (velocity < zero ? one : zero);
+  const V df = alpha * magnitude(load) * sign;
+  const V g = alpha != zero ? load - df : load;
   load = g;
   velocity = velocity + g * factor;
   power = df * velocity;
@@ -495,6 +472,47 @@ inline void damped_kick_four(const ParticleRows& r, std::size_t k, double dt, Ha
   lanes::store(r.power + k, lanes::select(on, q, lanes::select(power != zero, zero, power)));
 }
 
+/// damped_kick_four() of eight particles from k at once (core/Lanes8.hpp): the same
+/// operations lane by lane, the same bits; the factors of its two fours go to keep[0] and
+/// keep[1] where `keep` is not null.
+inline void damped_kick_eight(const ParticleRows& r, std::size_t k, double dt, HalfKicks* keep) {
+  using lanes8::V8;
+  const V8 zero{}, one = lanes8::splat(1.0);
+  // kick_factors() lane by lane.
+  const V8 free =
+      lanes8::from_bytes(reinterpret_cast<const std::uint8_t*>(r.motion + k)) == zero ? one : zero;
+  const V8 mass = lanes8::load(r.mass + k), radius = lanes8::load(r.radius + k);
+  const V8 free_half = free * (0.5 * dt);
+  const V8 kick_factor = free_half / mass;
+  const V8 turn_factor = free_half / (0.4 * mass * radius * radius);
+  if (keep) {
+    keep[0] = {lanes8::low(kick_factor), lanes8::low(turn_factor)};
+    keep[1] = {lanes8::high(kick_factor), lanes8::high(turn_factor)};
+  }
+  const V8 alpha_lanes = lanes8::load(r.alpha + k);
+  const lanes8::Rows3 alpha = lanes8::spread(alpha_lanes), kick = lanes8::spread(kick_factor),
+                      turn = lanes8::spread(turn_factor);
+  lanes8::Rows3 force = lanes8::load_rows(r.force + k), v = lanes8::load_rows(r.v + k);
+  lanes8::Rows3 torque = lanes8::load_rows(r.torque + k), w = lanes8::load_rows(r.w + k);
+  lanes8::Rows3 force_power, torque_power;
+  damp_and_kick(force.a, v.a, alpha.a, kick.a, force_power.a);
+  damp_and_kick(force.b, v.b, alpha.b, kick.b, force_power.b);
+  damp_and_kick(force.c, v.c, alpha.c, kick.c, force_power.c);
+  damp_and_kick(torque.a, w.a, alpha.a, turn.a, torque_power.a);
+  damp_and_kick(torque.b, w.b, alpha.b, turn.b, torque_power.b);
+  damp_and_kick(torque.c, w.c, alpha.c, turn.c, torque_power.c);
+  lanes8::store_rows(r.force + k, force);
+  lanes8::store_rows(r.torque + k, torque);
+  lanes8::store_rows(r.v + k, v);
+  lanes8::store_rows(r.w + k, w);
+  if (r.dissipated == nullptr) return;
+  const V8 q = free * (lanes8::component_sum(force_power) + lanes8::component_sum(torque_power));
+  const lanes8::Mask8 on = alpha_lanes != zero;
+  const V8 dissipated = lanes8::load(r.dissipated + k), power = lanes8::load(r.power + k);
+  lanes8::store(r.dissipated + k, on ? dissipated + q * dt : dissipated);
+  lanes8::store(r.power + k, on ? q : (power != zero ? zero : power));
+}
+
 /// The undamped second half kick of four particles from k; its factors go to `keep` where it
 /// is not null.
 inline void kick_four(const ParticleRows& r, std::size_t k, double dt, HalfKicks* keep) {
@@ -524,8 +542,11 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
     for (std::size_t k = begin; k < end; ++k)
       damped_count += select_bits(r.alpha[k] != 0.0, 1.0, 0.0);
   if (damped_count > 0.0) {
-    for_each_four(r, begin, end, [&](const ParticleRows& rows, std::size_t k, std::size_t group) {
-      damped_kick_four(rows, k, dt, kept(group));
+    std::size_t k = begin, group = 0;
+    for (; k + 8 <= end; k += 8, group += 2)
+      damped_kick_eight(r, k, dt, kept(group));
+    for_each_four(r, k, end, [&](const ParticleRows& rows, std::size_t four, std::size_t g) {
+      damped_kick_four(rows, four, dt, kept(group + g));
     });
     return;
   }

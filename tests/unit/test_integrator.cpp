@@ -123,8 +123,10 @@ ParticleStore mixed_particles(std::size_t n, bool damped, bool ledger, bool turn
     np.motion = k % 5 == 3 ? Motion::kFixed : (k % 7 == 5 ? Motion::kPrescribed : Motion::kFree);
     if (np.motion == Motion::kFixed) np.velocity = np.omega = {};
     const std::size_t i = p.add(np);
-    p.force[i] = {0.3 * std::cos(a), -0.1 * a, 0.0};
-    p.torque[i] = {1e-4 * a, -2e-4, 0.0};
+    // Every component loaded and different from particle to particle, so that a lane or a
+    // component that takes its neighbour's factor changes a bit.
+    p.force[i] = {0.3 * std::cos(a), -0.1 * a, 0.05 + 0.02 * a};
+    p.torque[i] = {1e-4 * a, -2e-4, 3e-5 * std::cos(2.0 * a)};
     if (ledger) {
       p.dissipated_global[i] = 0.01 * a;
       p.power_global[i] = k % 4 == 2 ? 0.5 : 0.0;
