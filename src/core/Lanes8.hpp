@@ -61,6 +61,10 @@ inline V8 from_bytes(const std::uint8_t* p) {
 struct Rows3 {
   V8 a, b, c;
 };
+/// The same eight vectors as columns: x = (x0 ... x7), and so on.
+struct Columns3 {
+  V8 x, y, z;
+};
 
 inline Rows3 load_rows(const Vec3* r) {
   const double* const p = &r->x;
@@ -80,15 +84,31 @@ inline Rows3 spread(const V8& f) {
           __builtin_shufflevector(f, f, 5, 5, 6, 6, 6, 7, 7, 7)};
 }
 
-/// Per lane: x + y + z of its row, left to right (lanes::component_sum).
-inline V8 component_sum(const Rows3& r) {
+/// A vector's components in the layout of eight rows.
+inline Rows3 rows_of(const Vec3& v) {
+  return {V8{v.x, v.y, v.z, v.x, v.y, v.z, v.x, v.y}, V8{v.z, v.x, v.y, v.z, v.x, v.y, v.z, v.x},
+          V8{v.y, v.z, v.x, v.y, v.z, v.x, v.y, v.z}};
+}
+
+inline Columns3 columns(const Rows3& r) {
   // The first six of each column lie in a and b, the last two in c.
   const V8 x = __builtin_shufflevector(r.a, r.b, 0, 3, 6, 9, 12, 15, 15, 15);
   const V8 y = __builtin_shufflevector(r.a, r.b, 1, 4, 7, 10, 13, 13, 13, 13);
   const V8 z = __builtin_shufflevector(r.a, r.b, 2, 5, 8, 11, 14, 14, 14, 14);
-  return __builtin_shufflevector(x, r.c, 0, 1, 2, 3, 4, 5, 10, 13) +
-         __builtin_shufflevector(y, r.c, 0, 1, 2, 3, 4, 8, 11, 14) +
-         __builtin_shufflevector(z, r.c, 0, 1, 2, 3, 4, 9, 12, 15);
+  return {__builtin_shufflevector(x, r.c, 0, 1, 2, 3, 4, 5, 10, 13),
+          __builtin_shufflevector(y, r.c, 0, 1, 2, 3, 4, 8, 11, 14),
+          __builtin_shufflevector(z, r.c, 0, 1, 2, 3, 4, 9, 12, 15)};
+}
+
+/// Per lane: x^2 + y^2 + z^2 of its row, in norm2's order.
+inline V8 norm2(const Columns3& c) {
+  return c.x * c.x + c.y * c.y + c.z * c.z;
+}
+
+/// Per lane: x + y + z of its row, left to right (lanes::component_sum).
+inline V8 component_sum(const Rows3& r) {
+  const Columns3 c = columns(r);
+  return c.x + c.y + c.z;
 }
 
 /// Eight quaternions as columns.

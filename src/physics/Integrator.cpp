@@ -36,23 +36,6 @@ inline Vec3 damping_load(const Vec3& f, const Vec3& v, double alpha) {
           damping_component(f.z, v.z, alpha)};
 }
 
-/// q <- dq(omega dt) q, the Cayley update (cayley_turned): for |omega dt| ~ 1e-5 the angle
-/// error against the exponential map is ~1e-11 relative; time-reversible.
-inline Quat rotated(const Quat& q, const Vec3& omega, double dt) {
-  return cayley_turned(q, omega * (0.5 * dt));
-}
-
-/// Angular velocity update of a rigid body with principal inertia I (body frame).
-inline void kick_rotation(RigidBody& b, double half_dt) {
-  const Mat3 r = rotation_matrix(b.orientation);
-  const Vec3 w_body = r.transpose_times(b.omega);
-  const Vec3& i = b.principal_inertia;
-  const Vec3 l_body{w_body.x * i.x, w_body.y * i.y, w_body.z * i.z};
-  const Vec3 l = r * l_body + b.torque * half_dt;
-  const Vec3 l_new = r.transpose_times(l);
-  b.omega = r * Vec3{l_new.x / i.x, l_new.y / i.y, l_new.z / i.z};
-}
-
 }  // namespace
 
 // The particle passes run four particles at a time (core/Lanes4.hpp): the Vec3 columns are
@@ -328,6 +311,56 @@ inline void turn_eight(const ParticleRows& r, std::size_t k, const Columns3& low
   lanes8::store_quats(r.q + k, {p.w, p.x, p.y, p.z});
 }
 
+/// drift_four() of eight particles from k at once (core/Lanes8.hpp): the same operations lane
+/// by lane, the same bits. `kept` (two fours' factors) as there; `turn`, where not null, gets
+/// the half turns of the first four and turn + 1 those of the second.
+inline void drift_eight(const ParticleRows& r, std::size_t k, double dt,
+                        const lanes8::Rows3& gravity, const HalfKicks* kept, V4& max_v2, V4& max_w2,
+                        Columns3* turn) {
+  using lanes8::V8;
+  const double half = 0.5 * dt;
+  V8 kick, spin;
+  if (kept) {
+    kick = lanes8::join(kept[0].kick, kept[1].kick);
+    spin = lanes8::join(kept[0].turn, kept[1].turn);
+  } else {
+    const KickFactors first = kick_factors(r, k, half), second = kick_factors(r, k + 4, half);
+    kick = lanes8::join(first.kick, second.kick);
+    spin = lanes8::join(first.turn, second.turn);
+  }
+  const V8 zero{}, one = lanes8::splat(1.0);
+  const V8 kind = lanes8::from_bytes(reinterpret_cast<const std::uint8_t*>(r.motion + k));
+  const V8 moving = kind != one ? one : zero;  // motion_lanes()
+  lanes8::Rows3 v = lanes8::load_rows(r.v + k), w = lanes8::load_rows(r.w + k);
+  lanes8::Rows3 x = lanes8::load_rows(r.x + k);
+  const lanes8::Rows3 force = lanes8::load_rows(r.force + k),
+                      torque = lanes8::load_rows(r.torque + k);
+  const lanes8::Rows3 kicks = lanes8::spread(kick), spins = lanes8::spread(spin);
+  v = {v.a + force.a * kicks.a, v.b + force.b * kicks.b, v.c + force.c * kicks.c};  // F dt/2m
+  w = {w.a + torque.a * spins.a, w.b + torque.b * spins.b, w.c + torque.c * spins.c};
+  const lanes8::Rows3 step = lanes8::spread(moving * dt);
+  x = {x.a + v.a * step.a, x.b + v.b * step.b, x.c + v.c * step.c};  // x += v dt
+  lanes8::store_rows(r.v + k, v);
+  lanes8::store_rows(r.w + k, w);
+  lanes8::store_rows(r.x + k, x);
+  const lanes8::Rows3 mass = lanes8::spread(lanes8::load(r.mass + k));
+  lanes8::store_rows(r.force + k, {gravity.a * mass.a, gravity.b * mass.b, gravity.c * mass.c});
+  lanes8::store_rows(r.torque + k, {zero, zero, zero});
+  // The largest squared speeds, as drift_four() keeps them, one four after the other.
+  const V4 infinite = lanes::splat(std::numeric_limits<double>::infinity());
+  const lanes8::Columns3 wc = lanes8::columns(w);
+  const V8 v2 = lanes8::norm2(lanes8::columns(v)), w2 = lanes8::norm2(wc);
+  for (const V4& a : {lanes8::low(v2), lanes8::high(v2)})
+    max_v2 = lanes::select(a <= max_v2, max_v2, lanes::select(a == a, a, infinite));
+  for (const V4& a : {lanes8::low(w2), lanes8::high(w2)})
+    max_w2 = lanes::select(a <= max_w2, max_w2, lanes::select(a == a, a, infinite));
+  if (turn) {
+    const V8 hx = wc.x * moving * half, hy = wc.y * moving * half, hz = wc.z * moving * half;
+    turn[0] = {lanes8::low(hx), lanes8::low(hy), lanes8::low(hz)};
+    turn[1] = {lanes8::high(hx), lanes8::high(hy), lanes8::high(hz)};
+  }
+}
+
 /// The drift over owned particles [begin, end), with the orientation update compiled in or
 /// out; raises `m` to the largest squared speeds it saw. `kept`: the second half kick's
 /// factors of each four from begin, or null.
@@ -339,6 +372,7 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
   const Rows3 gravity_rows{V4{gravity.x, gravity.y, gravity.z, gravity.x},
                            V4{gravity.y, gravity.z, gravity.x, gravity.y},
                            V4{gravity.z, gravity.x, gravity.y, gravity.z}};
+  const lanes8::Rows3 gravity_eight = lanes8::rows_of(gravity);
   V4 max_v2 = lanes::splat(m.max_v2), max_w2 = lanes::splat(m.max_w2);
   ParticleRows rows = rows_of(p);
   rows.turning = turning;
@@ -353,12 +387,17 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
   for (std::size_t c = begin; c < end; c += kTurnChunk) {
     const std::size_t c_end = std::min(end, c + kTurnChunk);
     const HalfKicks* const chunk_kept = kept ? kept + (c - begin) / 4 : nullptr;
-    for_each_four(rows, c, c_end, [&](const ParticleRows& r, std::size_t k, std::size_t group) {
-      drift_four(r, k, dt, gravity_rows, chunk_kept ? chunk_kept + group : nullptr, max_v2, max_w2,
-                 kTurn ? turns + group : nullptr);
+    std::size_t k = c, group = 0;
+    for (; k + 8 <= c_end; k += 8, group += 2)
+      drift_eight(rows, k, dt, gravity_eight, chunk_kept ? chunk_kept + group : nullptr, max_v2,
+                  max_w2, kTurn ? turns + group : nullptr);
+    for_each_four(rows, k, c_end, [&](const ParticleRows& r, std::size_t four, std::size_t g) {
+      drift_four(r, four, dt, gravity_rows, chunk_kept ? chunk_kept + group + g : nullptr, max_v2,
+                 max_w2, kTurn ? turns + group + g : nullptr);
     });
     if constexpr (kTurn) {
-      std::size_t k = c, group = 0;
+      k = c;
+      group = 0;
       for (; k + 8 <= c_end; k += 8, group += 2)
         turn_eight(rows, k, turns[group], turns[group + 1]);
       for_each_four(rows, k, c_end, [&](const ParticleRows& r, std::size_t four, std::size_t g) {
@@ -594,30 +633,6 @@ Integrator::Drift Integrator::second_then_first_half(
     drift_range(p, begin, end, dt, gravity, turning, kept.data(), m);
   }
   return drift_result(p, m, dt, max_step, max_turn);
-}
-
-void Integrator::first_half(std::vector<RigidBody>& bodies, double dt, const Vec3& gravity) {
-  const double half = 0.5 * dt;
-  for (auto& b : bodies) {
-    if (b.motion == Motion::kFixed) continue;
-    if (b.motion == Motion::kFree) {
-      const Vec3 f = b.force + (b.gravity ? gravity * b.mass : Vec3{});
-      b.velocity += f * (half / b.mass);
-      kick_rotation(b, half);
-    }
-    b.position += b.velocity * dt;
-    b.orientation = rotated(b.orientation, b.omega, dt);
-  }
-}
-
-void Integrator::second_half(std::vector<RigidBody>& bodies, double dt, const Vec3& gravity) {
-  const double half = 0.5 * dt;
-  for (auto& b : bodies) {
-    if (b.motion != Motion::kFree) continue;
-    const Vec3 f = b.force + (b.gravity ? gravity * b.mass : Vec3{});
-    b.velocity += f * (half / b.mass);
-    kick_rotation(b, half);
-  }
 }
 
 void apply_global_damping(ParticleStore& p, double dt) {
