@@ -478,17 +478,62 @@ inline void damp_and_kick(V& load, V& velocity, const V& alpha, const V& factor,
   power = df * velocity;
 }
 
-/// The damped second half kick of four particles from k, with the ledger's global-damping
-/// columns where the store keeps them; its factors go to `keep` where it is not null.
-inline void damped_kick_four(const ParticleRows& r, std::size_t k, double dt, HalfKicks* keep) {
-  const KickFactors f = kick_factors(r, k, 0.5 * dt);
-  if (keep) *keep = {f.kick, f.turn};
-  const V4 alpha_lanes = lanes::load(r.alpha + k);
-  const Rows3 alpha = lanes::spread(alpha_lanes), kick = lanes::spread(f.kick),
-              turn = lanes::spread(f.turn);
-  Rows3 force = lanes::load_rows(r.force + k), v = lanes::load_rows(r.v + k);
-  Rows3 torque = lanes::load_rows(r.torque + k), w = lanes::load_rows(r.w + k);
-  Rows3 force_power, torque_power;
+/// The operations the damped kick needs, on four lanes (core/Lanes4.hpp) or eight
+/// (core/Lanes8.hpp), so that it is written once for both widths.
+struct FourLanes {
+  using V = V4;
+  using Rows = Rows3;
+  static V load(const double* p) { return lanes::load(p); }
+  static void store(double* p, const V& v) { lanes::store(p, v); }
+  static V kinds(const Motion* m) {
+    return lanes::from_bytes(reinterpret_cast<const std::uint8_t*>(m));
+  }
+  static Rows load_rows(const Vec3* p) { return lanes::load_rows(p); }
+  static void store_rows(Vec3* p, const Rows& r) { lanes::store_rows(p, r); }
+  static Rows spread(const V& f) { return lanes::spread(f); }
+  static V component_sum(const Rows& r) { return lanes::component_sum(r); }
+  /// The kick's factors for the drift, one HalfKicks a four.
+  static void keep(HalfKicks* keep, const V& kick, const V& turn) { *keep = {kick, turn}; }
+};
+struct EightLanes {
+  using V = lanes8::V8;
+  using Rows = lanes8::Rows3;
+  static V load(const double* p) { return lanes8::load(p); }
+  static void store(double* p, const V& v) { lanes8::store(p, v); }
+  static V kinds(const Motion* m) {
+    return lanes8::from_bytes(reinterpret_cast<const std::uint8_t*>(m));
+  }
+  static Rows load_rows(const Vec3* p) { return lanes8::load_rows(p); }
+  static void store_rows(Vec3* p, const Rows& r) { lanes8::store_rows(p, r); }
+  static Rows spread(const V& f) { return lanes8::spread(f); }
+  static V component_sum(const Rows& r) { return lanes8::component_sum(r); }
+  static void keep(HalfKicks* keep, const V& kick, const V& turn) {
+    keep[0] = {lanes8::low(kick), lanes8::low(turn)};
+    keep[1] = {lanes8::high(kick), lanes8::high(turn)};
+  }
+};
+
+/// The damped second half kick of the four or eight particles (Lanes) from k, with the
+/// ledger's global-damping columns where the store keeps them; its factors go to `keep` (one
+/// HalfKicks a four) where it is not null.
+template <class Lanes>
+inline void damped_kick(const ParticleRows& r, std::size_t k, double dt, HalfKicks* keep) {
+  using V = typename Lanes::V;
+  using Rows = typename Lanes::Rows;
+  const V zero{}, one = zero + 1.0;
+  // kick_factors() lane by lane.
+  const V free = Lanes::kinds(r.motion + k) == zero ? one : zero;
+  const V mass = Lanes::load(r.mass + k), radius = Lanes::load(r.radius + k);
+  const V free_half = free * (0.5 * dt);
+  const V kick_factor = free_half / mass;
+  const V turn_factor = free_half / (0.4 * mass * radius * radius);  // sphere_inertia's order
+  if (keep) Lanes::keep(keep, kick_factor, turn_factor);
+  const V alpha_lanes = Lanes::load(r.alpha + k);
+  const Rows alpha = Lanes::spread(alpha_lanes), kick = Lanes::spread(kick_factor),
+             turn = Lanes::spread(turn_factor);
+  Rows force = Lanes::load_rows(r.force + k), v = Lanes::load_rows(r.v + k);
+  Rows torque = Lanes::load_rows(r.torque + k), w = Lanes::load_rows(r.w + k);
+  Rows force_power, torque_power;
   damp_and_kick(force.a, v.a, alpha.a, kick.a, force_power.a);
   damp_and_kick(force.b, v.b, alpha.b, kick.b, force_power.b);
   damp_and_kick(force.c, v.c, alpha.c, kick.c, force_power.c);
@@ -496,60 +541,18 @@ inline void damped_kick_four(const ParticleRows& r, std::size_t k, double dt, Ha
   damp_and_kick(torque.b, w.b, alpha.b, turn.b, torque_power.b);
   damp_and_kick(torque.c, w.c, alpha.c, turn.c, torque_power.c);
   // The damped loads stay for the next step.
-  lanes::store_rows(r.force + k, force);
-  lanes::store_rows(r.torque + k, torque);
-  lanes::store_rows(r.v + k, v);
-  lanes::store_rows(r.w + k, w);
+  Lanes::store_rows(r.force + k, force);
+  Lanes::store_rows(r.torque + k, torque);
+  Lanes::store_rows(r.v + k, v);
+  Lanes::store_rows(r.w + k, w);
   if (r.dissipated == nullptr) return;
   // Energy ledger: the power the Cundall loads take out, at the synchronised velocity v^{n+1}
   // just computed (docs/physics.md "Energy ledger").
-  const V4 zero{};
-  const V4 q = f.free * (lanes::component_sum(force_power) + lanes::component_sum(torque_power));
+  const V q = free * (Lanes::component_sum(force_power) + Lanes::component_sum(torque_power));
   const auto on = alpha_lanes != zero;
-  const V4 dissipated = lanes::load(r.dissipated + k), power = lanes::load(r.power + k);
-  lanes::store(r.dissipated + k, lanes::select(on, dissipated + q * dt, dissipated));
-  lanes::store(r.power + k, lanes::select(on, q, lanes::select(power != zero, zero, power)));
-}
-
-/// damped_kick_four() of eight particles from k at once (core/Lanes8.hpp): the same
-/// operations lane by lane, the same bits; the factors of its two fours go to keep[0] and
-/// keep[1] where `keep` is not null.
-inline void damped_kick_eight(const ParticleRows& r, std::size_t k, double dt, HalfKicks* keep) {
-  using lanes8::V8;
-  const V8 zero{}, one = lanes8::splat(1.0);
-  // kick_factors() lane by lane.
-  const V8 free =
-      lanes8::from_bytes(reinterpret_cast<const std::uint8_t*>(r.motion + k)) == zero ? one : zero;
-  const V8 mass = lanes8::load(r.mass + k), radius = lanes8::load(r.radius + k);
-  const V8 free_half = free * (0.5 * dt);
-  const V8 kick_factor = free_half / mass;
-  const V8 turn_factor = free_half / (0.4 * mass * radius * radius);
-  if (keep) {
-    keep[0] = {lanes8::low(kick_factor), lanes8::low(turn_factor)};
-    keep[1] = {lanes8::high(kick_factor), lanes8::high(turn_factor)};
-  }
-  const V8 alpha_lanes = lanes8::load(r.alpha + k);
-  const lanes8::Rows3 alpha = lanes8::spread(alpha_lanes), kick = lanes8::spread(kick_factor),
-                      turn = lanes8::spread(turn_factor);
-  lanes8::Rows3 force = lanes8::load_rows(r.force + k), v = lanes8::load_rows(r.v + k);
-  lanes8::Rows3 torque = lanes8::load_rows(r.torque + k), w = lanes8::load_rows(r.w + k);
-  lanes8::Rows3 force_power, torque_power;
-  damp_and_kick(force.a, v.a, alpha.a, kick.a, force_power.a);
-  damp_and_kick(force.b, v.b, alpha.b, kick.b, force_power.b);
-  damp_and_kick(force.c, v.c, alpha.c, kick.c, force_power.c);
-  damp_and_kick(torque.a, w.a, alpha.a, turn.a, torque_power.a);
-  damp_and_kick(torque.b, w.b, alpha.b, turn.b, torque_power.b);
-  damp_and_kick(torque.c, w.c, alpha.c, turn.c, torque_power.c);
-  lanes8::store_rows(r.force + k, force);
-  lanes8::store_rows(r.torque + k, torque);
-  lanes8::store_rows(r.v + k, v);
-  lanes8::store_rows(r.w + k, w);
-  if (r.dissipated == nullptr) return;
-  const V8 q = free * (lanes8::component_sum(force_power) + lanes8::component_sum(torque_power));
-  const lanes8::Mask8 on = alpha_lanes != zero;
-  const V8 dissipated = lanes8::load(r.dissipated + k), power = lanes8::load(r.power + k);
-  lanes8::store(r.dissipated + k, on ? dissipated + q * dt : dissipated);
-  lanes8::store(r.power + k, on ? q : (power != zero ? zero : power));
+  const V dissipated = Lanes::load(r.dissipated + k), power = Lanes::load(r.power + k);
+  Lanes::store(r.dissipated + k, on ? dissipated + q * dt : dissipated);
+  Lanes::store(r.power + k, on ? q : (power != zero ? zero : power));
 }
 
 /// The undamped second half kick of four particles from k; its factors go to `keep` where it
@@ -583,9 +586,9 @@ void second_half_chunk(ParticleStore& p, std::size_t begin, std::size_t end, dou
   if (damped_count > 0.0) {
     std::size_t k = begin, group = 0;
     for (; k + 8 <= end; k += 8, group += 2)
-      damped_kick_eight(r, k, dt, kept(group));
+      damped_kick<EightLanes>(r, k, dt, kept(group));
     for_each_four(r, k, end, [&](const ParticleRows& rows, std::size_t four, std::size_t g) {
-      damped_kick_four(rows, four, dt, kept(group + g));
+      damped_kick<FourLanes>(rows, four, dt, kept(group + g));
     });
     return;
   }
