@@ -207,43 +207,132 @@ inline void add_scaled(Rows3& a, const Rows3& b, const Rows3& s) {
   a.c += b.c * s.c;
 }
 
-/// The drift of four particles from k: v += F dt/2m, omega += T dt/2I, x += v dt, the next
-/// step's initial loads (F = m g, T = 0; GatherMap::initialise_loads) and the largest squared
-/// speeds per lane.
-/// `kept`: the factors of this step's second half kick (kick_factors() otherwise). `turn`, where
-/// not null, gets the half turns h = omega moving dt/2 as columns for turn_four().
-inline void drift_four(const ParticleRows& r, std::size_t k, double dt, const Rows3& gravity,
-                       const HalfKicks* kept, V4& max_v2, V4& max_w2, Columns3* turn) {
-  const double half = 0.5 * dt;
-  HalfKicks f;
-  if (kept) {
-    f = *kept;
-  } else {
-    const KickFactors computed = kick_factors(r, k, half);
-    f = {computed.kick, computed.turn};
+/// The operations the drift and the damped kick need, on four lanes (core/Lanes4.hpp) or eight
+/// (core/Lanes8.hpp), so that each is written once for both widths.
+struct FourLanes {
+  using V = V4;
+  using Rows = Rows3;
+  static V load(const double* p) { return lanes::load(p); }
+  static void store(double* p, const V& v) { lanes::store(p, v); }
+  static V kinds(const Motion* m) {
+    return lanes::from_bytes(reinterpret_cast<const std::uint8_t*>(m));
   }
-  const V4 moving = motion_lanes(r.motion + k).moving;
-  Rows3 v = lanes::load_rows(r.v + k), w = lanes::load_rows(r.w + k);
-  Rows3 x = lanes::load_rows(r.x + k);
-  add_scaled(v, lanes::load_rows(r.force + k), lanes::spread(f.kick));   // v += F dt/2m
-  add_scaled(w, lanes::load_rows(r.torque + k), lanes::spread(f.turn));  // omega += T dt/2I
-  add_scaled(x, v, lanes::spread(moving * dt));                          // x += v dt
-  lanes::store_rows(r.v + k, v);
-  lanes::store_rows(r.w + k, w);
-  lanes::store_rows(r.x + k, x);
-  const Rows3 mass = lanes::spread(lanes::load(r.mass + k));
-  lanes::store_rows(r.force + k, {gravity.a * mass.a, gravity.b * mass.b, gravity.c * mass.c});
-  const V4 zero{};
-  lanes::store_rows(r.torque + k, {zero, zero, zero});
+  static Rows load_rows(const Vec3* p) { return lanes::load_rows(p); }
+  static void store_rows(Vec3* p, const Rows& r) { lanes::store_rows(p, r); }
+  static Rows spread(const V& f) { return lanes::spread(f); }
+  static V component_sum(const Rows& r) { return lanes::component_sum(r); }
+  using Columns = Columns3;
+  static Columns columns(const Rows& r) { return lanes::columns(r); }
+  static V norm2(const Columns& c) { return lanes::norm2(c); }
+  /// The components of a vector in the layout of the rows.
+  static Rows rows_of(const Vec3& g) {
+    return {V4{g.x, g.y, g.z, g.x}, V4{g.y, g.z, g.x, g.y}, V4{g.z, g.x, g.y, g.z}};
+  }
+  /// The kick's factors for the drift, one HalfKicks a four, and back.
+  static void keep(HalfKicks* keep, const V& kick, const V& turn) { *keep = {kick, turn}; }
+  static void kept(const HalfKicks* kept, V& kick, V& turn) {
+    kick = kept->kick;
+    turn = kept->turn;
+  }
+  /// kick_factors() of the lanes from k.
+  static void factors(const ParticleRows& r, std::size_t k, double half, V& kick, V& turn) {
+    const KickFactors f = kick_factors(r, k, half);
+    kick = f.kick;
+    turn = f.turn;
+  }
+  /// Raises the largest squared speeds of four lanes by the lanes' (NaN: infinite).
+  static void raise(V4& max, const V& a) {
+    const V4 infinite = lanes::splat(std::numeric_limits<double>::infinity());
+    max = lanes::select(a <= max, max, lanes::select(a == a, a, infinite));
+  }
+  /// The half turns for the orientation pass, one Columns3 a four.
+  static void hand_turns(Columns3* turn, const V& hx, const V& hy, const V& hz) {
+    *turn = {hx, hy, hz};
+  }
+};
+struct EightLanes {
+  using V = lanes8::V8;
+  using Rows = lanes8::Rows3;
+  static V load(const double* p) { return lanes8::load(p); }
+  static void store(double* p, const V& v) { lanes8::store(p, v); }
+  static V kinds(const Motion* m) {
+    return lanes8::from_bytes(reinterpret_cast<const std::uint8_t*>(m));
+  }
+  static Rows load_rows(const Vec3* p) { return lanes8::load_rows(p); }
+  static void store_rows(Vec3* p, const Rows& r) { lanes8::store_rows(p, r); }
+  static Rows spread(const V& f) { return lanes8::spread(f); }
+  static V component_sum(const Rows& r) { return lanes8::component_sum(r); }
+  using Columns = lanes8::Columns3;
+  static Columns columns(const Rows& r) { return lanes8::columns(r); }
+  static V norm2(const Columns& c) { return lanes8::norm2(c); }
+  static Rows rows_of(const Vec3& g) { return lanes8::rows_of(g); }
+  static void keep(HalfKicks* keep, const V& kick, const V& turn) {
+    keep[0] = {lanes8::low(kick), lanes8::low(turn)};
+    keep[1] = {lanes8::high(kick), lanes8::high(turn)};
+  }
+  static void kept(const HalfKicks* kept, V& kick, V& turn) {
+    kick = lanes8::join(kept[0].kick, kept[1].kick);
+    turn = lanes8::join(kept[0].turn, kept[1].turn);
+  }
+  static void factors(const ParticleRows& r, std::size_t k, double half, V& kick, V& turn) {
+    const KickFactors first = kick_factors(r, k, half), second = kick_factors(r, k + 4, half);
+    kick = lanes8::join(first.kick, second.kick);
+    turn = lanes8::join(first.turn, second.turn);
+  }
+  /// One four after the other, as FourLanes::raise().
+  static void raise(V4& max, const V& a) {
+    FourLanes::raise(max, lanes8::low(a));
+    FourLanes::raise(max, lanes8::high(a));
+  }
+  static void hand_turns(Columns3* turn, const V& hx, const V& hy, const V& hz) {
+    turn[0] = {lanes8::low(hx), lanes8::low(hy), lanes8::low(hz)};
+    turn[1] = {lanes8::high(hx), lanes8::high(hy), lanes8::high(hz)};
+  }
+};
+
+/// The drift of the four or eight particles (Lanes) from k: v += F dt/2m, omega += T dt/2I,
+/// x += v dt, the next step's initial loads (F = m g, T = 0; GatherMap::initialise_loads) and
+/// the largest squared speeds per lane of four.
+/// `kept`: the factors of this step's second half kick, one HalfKicks a four (kick_factors()
+/// otherwise). `turn`, where not null, gets the half turns h = omega moving dt/2 as columns
+/// for the orientation pass, one Columns3 a four.
+template <class Lanes>
+inline void drift(const ParticleRows& r, std::size_t k, double dt,
+                  const typename Lanes::Rows& gravity, const HalfKicks* kept, V4& max_v2,
+                  V4& max_w2, Columns3* turn) {
+  using V = typename Lanes::V;
+  using Rows = typename Lanes::Rows;
+  const double half = 0.5 * dt;
+  V kick, spin;
+  if (kept)
+    Lanes::kept(kept, kick, spin);
+  else
+    Lanes::factors(r, k, half, kick, spin);
+  const V zero{}, one = zero + 1.0;
+  const V moving = Lanes::kinds(r.motion + k) != one ? one : zero;  // motion_lanes()
+  Rows v = Lanes::load_rows(r.v + k), w = Lanes::load_rows(r.w + k);
+  Rows x = Lanes::load_rows(r.x + k);
+  const Rows force = Lanes::load_rows(r.force + k), torque = Lanes::load_rows(r.torque + k);
+  const Rows kicks = Lanes::spread(kick), spins = Lanes::spread(spin);
+  v = {v.a + force.a * kicks.a, v.b + force.b * kicks.b, v.c + force.c * kicks.c};  // F dt/2m
+  w = {w.a + torque.a * spins.a, w.b + torque.b * spins.b, w.c + torque.c * spins.c};
+  const Rows step = Lanes::spread(moving * dt);
+  x = {x.a + v.a * step.a, x.b + v.b * step.b, x.c + v.c * step.c};  // x += v dt
+  Lanes::store_rows(r.v + k, v);
+  Lanes::store_rows(r.w + k, w);
+  Lanes::store_rows(r.x + k, x);
+  const Rows mass = Lanes::spread(Lanes::load(r.mass + k));
+  Lanes::store_rows(r.force + k, {gravity.a * mass.a, gravity.b * mass.b, gravity.c * mass.c});
+  Lanes::store_rows(r.torque + k, {zero, zero, zero});
   // The largest squared speeds, scaled after the pass: scaling by a positive constant keeps the
   // order, so max(scaled) is the scaled max. NaN compares false: it counts as infinite.
-  const V4 infinite = lanes::splat(std::numeric_limits<double>::infinity());
-  const Columns3 wc = lanes::columns(w);
-  const V4 v2 = lanes::norm2(lanes::columns(v)), w2 = lanes::norm2(wc);
-  max_v2 = lanes::select(v2 <= max_v2, max_v2, lanes::select(v2 == v2, v2, infinite));
-  max_w2 = lanes::select(w2 <= max_w2, max_w2, lanes::select(w2 == w2, w2, infinite));
-  // The columns of omega are at hand here; turn_four() would load and transpose them again.
-  if (turn) *turn = {wc.x * moving * half, wc.y * moving * half, wc.z * moving * half};
+  const typename Lanes::Columns wc = Lanes::columns(w);
+  Lanes::raise(max_v2, Lanes::norm2(Lanes::columns(v)));
+  Lanes::raise(max_w2, Lanes::norm2(wc));
+  // The columns of omega are at hand here; the orientation pass would load and transpose them
+  // again.
+  if (turn)
+    Lanes::hand_turns(turn, wc.x * moving * half, wc.y * moving * half, wc.z * moving * half);
 }
 
 /// Quaternions as columns of lanes of type V (four or eight).
@@ -267,7 +356,7 @@ inline QuatColumns<V> cayley_lanes(const V& hx, const V& hy, const V& hz, const 
 }
 
 /// The orientation update of four particles from k with their new angular velocities (after
-/// drift_four, which left their half turns h = omega moving dt/2 as columns):
+/// drift(), which left their half turns h = omega moving dt/2 as columns):
 /// rotated(q, omega * moving, dt), cayley_turned() in its order: p = (1, h) q brought to unit
 /// norm by inverse_norm_near_one().
 inline void turn_four(const ParticleRows& r, std::size_t k, const Columns3& h) {
@@ -311,56 +400,6 @@ inline void turn_eight(const ParticleRows& r, std::size_t k, const Columns3& low
   lanes8::store_quats(r.q + k, {p.w, p.x, p.y, p.z});
 }
 
-/// drift_four() of eight particles from k at once (core/Lanes8.hpp): the same operations lane
-/// by lane, the same bits. `kept` (two fours' factors) as there; `turn`, where not null, gets
-/// the half turns of the first four and turn + 1 those of the second.
-inline void drift_eight(const ParticleRows& r, std::size_t k, double dt,
-                        const lanes8::Rows3& gravity, const HalfKicks* kept, V4& max_v2, V4& max_w2,
-                        Columns3* turn) {
-  using lanes8::V8;
-  const double half = 0.5 * dt;
-  V8 kick, spin;
-  if (kept) {
-    kick = lanes8::join(kept[0].kick, kept[1].kick);
-    spin = lanes8::join(kept[0].turn, kept[1].turn);
-  } else {
-    const KickFactors first = kick_factors(r, k, half), second = kick_factors(r, k + 4, half);
-    kick = lanes8::join(first.kick, second.kick);
-    spin = lanes8::join(first.turn, second.turn);
-  }
-  const V8 zero{}, one = lanes8::splat(1.0);
-  const V8 kind = lanes8::from_bytes(reinterpret_cast<const std::uint8_t*>(r.motion + k));
-  const V8 moving = kind != one ? one : zero;  // motion_lanes()
-  lanes8::Rows3 v = lanes8::load_rows(r.v + k), w = lanes8::load_rows(r.w + k);
-  lanes8::Rows3 x = lanes8::load_rows(r.x + k);
-  const lanes8::Rows3 force = lanes8::load_rows(r.force + k),
-                      torque = lanes8::load_rows(r.torque + k);
-  const lanes8::Rows3 kicks = lanes8::spread(kick), spins = lanes8::spread(spin);
-  v = {v.a + force.a * kicks.a, v.b + force.b * kicks.b, v.c + force.c * kicks.c};  // F dt/2m
-  w = {w.a + torque.a * spins.a, w.b + torque.b * spins.b, w.c + torque.c * spins.c};
-  const lanes8::Rows3 step = lanes8::spread(moving * dt);
-  x = {x.a + v.a * step.a, x.b + v.b * step.b, x.c + v.c * step.c};  // x += v dt
-  lanes8::store_rows(r.v + k, v);
-  lanes8::store_rows(r.w + k, w);
-  lanes8::store_rows(r.x + k, x);
-  const lanes8::Rows3 mass = lanes8::spread(lanes8::load(r.mass + k));
-  lanes8::store_rows(r.force + k, {gravity.a * mass.a, gravity.b * mass.b, gravity.c * mass.c});
-  lanes8::store_rows(r.torque + k, {zero, zero, zero});
-  // The largest squared speeds, as drift_four() keeps them, one four after the other.
-  const V4 infinite = lanes::splat(std::numeric_limits<double>::infinity());
-  const lanes8::Columns3 wc = lanes8::columns(w);
-  const V8 v2 = lanes8::norm2(lanes8::columns(v)), w2 = lanes8::norm2(wc);
-  for (const V4& a : {lanes8::low(v2), lanes8::high(v2)})
-    max_v2 = lanes::select(a <= max_v2, max_v2, lanes::select(a == a, a, infinite));
-  for (const V4& a : {lanes8::low(w2), lanes8::high(w2)})
-    max_w2 = lanes::select(a <= max_w2, max_w2, lanes::select(a == a, a, infinite));
-  if (turn) {
-    const V8 hx = wc.x * moving * half, hy = wc.y * moving * half, hz = wc.z * moving * half;
-    turn[0] = {lanes8::low(hx), lanes8::low(hy), lanes8::low(hz)};
-    turn[1] = {lanes8::high(hx), lanes8::high(hy), lanes8::high(hz)};
-  }
-}
-
 /// The drift over owned particles [begin, end), with the orientation update compiled in or
 /// out; raises `m` to the largest squared speeds it saw. `kept`: the second half kick's
 /// factors of each four from begin, or null.
@@ -369,10 +408,8 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
                  const Vec3& gravity, const std::uint8_t* turning, const HalfKicks* kept,
                  DriftMaxima& m) {
   // The components of gravity in the layout of four rows.
-  const Rows3 gravity_rows{V4{gravity.x, gravity.y, gravity.z, gravity.x},
-                           V4{gravity.y, gravity.z, gravity.x, gravity.y},
-                           V4{gravity.z, gravity.x, gravity.y, gravity.z}};
-  const lanes8::Rows3 gravity_eight = lanes8::rows_of(gravity);
+  const Rows3 gravity_rows = FourLanes::rows_of(gravity);
+  const lanes8::Rows3 gravity_eight = EightLanes::rows_of(gravity);
   V4 max_v2 = lanes::splat(m.max_v2), max_w2 = lanes::splat(m.max_w2);
   ParticleRows rows = rows_of(p);
   rows.turning = turning;
@@ -389,11 +426,11 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
     const HalfKicks* const chunk_kept = kept ? kept + (c - begin) / 4 : nullptr;
     std::size_t k = c, group = 0;
     for (; k + 8 <= c_end; k += 8, group += 2)
-      drift_eight(rows, k, dt, gravity_eight, chunk_kept ? chunk_kept + group : nullptr, max_v2,
-                  max_w2, kTurn ? turns + group : nullptr);
+      drift<EightLanes>(rows, k, dt, gravity_eight, chunk_kept ? chunk_kept + group : nullptr,
+                        max_v2, max_w2, kTurn ? turns + group : nullptr);
     for_each_four(rows, k, c_end, [&](const ParticleRows& r, std::size_t four, std::size_t g) {
-      drift_four(r, four, dt, gravity_rows, chunk_kept ? chunk_kept + group + g : nullptr, max_v2,
-                 max_w2, kTurn ? turns + group + g : nullptr);
+      drift<FourLanes>(r, four, dt, gravity_rows, chunk_kept ? chunk_kept + group + g : nullptr,
+                       max_v2, max_w2, kTurn ? turns + group + g : nullptr);
     });
     if constexpr (kTurn) {
       k = c;
@@ -477,41 +514,6 @@ inline void damp_and_kick(V& load, V& velocity, const V& alpha, const V& factor,
   velocity = velocity + g * factor;
   power = df * velocity;
 }
-
-/// The operations the damped kick needs, on four lanes (core/Lanes4.hpp) or eight
-/// (core/Lanes8.hpp), so that it is written once for both widths.
-struct FourLanes {
-  using V = V4;
-  using Rows = Rows3;
-  static V load(const double* p) { return lanes::load(p); }
-  static void store(double* p, const V& v) { lanes::store(p, v); }
-  static V kinds(const Motion* m) {
-    return lanes::from_bytes(reinterpret_cast<const std::uint8_t*>(m));
-  }
-  static Rows load_rows(const Vec3* p) { return lanes::load_rows(p); }
-  static void store_rows(Vec3* p, const Rows& r) { lanes::store_rows(p, r); }
-  static Rows spread(const V& f) { return lanes::spread(f); }
-  static V component_sum(const Rows& r) { return lanes::component_sum(r); }
-  /// The kick's factors for the drift, one HalfKicks a four.
-  static void keep(HalfKicks* keep, const V& kick, const V& turn) { *keep = {kick, turn}; }
-};
-struct EightLanes {
-  using V = lanes8::V8;
-  using Rows = lanes8::Rows3;
-  static V load(const double* p) { return lanes8::load(p); }
-  static void store(double* p, const V& v) { lanes8::store(p, v); }
-  static V kinds(const Motion* m) {
-    return lanes8::from_bytes(reinterpret_cast<const std::uint8_t*>(m));
-  }
-  static Rows load_rows(const Vec3* p) { return lanes8::load_rows(p); }
-  static void store_rows(Vec3* p, const Rows& r) { lanes8::store_rows(p, r); }
-  static Rows spread(const V& f) { return lanes8::spread(f); }
-  static V component_sum(const Rows& r) { return lanes8::component_sum(r); }
-  static void keep(HalfKicks* keep, const V& kick, const V& turn) {
-    keep[0] = {lanes8::low(kick), lanes8::low(turn)};
-    keep[1] = {lanes8::high(kick), lanes8::high(turn)};
-  }
-};
 
 /// The damped second half kick of the four or eight particles (Lanes) from k, with the
 /// ledger's global-damping columns where the store keeps them; its factors go to `keep` (one
