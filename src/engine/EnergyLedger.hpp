@@ -156,7 +156,7 @@ class EnergyLedger {
   /// moments_at(): a zeroed entry taken at the first call of a force evaluation, so that
   /// particles without contacts cost nothing here, neither time nor memory. An entry is an
   /// index (moments_at() of it holds until the next entry is taken), so that a kernel can take
-  /// the entries of a chunk of contacts first, prefetch them, and add to them after. Where
+  /// the entries of a chunk of contacts first and add to them after. Where
   /// nearly every owned particle had contacts in the last evaluation (a packing), entry k is
   /// particle k's own (direct): no index to look up, no list, and the pass after the step
   /// reads the entries in particle order.
@@ -171,11 +171,6 @@ class EnergyLedger {
     return entry;
   }
   ContactMoments& moments_at(std::uint32_t entry) { return moments_[entry]; }
-  /// Asks the cache for what moments_entry(k) will read (for a particle some contacts ahead).
-  void prefetch_entry(std::uint32_t k) const {
-    if (!own_entries_) __builtin_prefetch(&entry_of_[k]);
-  }
-  void prefetch_moments(std::uint32_t entry) const { __builtin_prefetch(&moments_[entry], 1); }
   /// How begin_step() keeps the entries: per particle (true), per touched particle (false), or
   /// chosen at each evaluation from how many were touched (nullopt, the default). The ledger
   /// is the same bits either way (tests/unit/test_ledger_entries.cpp); only memory and speed

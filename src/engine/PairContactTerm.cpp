@@ -231,8 +231,10 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             __builtin_prefetch(&p.material[ahead]);
             __builtin_prefetch(&loads.force[ahead], 1);
             __builtin_prefetch(&loads.torque[ahead], 1);
-            if constexpr (kBook)
-              if (loads.owned(ahead)) ledger.prefetch_entry(ahead);
+            // Written here, not in a helper: GCC 12 takes a function whose only effect is a
+            // prefetch for a pure one and deletes its calls (the ledger's entries had such
+            // helpers, which never issued a request; issued, they changed nothing measurable:
+            // docs/performance.md, thirty-third round).
           }
           const Vec3 d = position[b] - position[a];
           const double reach = radius[a] + radius[b];
@@ -246,17 +248,10 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
                     p.velocity[b], p.omega[a], p.omega[b],
                     ctx.materials.pair(p.material[a], p.material[b]), springs.take(m));
           if constexpr (kBook) {
-            // The ledger's entries now, in pair order (the order the scatter adds in), so that
-            // the scatter finds them in cache.
+            // The ledger's entries now, in pair order (the order the scatter adds in).
             const std::size_t c = chunk.n - 1;
-            if (loads.owned(a)) {
-              chunk.moments_a[c] = ledger.moments_entry(a);
-              ledger.prefetch_moments(chunk.moments_a[c]);
-            }
-            if (loads.owned(b)) {
-              chunk.moments_b[c] = ledger.moments_entry(b);
-              ledger.prefetch_moments(chunk.moments_b[c]);
-            }
+            if (loads.owned(a)) chunk.moments_a[c] = ledger.moments_entry(a);
+            if (loads.owned(b)) chunk.moments_b[c] = ledger.moments_entry(b);
           }
         });
     most_touch = 2 * chunk.n > range.size();
