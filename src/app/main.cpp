@@ -18,6 +18,7 @@
 #include "app/RunControl.hpp"
 #include "app/SweepCommand.hpp"
 #include "comm/Communicator.hpp"
+#include "core/HugePageAdvice.hpp"
 #include "core/Version.hpp"
 #include "io/CaseLoader.hpp"
 #include "io/SizeEstimate.hpp"
@@ -34,12 +35,15 @@ int main(int argc, char** argv) {
   // First thing: SIGUSR1 (checkpoint and stop) must never hit the default action, which kills.
   ringdem::install_stop_signal_handler();
 #if defined(__GLIBC__)
-  // Blocks of 1 MiB and more come straight from the system and go back to it when freed. By
-  // default glibc raises that threshold to the largest block freed so far (up to 32 MiB), after
-  // which the scratch of every neighbour-list rebuild (bins, slots, orders, a few to 25 MiB at
-  // 10^6 grains) comes from the heap and the holes it leaves stay resident: 27 MiB, 7 % of the
-  // peak of 10^6 grains in contact (docs/performance.md, fifteenth round).
-  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  // Blocks of 4 MiB and more come straight from the system (with the huge-page advice,
+  // core/HugePageAdvice.hpp) and go back to it when freed. By default glibc raises that
+  // threshold to the largest block freed so far (up to 32 MiB), after which the scratch of every
+  // neighbour-list rebuild (bins, slots, orders, a few to 25 MiB at 10^6 grains) comes from the
+  // heap and the holes it leaves stay resident: 27 MiB, 7 % of the peak of 10^6 grains in
+  // contact (docs/performance.md, fifteenth round). Below 4 MiB the heap keeps a freed block's
+  // pages for the next rebuild: from the system, each rebuild faulted them in afresh, 4 KiB at
+  // a time, half of the neighbour phase of 10^5 grains in contact (thirty-third round).
+  mallopt(M_MMAP_THRESHOLD, static_cast<int>(ringdem::kAdviseFrom));
 #endif
   CLI::App app{"ringdem: MPI-parallel discrete elements for flexible steel ring nets", "ringdem"};
   app.set_version_flag(
