@@ -178,27 +178,17 @@ void TimoshenkoBondTerm::book_failures(const ParticleStore& p, double time, doub
 }
 
 double TimoshenkoBondTerm::update_diagnostics(const ParticleStore& p) const {
-  BondStore& bonds = bonds_;
-  double total = 0.0;
-  for (std::size_t k = 0; k < bonds.size(); ++k) {
-    if (bonds.broken[k]) {
-      bonds.axial_force[k] = bonds.bending_moment[k] = bonds.utilisation[k] = 0.0;
-      bonds.energy[k] = 0.0;
-      continue;
-    }
-    const std::uint32_t a = bonds.index_a[k];
-    const std::uint32_t b = bonds.index_b[k];
-    const auto sec = section(bonds, k);
-    const auto r = BondTimoshenko::compute(sec, reference(bonds, k), p.position[a],
+  return write_diagnostics(bonds_, [&](std::size_t k) {
+    const std::uint32_t a = bonds_.index_a[k];
+    const std::uint32_t b = bonds_.index_b[k];
+    const auto sec = section(bonds_, k);
+    const auto r = BondTimoshenko::compute(sec, reference(bonds_, k), p.position[a],
                                            p.orientation[a], p.position[b], p.orientation[b]);
-    bonds.axial_force[k] = r.axial_force;
-    bonds.bending_moment[k] = std::max(r.bending_a, r.bending_b);
-    bonds.utilisation[k] =
-        BondTimoshenko::utilisation(BondTimoshenko::stresses(sec, r), strength(bonds, k));
-    bonds.energy[k] = r.energy;
-    total += r.energy;
-  }
-  return total;
+    return Diagnostics{
+        r.axial_force, std::max(r.bending_a, r.bending_b),
+        BondTimoshenko::utilisation(BondTimoshenko::stresses(sec, r), strength(bonds_, k)),
+        r.energy};
+  });
 }
 
 }  // namespace ringdem

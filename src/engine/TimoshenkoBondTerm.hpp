@@ -209,6 +209,26 @@ class TimoshenkoBondTerm final : public BondTerm {
   /// The orientation a particle had one step earlier (for the energy a breaking bond held at
   /// the start of its last step): the inverse of the integrator's Cayley update.
   static Quat rotated_back(const Quat& q, const Vec3& omega, double dt);
+  /// What update_diagnostics() writes of one intact bond.
+  struct Diagnostics {
+    double axial_force, bending_moment, utilisation, energy;
+  };
+  /// update_diagnostics() of a store of beam bonds: the output columns of each intact bond k
+  /// from `of(k)` (a Diagnostics), zeros for the broken ones; returns the intact bonds' summed
+  /// energy.
+  template <class Of>
+  static double write_diagnostics(BondStore& bonds, Of&& of) {
+    double total = 0.0;
+    for (std::size_t k = 0; k < bonds.size(); ++k) {
+      const Diagnostics d = bonds.broken[k] ? Diagnostics{0.0, 0.0, 0.0, 0.0} : of(k);
+      bonds.axial_force[k] = d.axial_force;
+      bonds.bending_moment[k] = d.bending_moment;
+      bonds.utilisation[k] = d.utilisation;
+      bonds.energy[k] = d.energy;
+      if (!bonds.broken[k]) total += d.energy;
+    }
+    return total;
+  }
 
  private:
   void book_failures(const ParticleStore& p, double time, double dt);

@@ -188,32 +188,21 @@ void TimoshenkoPlasticBondTerm::book_failures(const ParticleStore& p, double tim
 }
 
 double TimoshenkoPlasticBondTerm::update_diagnostics(const ParticleStore& p) const {
-  BondStore& bonds = bonds_;
-  double total = 0.0;
-  for (std::size_t k = 0; k < bonds.size(); ++k) {
-    if (bonds.broken[k]) {
-      bonds.axial_force[k] = bonds.bending_moment[k] = bonds.utilisation[k] = 0.0;
-      bonds.energy[k] = 0.0;
-      continue;
-    }
-    const std::uint32_t a = bonds.index_a[k];
-    const std::uint32_t b = bonds.index_b[k];
-    const auto sec = Beam::section(bonds, k);
+  return Beam::write_diagnostics(bonds_, [&](std::size_t k) {
+    const std::uint32_t a = bonds_.index_a[k];
+    const std::uint32_t b = bonds_.index_b[k];
+    const auto sec = Beam::section(bonds_, k);
     const Plastic::Params& pp = params(k);
     const State st = state(k);
     // Right after the step's compute() at these positions: no flow, the step's resultants.
-    const auto r = Plastic::evaluate(sec, pp, Beam::reference(bonds, k), p.position[a],
+    const auto r = Plastic::evaluate(sec, pp, Beam::reference(bonds_, k), p.position[a],
                                      p.orientation[a], p.position[b], p.orientation[b], st);
-    bonds.axial_force[k] = r.axial_force;
-    bonds.bending_moment[k] = std::max(r.bending_a, r.bending_b);
     double utilisation =
-        BondTimoshenko::utilisation(BondTimoshenko::stresses(sec, r), Beam::strength(bonds, k));
+        BondTimoshenko::utilisation(BondTimoshenko::stresses(sec, r), Beam::strength(bonds_, k));
     if (pp.failure_strain > 0.0) utilisation = std::max(utilisation, st.strain / pp.failure_strain);
-    bonds.utilisation[k] = utilisation;
-    bonds.energy[k] = r.energy;
-    total += r.energy;
-  }
-  return total;
+    return Beam::Diagnostics{r.axial_force, std::max(r.bending_a, r.bending_b), utilisation,
+                             r.energy};
+  });
 }
 
 }  // namespace ringdem
