@@ -49,7 +49,8 @@ const Table<SweepParameterConfig>& parameter_table() {
           schema::text("key", &P::key, Type::kName,
                        "Key path in the case file, as for --set (e.g. bonds.0.youngs_modulus)")
               .required(),
-          schema::name_list("values", &P::values, "The values (any YAML scalars)"),
+          schema::value_list("values", &P::values,
+                             "The values (any YAML scalars; zipped, one may repeat)"),
           schema::optional_section("range", &P::range, range_table(), "A range of numbers"),
       }};
   return table;
@@ -97,6 +98,51 @@ std::vector<std::string> parameter_values(const SweepParameterConfig& p) {
   return out;
 }
 
+namespace {
+
+/// Where value `i` of parameter `p` was given: its list entry, or the range it comes from.
+schema::Location value_location(const schema::Context& ctx, std::size_t p, std::size_t i) {
+  const std::string path = schema::index_path("parameters", p);
+  return ctx.given(path + ".range") ? ctx.where(path + ".range")
+                                    : ctx.where(schema::index_path(path + ".values", i), path);
+}
+
+/// A sweep may not run one case twice. In a product a value repeated in one parameter repeats
+/// every combination it is in; zipped, a value may repeat as long as another parameter differs
+/// in the same case.
+void refuse_repeated_cases(const SweepConfig& config, schema::Context& ctx) {
+  std::vector<std::vector<std::string>> values;
+  for (const auto& p : config.parameters)
+    values.push_back(parameter_values(p));
+  if (config.combine == "zip") {
+    for (std::size_t i = 0; i < values.front().size(); ++i)
+      for (std::size_t j = 0; j < i; ++j) {
+        bool same = true;
+        for (const auto& v : values)
+          same = same && v[i] == v[j];
+        if (!same) continue;
+        ctx.error(value_location(ctx, 0, i), schema::index_path("parameters", 0),
+                  fmt::format("case {} repeats case {}: every parameter has the same value in "
+                              "both (combine: zip)",
+                              i, j));
+        break;
+      }
+    return;
+  }
+  for (std::size_t p = 0; p < values.size(); ++p)
+    for (std::size_t i = 0; i < values[p].size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (values[p][i] == values[p][j]) {
+          ctx.error(value_location(ctx, p, i), schema::index_path("parameters", p),
+                    fmt::format("duplicate value '{}': combine: product would run every case "
+                                "with it twice",
+                                values[p][i]));
+          break;
+        }
+}
+
+}  // namespace
+
 SweepConfig load_sweep_from_string(const std::string& yaml_text, const std::string& display_name,
                                    const std::vector<std::string>& overrides) {
   schema::Context ctx(display_name);
@@ -141,6 +187,7 @@ SweepConfig load_sweep_from_string(const std::string& yaml_text, const std::stri
   }
   if (config.parameters.empty() && ctx.given("parameters") && !ctx.failed("parameters"))
     ctx.error(ctx.where("parameters"), "parameters", "must list at least one parameter");
+  if (ctx.diagnostics().empty() && !config.parameters.empty()) refuse_repeated_cases(config, ctx);
   if (!ctx.diagnostics().empty()) throw InputError(ctx.sorted_diagnostics());
   if (config.name.empty()) {
     const std::string stem = std::filesystem::path(display_name).stem().string();

@@ -279,6 +279,8 @@ std::string describe_type(const KeyInfo& key) {
       return "2 names";
     case Type::kNameList:
       return "list of names";
+    case Type::kValueList:
+      return "list of values";
     case Type::kSection:
       return "section";
     case Type::kList:
@@ -508,10 +510,13 @@ std::optional<Value> read_value(const KeyInfo& key, const YAML::Node& node, cons
       if (!ok) return std::nullopt;
       return Value{a};
     }
-    case Type::kNameList: {
+    case Type::kNameList:
+    case Type::kValueList: {
+      const bool unique = key.type == Type::kNameList;
       if (!node.IsDefined() || !node.IsSequence() || node.size() == 0) {
         ctx.error(at, path,
-                  "expected a list of one or more names [a, b, ...], got " + describe_node(node));
+                  std::string("expected a list of one or more ") + (unique ? "names" : "values") +
+                      " [a, b, ...], got " + describe_node(node));
         return std::nullopt;
       }
       std::vector<std::string> names;
@@ -524,7 +529,7 @@ std::optional<Value> read_value(const KeyInfo& key, const YAML::Node& node, cons
           ok = false;
           continue;
         }
-        if (std::find(names.begin(), names.end(), *x) != names.end()) {
+        if (unique && std::find(names.begin(), names.end(), *x) != names.end()) {
           ctx.error(c, index_path(path, i), "duplicate name '" + *x + "'");
           ok = false;
           continue;

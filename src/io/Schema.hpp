@@ -38,6 +38,7 @@ enum class Type {
   kIntTriple,     ///< [i, j, k], each in `range`
   kNamePair,      ///< [name, name]
   kNameList,      ///< [name, ...] (at least one, no duplicates)
+  kValueList,     ///< [value, ...] (at least one non-empty scalar; repeats allowed)
   kSection,       ///< map described by `child`
   kList,          ///< list of maps described by `child`
   kNumberMap,     ///< map name -> number in `range`
@@ -479,6 +480,17 @@ template <class T>
 Field<T> name_list(std::string name, std::vector<std::string> T::*m, std::string doc) {
   Field<T> f;
   f.info = make_key(std::move(name), Type::kNameList, "", std::move(doc));
+  f.set = [m](T& t, const Value& v) { t.*m = std::get<std::vector<std::string>>(v); };
+  f.get = [m](const T& t) -> Value { return t.*m; };
+  return f;
+}
+
+/// A list of scalars read as text, where one value may stand more than once (a sweep's zipped
+/// values: the cases differ in another parameter).
+template <class T>
+Field<T> value_list(std::string name, std::vector<std::string> T::*m, std::string doc) {
+  Field<T> f;
+  f.info = make_key(std::move(name), Type::kValueList, "", std::move(doc));
   f.set = [m](T& t, const Value& v) { t.*m = std::get<std::vector<std::string>>(v); };
   f.get = [m](const T& t) -> Value { return t.*m; };
   return f;

@@ -120,6 +120,29 @@ TEST(CaseLoader, ShippedInputsLoad) {
   EXPECT_GT(loaded, 0);
 }
 
+TEST(CaseLoader, ShippedSweepsLoadWithEveryCase) {
+  // Every sweep in inputs/sweeps/ loads, and each of its cases is a valid case with the sweep's
+  // overrides: what `ringdem sweep` checks before it runs any.
+  const std::filesystem::path sweeps =
+      std::filesystem::path(RINGDEM_SOURCE_DIR) / "inputs" / "sweeps";
+  if (!std::filesystem::exists(sweeps)) GTEST_SKIP() << "no inputs/sweeps/ directory";
+  int cases = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(sweeps)) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    try {
+      const SweepConfig sweep = load_sweep(entry.path().string());
+      for (const SweepCase& c : expand_sweep(sweep)) {
+        load_case(sweep.case_path, c.overrides);
+        ++cases;
+      }
+    } catch (const InputError& e) {
+      ADD_FAILURE() << e.format();
+    }
+  }
+  EXPECT_GT(cases, 0);
+}
+
 TEST(CaseLoader, OverridesScalarListIndexVectorAndMaps) {
   const CaseConfig c = load_case_from_string(
       kValidCase, "x.yaml",
@@ -497,6 +520,39 @@ TEST(CaseLoader, SweepNameMustStayInsideResults) {
     EXPECT_NE(e.diagnostics[0].message.find("contains a path separator"), std::string::npos);
   }
   EXPECT_EQ(load_sweep_from_string(replaced(text, "../../X", "ok_X"), "s.yaml").name, "ok_X");
+}
+
+TEST(CaseLoader, ZippedSweepMayRepeatAValueButNoCase) {
+  // Zipped, one parameter may hold the same value in several cases that differ in another (the
+  // hardening of inputs/sweeps/bundle_yield.yaml); a case that would run twice is refused, at
+  // the value that repeats it, in either way of combining.
+  const std::string zip =
+      "schema_version: 1\ncase: c.yaml\ncombine: zip\nparameters:\n"
+      "  - {key: a.b, values: [1, 2, 3]}\n"
+      "  - {key: a.c, values: [5, 5, 5]}\n";
+  const std::vector<SweepCase> cases = expand_sweep(load_sweep_from_string(zip, "s.yaml"));
+  ASSERT_EQ(cases.size(), 3u);
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const std::vector<std::string> expected{"a.b=" + std::to_string(k + 1), "a.c=5"};
+    EXPECT_EQ(cases[k].overrides, expected) << k;
+  }
+  const auto refused = [](const std::string& text, int line, const std::string& message) {
+    try {
+      load_sweep_from_string(text, "s.yaml");
+      ADD_FAILURE() << "accepted:\n" << text;
+    } catch (const InputError& e) {
+      ASSERT_EQ(e.diagnostics.size(), 1u) << e.format();
+      EXPECT_EQ(e.diagnostics[0].line, line) << e.format();
+      EXPECT_NE(e.diagnostics[0].message.find(message), std::string::npos) << e.format();
+    }
+  };
+  refused(replaced(zip, "[1, 2, 3]", "[1, 2, 1]"), 5, "case 2 repeats case 0");
+  refused(replaced(replaced(zip, "combine: zip", "combine: product"), "[5, 5, 5]", "[5, 6, 5]"), 6,
+          "duplicate value '5'");
+  // A range of one value repeats too, and is reported at the range.
+  refused(replaced(replaced(zip, "values: [1, 2, 3]", "range: {from: 1, to: 1, count: 2}"),
+                   "[5, 5, 5]", "[5, 5]"),
+          5, "case 1 repeats case 0");
 }
 
 }  // namespace
