@@ -476,24 +476,26 @@ Field<T> name_pair(std::string name, std::string T::*a, std::string T::*b, std::
   return f;
 }
 
+/// A list of scalars read as text; `type` is kNameList (each once) or kValueList (repeats allowed).
 template <class T>
-Field<T> name_list(std::string name, std::vector<std::string> T::*m, std::string doc) {
+Field<T> text_list(std::string name, Type type, std::vector<std::string> T::*m, std::string doc) {
   Field<T> f;
-  f.info = make_key(std::move(name), Type::kNameList, "", std::move(doc));
+  f.info = make_key(std::move(name), type, "", std::move(doc));
   f.set = [m](T& t, const Value& v) { t.*m = std::get<std::vector<std::string>>(v); };
   f.get = [m](const T& t) -> Value { return t.*m; };
   return f;
 }
 
-/// A list of scalars read as text, where one value may stand more than once (a sweep's zipped
-/// values: the cases differ in another parameter).
+template <class T>
+Field<T> name_list(std::string name, std::vector<std::string> T::*m, std::string doc) {
+  return text_list(std::move(name), Type::kNameList, m, std::move(doc));
+}
+
+/// A list where one value may stand more than once (a sweep's zipped values: the cases differ
+/// in another parameter).
 template <class T>
 Field<T> value_list(std::string name, std::vector<std::string> T::*m, std::string doc) {
-  Field<T> f;
-  f.info = make_key(std::move(name), Type::kValueList, "", std::move(doc));
-  f.set = [m](T& t, const Value& v) { t.*m = std::get<std::vector<std::string>>(v); };
-  f.get = [m](const T& t) -> Value { return t.*m; };
-  return f;
+  return text_list(std::move(name), Type::kValueList, m, std::move(doc));
 }
 
 /// An optional nested map: absent means std::nullopt (left out of dumps); present, it fills a
