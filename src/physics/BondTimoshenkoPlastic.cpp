@@ -118,14 +118,15 @@ constexpr int kMaxIterations = 60;
 
 // Newton's method on f_i(nu) = 0 for the active ends (nu_i = 0 at the other), from nu, with a
 // backtracking line search on |f|^2 and the multipliers kept above a floor that keeps A
-// positive definite. Returns true when converged.
-bool newton(const Problem& pb, const bool active[2], double nu[2],
+// positive definite. Returns true when converged; `e` is then the state at nu (for accept(),
+// which would otherwise evaluate it again).
+bool newton(const Problem& pb, const bool active[2], double nu[2], Eval& e,
             int max_iterations = kMaxIterations) {
   const double floor = -0.5 * (pb.cs - std::abs(pb.cc));  // C_mu's eigenvalues: c_s +- c_c
-  auto merit = [&](const Eval& e) {
-    return (active[0] ? e.f[0] * e.f[0] : 0.0) + (active[1] ? e.f[1] * e.f[1] : 0.0);
+  auto merit = [&](const Eval& x) {
+    return (active[0] ? x.f[0] * x.f[0] : 0.0) + (active[1] ? x.f[1] * x.f[1] : 0.0);
   };
-  Eval e = evaluate(pb, nu);
+  e = evaluate(pb, nu);
   for (int it = 0; it < max_iterations; ++it) {
     // Converged to round-off (f_i is a difference of terms of order Y).
     if (merit(e) <= 1e-28 * e.y * e.y) return true;
@@ -207,8 +208,10 @@ bool project(const Problem& pb, double s[5], double lambda[2]) {
     lambda[0] = lambda[1] = 0.0;
     return true;
   }
+  // The solution of Newton's method on an active set (its state `e` at multipliers nu), if it
+  // satisfies the optimality conditions.
+  Eval e;
   auto accept = [&](const bool active[2], const double nu[2]) {
-    const Eval e = evaluate(pb, nu);
     for (int i = 0; i < 2; ++i) {
       if (active[i] ? nu[i] < 0.0 : BondTimoshenkoPlastic::interaction(e.n, e.m[i]) > e.y * tol)
         return false;
@@ -227,7 +230,7 @@ bool project(const Problem& pb, double s[5], double lambda[2]) {
   const bool both[2] = {true, true};
   if (t_tr[0] > pb.y0 * tol && t_tr[1] > pb.y0 * tol) {
     double nu[2] = {0.0, 0.0};
-    if (newton(pb, both, nu, 8) && accept(both, nu)) return true;
+    if (newton(pb, both, nu, e, 8) && accept(both, nu)) return true;
   }
   double start[2] = {0.0, 0.0};
   const int first = t_tr[0] >= t_tr[1] ? 0 : 1;
@@ -235,30 +238,30 @@ bool project(const Problem& pb, double s[5], double lambda[2]) {
     if (!(t_tr[i] > pb.y0 * tol)) continue;
     const bool active[2] = {i == 0, i == 1};
     double nu[2] = {0.0, 0.0};
-    if (!newton(pb, active, nu)) continue;
+    if (!newton(pb, active, nu, e)) continue;
     if (accept(active, nu)) return true;
     if (start[0] == 0.0 && start[1] == 0.0) std::copy(nu, nu + 2, start);
   }
   // Both ends, from the single-end solution, then from the near-apex estimate: for large
   // multipliers mu_i ~ g_i / nu_i with g_i = (C_mu mu_tr)_i, so sum_i nu_i m_i ~ |g_a| + |g_b|
   // fixes n and Y, both ends sit at m = Y - n^2 / Y, and nu_i ~ |g_i| / m.
-  if ((start[0] != 0.0 || start[1] != 0.0) && newton(pb, both, start) && accept(both, start))
+  if ((start[0] != 0.0 || start[1] != 0.0) && newton(pb, both, start, e) && accept(both, start))
     return true;
   const double y_apex = pb.y0 + 2.0 * pb.w * (g[0] + g[1]);  // lambda_i ~ 2 nu_i m_i ~ 2 |g_i|
   const double n_apex = pb.cn * n_tr * y_apex / (pb.cn * y_apex + 2.0 * (g[0] + g[1]));
   const double m_apex = y_apex - n_apex * n_apex / y_apex;
   if (m_apex > 0.0) {
     double nu[2] = {g[0] / m_apex, g[1] / m_apex};
-    if (newton(pb, both, nu) && accept(both, nu)) return true;
+    if (newton(pb, both, nu, e) && accept(both, nu)) return true;
   }
   double zero[2] = {0.0, 0.0};
-  if (newton(pb, both, zero) && accept(both, zero)) return true;
+  if (newton(pb, both, zero, e) && accept(both, zero)) return true;
   // Rare: the solution loads only an end that was inside the surface at the trial.
   for (int i = 0; i < 2; ++i) {
     if (t_tr[i] > pb.y0 * tol) continue;
     const bool active[2] = {i == 0, i == 1};
     double nu[2] = {0.0, 0.0};
-    if (newton(pb, active, nu) && accept(active, nu)) return true;
+    if (newton(pb, active, nu, e) && accept(active, nu)) return true;
   }
   return false;
 }
@@ -286,20 +289,99 @@ BondTimoshenkoPlastic::Params BondTimoshenkoPlastic::Params::from_wire_bundle(
   return p;
 }
 
-double BondTimoshenkoPlastic::measure_inverse(double m) {
+double BondTimoshenkoPlastic::series_sine(double m, double guess) {
   // s (1 + s^2/6 + 3 s^4/40) = m is monotone in s for s in [0, 1] (the series reaches 1.24 at
-  // s = 1); from s = m, Newton's method converges in a few steps for the elastic rotations
-  // (m < 0.2) it is used on. Past the series' range no sine exists: m is then kept.
-  double s = std::min(m, 1.0);
+  // s = 1). Newton's method converges in a few steps for the elastic rotations (m < 0.2) it is
+  // used on, from s = m, and in one or two from the last root of a nearby m.
+  double s = std::clamp(guess, 0.0, 1.0);
   for (int it = 0; it < 8; ++it) {
     const double s2 = s * s;
     const double g = s * (1.0 + s2 * (1.0 / 6.0 + s2 * (3.0 / 40.0))) - m;
     const double dg = 1.0 + s2 * (0.5 + s2 * (3.0 / 8.0));
     const double next = std::min(1.0, s - g / dg);
-    if (next == s) break;
+    const bool converged = std::abs(next - s) <= 0x1p-52 * s;  // within an ulp or two
     s = next;
+    if (converged) break;
   }
-  return s < 1.0 ? std::asin(s) : m;
+  return s;
+}
+
+namespace {
+
+// A turn about `axis` (unit) by an angle of sine `sine` and cosine `cosine`, with 1 - cosine
+// computed without cancellation.
+struct Turn {
+  Vec3 axis;
+  double sine = 0.0, cosine = 1.0, versine = 0.0;
+  double angle = -1.0;  ///< >= 0: past the series' range, the angle itself (sine, cosine of it)
+};
+
+// The turn the kernel measures as t (BondTimoshenkoPlastic::turn()); `guess` is the sine of a
+// nearby turn, or |t| (updated to this one's sine).
+Turn measured_turn(const Vec3& t, double& guess) {
+  Turn r;
+  const double m = norm(t);
+  if (!(m > 0.0)) return r;
+  r.axis = t / m;
+  const double s = BondTimoshenkoPlastic::series_sine(m, guess);
+  guess = s;
+  if (s < 1.0) {
+    r.sine = s;
+    r.cosine = std::sqrt((1.0 - s) * (1.0 + s));
+    r.versine = s * s / (1.0 + r.cosine);  // 1 - cos = sin^2 / (1 + cos)
+  } else {
+    r.angle = m;
+    r.sine = std::sin(m);
+    r.cosine = std::cos(m);
+    r.versine = 1.0 - r.cosine;
+  }
+  return r;
+}
+
+// z component of R y, R the turn: Rodrigues, R y = y cos + (k x y) sin + k (k . y)(1 - cos),
+// with k x y = (-k_z, 0, k_x).
+double y_axis_height(const Turn& r) {
+  return r.axis.x * r.sine + r.axis.z * r.axis.y * r.versine;
+}
+
+}  // namespace
+
+Quat BondTimoshenkoPlastic::turn(const Vec3& t) {
+  double guess = norm(t);
+  const Turn r = measured_turn(t, guess);
+  if (r.angle >= 0.0) return quat_from_rotation_vector(r.axis * r.angle);
+  if (r.sine == 0.0) return Quat{};
+  // Half angles of an angle in [0, pi/2]: cos(a/2) = sqrt((1 + cos a) / 2), sin(a/2) =
+  // sin a / (2 cos(a/2)).
+  const double w = std::sqrt(0.5 * (1.0 + r.cosine));
+  const double half_sine = 0.5 * r.sine / w;
+  return {w, r.axis.x * half_sine, r.axis.y * half_sine, r.axis.z * half_sine};
+}
+
+double BondTimoshenkoPlastic::bisector_twist(const BondTimoshenko::LocalRotation& ta,
+                                             const BondTimoshenko::LocalRotation& tb) {
+  double guess_a = norm(Vec3{ta.x, ta.y, ta.z});
+  double guess_b = norm(Vec3{tb.x, tb.y, tb.z});
+  const auto height = [&](double twist) {
+    return y_axis_height(measured_turn({ta.x + twist, ta.y, ta.z}, guess_a)) +
+           y_axis_height(measured_turn({tb.x + twist, tb.y, tb.z}, guess_b));
+  };
+  double d0 = 0.0, z0 = height(d0);
+  if (z0 == 0.0) return d0;
+  double d1 = -0.5 * z0, z1 = height(d1);
+  // Converged when a step is below 1e-16 rad: a tilt of the bisector far under the
+  // kernel's round-off (z itself is only known to ~1e-17, so steps of round-off size go on
+  // without end).
+  for (int it = 0; it < 8 && z1 != 0.0 && z1 != z0; ++it) {
+    const double d2 = d1 - z1 * (d1 - d0) / (z1 - z0);
+    const bool converged = std::abs(d2 - d1) <= 1e-16;
+    d0 = d1;
+    z0 = z1;
+    d1 = d2;
+    if (converged) break;
+    z1 = height(d1);
+  }
+  return d1;
 }
 
 double BondTimoshenkoPlastic::yield_ratio(const Params& p, const State& st,

@@ -133,7 +133,7 @@ struct BondTimoshenkoPlastic {
   /// as Reference stores them): after it, the kernel measures the returned elastic rotations
   /// `ta`, `tb` from the same chord frame C at these positions, to round-off. Each frame
   /// becomes conj(rot) C R(t), R(t) the turn about t / |t| whose sine the kernel's arcsine
-  /// series maps to |t| (measure_inverse()). C's y axis is the bisector of the end frames' y
+  /// series maps to |t| (turn()). C's y axis is the bisector of the end frames' y
   /// axes, which the return (it changes the bending rotations) would tilt about the chord by
   /// O(theta_e dtheta_p); a common twist delta of both ends, t.x + delta, keeps it: it changes
   /// no load (torsion is tb.x - ta.x), and both frames are re-based with it.
@@ -143,27 +143,24 @@ struct BondTimoshenkoPlastic {
                      const BondTimoshenko::LocalRotation& tb) {
     const Quat chord =
         quat_from_matrix(Mat3{{c.x.x, c.y.x, c.z.x, c.x.y, c.y.y, c.z.y, c.x.z, c.y.z, c.z.z}});
-    const auto turn = [](const BondTimoshenko::LocalRotation& t, double twist) {
-      const Vec3 e{t.x + twist, t.y, t.z};
-      const double m = norm(e);
-      return m > 0.0 ? quat_from_rotation_vector(e * (measure_inverse(m) / m)) : Quat{};
-    };
-    // The bisector stays C when the turned y axes' z components cancel: z(delta) = 0, with
-    // dz/ddelta = 2 (1 - O(theta^2)), so the fixed-point step below gains ~theta^2 a step.
-    double twist = 0.0;
-    for (int it = 0; it < 8; ++it) {
-      const double z =
-          rotate(turn(ta, twist), Vec3{0, 1, 0}).z + rotate(turn(tb, twist), Vec3{0, 1, 0}).z;
-      const double next = twist - 0.5 * z;
-      if (next == twist) break;
-      twist = next;
-    }
-    ref.frame_a = normalized(conjugate(as_quat(rot_a)) * chord * turn(ta, twist));
-    ref.frame_b = normalized(conjugate(as_quat(rot_b)) * chord * turn(tb, twist));
+    const double twist = bisector_twist(ta, tb);
+    ref.frame_a = normalized(conjugate(as_quat(rot_a)) * chord * turn({ta.x + twist, ta.y, ta.z}));
+    ref.frame_b = normalized(conjugate(as_quat(rot_b)) * chord * turn({tb.x + twist, tb.y, tb.z}));
   }
-  /// The angle theta whose sine the kernel's series s (1 + s^2/6 + 3 s^4/40) maps to m
-  /// (BondTimoshenko::relative_rotation): Newton's method on the series, then asin.
-  static double measure_inverse(double m);
+
+  /// The turn R(t) that the kernel measures as t: about t / |t|, by the angle whose sine s
+  /// the kernel's arcsine series maps to |t| (BondTimoshenko::relative_rotation), built from s
+  /// and sqrt(1 - s^2) by the half-angle formulas. Past the series' range (|t| > 1.24) no
+  /// sine exists: the angle is then |t|.
+  static Quat turn(const Vec3& t);
+  /// The common twist delta of rebase(): the root of z(delta) = (R(ta + delta x) y).z +
+  /// (R(tb + delta x) y).z, by the secant method from delta = 0 and -z(0)/2 (dz/ddelta = 2
+  /// (1 - O(theta^2))), each z from Rodrigues' formula with the sine and cosine of turn().
+  static double bisector_twist(const BondTimoshenko::LocalRotation& ta,
+                               const BondTimoshenko::LocalRotation& tb);
+  /// The s in [0, 1] with s (1 + s^2/6 + 3 s^4/40) = m (the kernel's series), by Newton's
+  /// method from `guess` (clamped to [0, 1]); 1 where m is past the series' range (1.24).
+  static double series_sine(double m, double guess);
 
   /// Yield test of the elastic predictor f (end loads of elastic_part()): whether an end is
   /// beyond Y (1 + kYieldTolerance). t(n, m) <= Y is n^2 + Y m <= Y^2, no square root of t.

@@ -93,6 +93,69 @@ TEST(BondPlastic, RigidMotionOfAYieldedBondGivesNoFlow) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// 7a. A hinge moves into the end frames (rebase()) so that the kernel then measures the
+// returned elastic rotations: at the same positions and orientations, the kernel's own measure
+// (BondTimoshenko::relative_rotation, from the frames' matrices: another code path than the
+// turn rebase() builds) gives back the bending rotations and the torsion it was handed, and the
+// chord frame, whose y axis is the bisector of the end frames' y axes, stays where it was.
+// Bonds of any orientation, created bent and twisted a little, elastic rotations up to 0.25
+// rad. Round-off of the measure: ~1e-16 of the rotations; bound 1e-13 rad. Past the series'
+// range (|t| > 1.24, which elastic rotations never reach) the turn is by the angle |t| itself.
+TEST(BondPlastic, ARebaseMakesTheKernelMeasureTheReturnedRotations) {
+  const Plastic::Section section = Elastic::Section::make(elastic_params(), kRadius, kRadius, kL0);
+  std::mt19937_64 rng(41);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const auto measure = [&](const Plastic::Reference& ref, const Vec3& x_a, const Quat& q_a,
+                           const Vec3& x_b, const Quat& q_b, Elastic::ChordFrame* chord) {
+    Elastic::Deformation measured{};
+    Elastic::compute(section, ref, x_a, q_a, x_b, q_b,
+                     [&](const Elastic::Deformation& q, const Elastic::ChordFrame& c) {
+                       measured = q;
+                       *chord = c;
+                       return q;
+                     });
+    return measured;
+  };
+  double worst = 0.0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Quat q_a0 = normalized(Quat{n01(rng), n01(rng), n01(rng), n01(rng)});
+    const Quat q_b0 = rot(Vec3{u(rng), u(rng), u(rng)} * 0.05) * q_a0;
+    const Vec3 x_a{u(rng), u(rng), u(rng)};
+    const Vec3 x_b = x_a + rotate(q_a0, Vec3{kL0, 0.05 * kL0 * u(rng), 0.05 * kL0 * u(rng)});
+    const Plastic::Reference created = Elastic::Reference::make(x_a, q_a0, x_b, q_b0);
+    // Later: the bond moved and turned, its ends turned by up to 0.1 rad more.
+    const Quat q_move = normalized(Quat{n01(rng), n01(rng), n01(rng), n01(rng)});
+    const Vec3 shift{u(rng), u(rng), u(rng)};
+    const Quat q_a = rot(Vec3{u(rng), u(rng), u(rng)} * 0.06) * q_move * q_a0;
+    const Quat q_b = rot(Vec3{u(rng), u(rng), u(rng)} * 0.06) * q_move * q_b0;
+    const Vec3 xa = rotate(q_move, x_a) + shift, xb = rotate(q_move, x_b) + shift;
+    Elastic::ChordFrame before{}, after{};
+    measure(created, xa, q_a, xb, q_b, &before);
+    const Elastic::LocalRotation ta{0.25 * u(rng), 0.25 * u(rng), 0.25 * u(rng)};
+    const Elastic::LocalRotation tb{0.25 * u(rng), 0.25 * u(rng), 0.25 * u(rng)};
+    Plastic::Reference ref = created;
+    Plastic::rebase(ref, q_a, q_b, before, ta, tb);
+    const Elastic::Deformation q = measure(ref, xa, q_a, xb, q_b, &after);
+    const double errors[] = {q.ta.y - ta.y,
+                             q.ta.z - ta.z,
+                             q.tb.y - tb.y,
+                             q.tb.z - tb.z,
+                             (q.tb.x - q.ta.x) - (tb.x - ta.x),
+                             norm(after.y - before.y),
+                             norm(after.z - before.z)};
+    for (const double e : errors)
+      worst = std::max(worst, std::abs(e));
+  }
+  EXPECT_LT(worst, 1e-13);
+  // Past the series' range: a turn by the angle |t| about t.
+  const Vec3 far{0.9, -0.8, 0.6};
+  const Quat expected = rot(far), got = Plastic::turn(far);
+  EXPECT_NEAR(got.w, expected.w, 1e-15);
+  EXPECT_NEAR(norm(got.vec() - expected.vec()), 0.0, 1e-15);
+}
+
+// ---------------------------------------------------------------------------------------------
 // 7b. A hinge turned far past yield responds about its permanent shape as a fresh bond does
 // about its creation shape. The work of the bond's torques on end b over a closed loop of
 // small turns (amplitude 0.3 theta_y, so elastic; a and the positions fixed) vanishes for a
