@@ -313,7 +313,8 @@ namespace {
 struct Turn {
   Vec3 axis;
   double sine = 0.0, cosine = 1.0, versine = 0.0;
-  double angle = -1.0;  ///< >= 0: past the series' range, the angle itself (sine, cosine of it)
+  bool past_series_range = false;  ///< no sine maps to |t|: the angle is |t| itself
+  double angle = 0.0;              ///< that angle, where past_series_range
 };
 
 // The turn the kernel measures as t (BondTimoshenkoPlastic::turn()); `guess` is the sine of a
@@ -330,6 +331,7 @@ Turn measured_turn(const Vec3& t, double& guess) {
     r.cosine = std::sqrt((1.0 - s) * (1.0 + s));
     r.versine = s * s / (1.0 + r.cosine);  // 1 - cos = sin^2 / (1 + cos)
   } else {
+    r.past_series_range = true;
     r.angle = m;
     r.sine = std::sin(m);
     r.cosine = std::cos(m);
@@ -349,7 +351,7 @@ double y_axis_height(const Turn& r) {
 Quat BondTimoshenkoPlastic::turn(const Vec3& t) {
   double guess = norm(t);
   const Turn r = measured_turn(t, guess);
-  if (r.angle >= 0.0) return quat_from_rotation_vector(r.axis * r.angle);
+  if (r.past_series_range) return quat_from_rotation_vector(r.axis * r.angle);
   if (r.sine == 0.0) return Quat{};
   // Half angles of an angle in [0, pi/2]: cos(a/2) = sqrt((1 + cos a) / 2), sin(a/2) =
   // sin a / (2 cos(a/2)).
