@@ -158,14 +158,16 @@ GrainsConfig inflow_fill(const InflowConfig& in) {
 }
 
 void validate_inflow(const InflowConfig& in, const std::string& p, schema::Context& ctx) {
-  if (validate_grains(inflow_fill(in), p, ctx) == 0.0) return;
-  if (ctx.failed(p + ".velocity") || ctx.failed(p + ".discharge")) return;
-  const InflowBatch b = inflow_batch(in);
-  if (!(b.interval > 0.0)) {
+  // Before the batch's own checks: at zero velocity the batch has no interval, hence no solid
+  // fraction and no grains, which validate_grains() takes for a box it has reported.
+  if (!ctx.failed(p + ".velocity") && norm2(in.velocity) == 0.0) {
     ctx.error(ctx.where(p + ".velocity", p), p + ".velocity",
               "must not be zero: the grains enter at this velocity");
     return;
   }
+  if (validate_grains(inflow_fill(in), p, ctx) == 0.0) return;
+  if (ctx.failed(p + ".velocity") || ctx.failed(p + ".discharge")) return;
+  const InflowBatch b = inflow_batch(in);
   if (b.solid_fraction > 0.35)
     ctx.error(ctx.where(p + ".discharge", p), p + ".discharge",
               fmt::format("needs a solid fraction of {:.3g} in the inlet box, above the 0.35 that "

@@ -1,6 +1,6 @@
 // Case-file loader, the checks that involve a model or a scenario: the rockfall's references,
-// gravity and repeated impacts, and the plastic bond's limits (each error checked against the
-// line where the mistake is in the fixture text).
+// gravity and repeated impacts, the plastic bond's limits, and the debris grains and inlets
+// (each error checked against the line where the mistake is in the fixture text).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -216,6 +216,63 @@ TEST(CaseLoader, GrainsEntriesAreCheckedWithTheirLines) {
   EXPECT_EQ(c.grains[0].sizes.min_radius, 0.0025);  // the default
   EXPECT_EQ(c.grains[0].solid_fraction, 0.25);
   EXPECT_EQ(c.grains[0].seed, 4u);
+}
+
+// Inlets: the velocity the grains enter at, the solid fraction the discharge needs in the box,
+// and the end after the start, each error at the line of its mistake; a good inlet loads with
+// its values. (A zero velocity was accepted, and the run made an empty batch every step: it has
+// no batch interval, hence no solid fraction and no grains, which read as a box reported
+// already.)
+TEST(CaseLoader, InflowEntriesAreCheckedWithTheirLines) {
+  const auto with_inflow = [](const std::string& velocity, const std::string& discharge,
+                              const std::string& times) {
+    return replaced(kValidCase, "rigid_bodies:\n",
+                    "inflow:\n"
+                    "  - name: inlet\n"
+                    "    material: rock\n"
+                    "    box_min: [-1, 0, 0]\n"
+                    "    box_max: [-0.8, 0.5, 0.3]\n"
+                    "    velocity: " +
+                        velocity +
+                        "\n"
+                        "    discharge: " +
+                        discharge + "\n" + times +
+                        "    sizes: {min_radius: 0.01, max_radius: 0.02}\n"
+                        "rigid_bodies:\n");
+  };
+  std::string text = with_inflow("[0, 0, 0]", "0.01", "");
+  auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "inflow[0].velocity");
+  EXPECT_EQ(diags[0].line, line_of(text, "velocity: [0, 0, 0]"));
+  EXPECT_EQ(diags[0].message, "must not be zero: the grains enter at this velocity");
+
+  // A batch every 0.2 m / 2 m/s = 0.1 s of a 0.2 x 0.5 x 0.3 m box: 0.5 m^3/s fills 1.67 of it.
+  text = with_inflow("[2, 0, 0]", "0.5", "");
+  diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "inflow[0].discharge");
+  EXPECT_EQ(diags[0].line, line_of(text, "discharge: 0.5"));
+  EXPECT_EQ(diags[0].message,
+            "needs a solid fraction of 1.67 in the inlet box, above the 0.35 that random "
+            "sequential addition reaches: raise the velocity or widen the box across the flow");
+
+  text = with_inflow("[2, 0, 0]", "0.01", "    start_time: 0.3\n    end_time: 0.2\n");
+  diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "inflow[0].end_time");
+  EXPECT_EQ(diags[0].line, line_of(text, "end_time: 0.2"));
+  EXPECT_EQ(diags[0].message, "must be after start_time = 0.3");
+
+  // The flow may run along any axis, either way: a batch comes each time the last has moved the
+  // box's depth along it.
+  text = with_inflow("[0, -2, 0]", "0.01", "    end_time: 0.4\n");
+  const CaseConfig c = load_case_from_string(text, "case.yaml");
+  ASSERT_EQ(c.inflow.size(), 1u);
+  EXPECT_EQ(c.inflow[0].velocity.y, -2.0);
+  EXPECT_EQ(c.inflow[0].discharge, 0.01);
+  ASSERT_TRUE(c.inflow[0].end_time.has_value());
+  EXPECT_EQ(*c.inflow[0].end_time, 0.4);
 }
 
 }  // namespace
