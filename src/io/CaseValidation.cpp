@@ -447,6 +447,25 @@ void validate_barrier(CaseConfig& c, Context& ctx, const std::set<std::string>& 
     check_reference(b.posts[k], names, bodies_ok, fmt::format("{}.posts[{}]", p, k), p + ".posts",
                     "rigid body", "rigid_bodies", ctx);
   check_reference(b.bed, names, bodies_ok, p + ".bed", p, "rigid body", "rigid_bodies", ctx);
+  // The barrier's load sums its posts' contact loads along the flow: the bed among them would
+  // add the flow's friction on the bed. (A name given twice is the schema's error.)
+  for (std::size_t k = 0; k < b.posts.size(); ++k) {
+    const std::string key = fmt::format("{}.posts[{}]", p, k);
+    if (b.posts[k] == b.bed && !ctx.failed(key))
+      ctx.error(ctx.where(key, p + ".posts"), key,
+                fmt::format("rigid body '{}' is the bed: the flow's friction on it would count as "
+                            "load on the barrier",
+                            b.posts[k]));
+  }
+  // The net's deflection and load are its own particles', never the flow's.
+  for (const auto& [key, group] :
+       {std::pair{".net_group", &b.net_group}, std::pair{".frame_group", &b.frame_group}})
+    if (!group->empty() && !ctx.failed(p + key) &&
+        std::find(b.grain_groups.begin(), b.grain_groups.end(), *group) != b.grain_groups.end())
+      ctx.error(ctx.where(p + key, p), p + key,
+                fmt::format("particle group '{}' is one of grain_groups too: a group is the "
+                            "flow's or the barrier's, not both",
+                            *group));
   const auto bed = std::find(names.begin(), names.end(), b.bed);
   if (bed != names.end() &&
       c.rigid_bodies[static_cast<std::size_t>(bed - names.begin())].shape != ShapeKind::kPlane)

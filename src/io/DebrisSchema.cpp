@@ -167,11 +167,13 @@ const schema::Table<BarrierConfig>& barrier_table() {
           schema::name_list("grain_groups", &B::grain_groups,
                             "Particle groups of the flow (empty: every free particle in no ring)"),
           schema::text("net_group", &B::net_group, Type::kName,
-                       "Group of the net rings (deflection, bond utilisation); empty: none"),
+                       "Group of the net rings (deflection, bond utilisation), none of "
+                       "grain_groups; empty: none"),
           schema::text("frame_group", &B::frame_group, Type::kName,
                        "Group of the fixed particles that hold the net (the net's load is their "
-                       "contact load); empty: none"),
-          schema::name_list("posts", &B::posts, "Rigid bodies of the barrier (posts, frame)"),
+                       "contact load), none of grain_groups; empty: none"),
+          schema::name_list("posts", &B::posts,
+                            "Rigid bodies of the barrier (posts, frame), not the bed"),
           schema::text("bed", &B::bed, Type::kName,
                        "Plane rigid body the flow runs on (flow depth is measured normal to it)")
               .required(),

@@ -1,6 +1,6 @@
 // Case-file loader, the checks that involve a model or a scenario: the rockfall's references,
-// gravity and repeated impacts, the plastic bond's limits, and the debris grains and inlets
-// (each error checked against the line where the mistake is in the fixture text).
+// gravity and repeated impacts, the plastic bond's limits, the debris grains and inlets, and a
+// barrier's names (each error checked against the line where the mistake is in the fixture text).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -273,6 +273,62 @@ TEST(CaseLoader, InflowEntriesAreCheckedWithTheirLines) {
   EXPECT_EQ(c.inflow[0].discharge, 0.01);
   ASSERT_TRUE(c.inflow[0].end_time.has_value());
   EXPECT_EQ(*c.inflow[0].end_time, 0.4);
+}
+
+// A barrier's bodies and groups: each name defined, the bed a plane and no post, the net's groups
+// not the flow's (its load and deflection would count the flow's), each error at the line of its
+// mistake; a good barrier loads.
+TEST(CaseLoader, BarrierBodiesAndGroupsAreCheckedWithTheirLines) {
+  const auto with_barrier = [](const std::string& lines) {
+    return std::string(kValidCase) +
+           "scenario:\n"
+           "  type: free_run\n"
+           "  barrier:\n"
+           "    direction: [1, 0, 0]\n"
+           "    position: [0, 0, 0]\n" +
+           lines;
+  };
+  std::string text = with_barrier(
+      "    bed: floor\n"
+      "    posts: [pin, floor, pole]\n"
+      "    net_group: debris\n"
+      "    grain_groups: [debris]\n");
+  auto diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 3u) << all(diags);
+  const int posts_line = line_of(text, "posts: [pin");
+  const Diagnostic* d = find_path(diags, "scenario.barrier.posts[1]");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, posts_line);
+  EXPECT_EQ(d->message,
+            "rigid body 'floor' is the bed: the flow's friction on it would count as load on the "
+            "barrier");
+  d = find_path(diags, "scenario.barrier.posts[2]");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->message,
+            "rigid body 'pole' is not defined in 'rigid_bodies' (defined: floor, pin, boulder)");
+  d = find_path(diags, "scenario.barrier.net_group");
+  ASSERT_NE(d, nullptr) << all(diags);
+  EXPECT_EQ(d->line, line_of(text, "net_group: debris"));
+  EXPECT_EQ(d->message,
+            "particle group 'debris' is one of grain_groups too: a group is the flow's or the "
+            "barrier's, not both");
+
+  text = with_barrier("    bed: pin\n");
+  diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << all(diags);
+  EXPECT_EQ(diags[0].key_path, "scenario.barrier.bed");
+  EXPECT_EQ(diags[0].line, line_of(text, "bed: pin"));
+  EXPECT_EQ(diags[0].message, "rigid body 'pin' must be a plane (the bed the flow runs on)");
+
+  text = with_barrier(
+      "    bed: floor\n"
+      "    posts: [pin]\n"
+      "    net_group: rings\n"
+      "    grain_groups: [debris]\n");
+  const CaseConfig c = load_case_from_string(text, "case.yaml");
+  ASSERT_TRUE(c.scenario.barrier.has_value());
+  EXPECT_EQ(c.scenario.barrier->posts, std::vector<std::string>{"pin"});
+  EXPECT_EQ(c.scenario.barrier->net_group, "rings");
 }
 
 }  // namespace
