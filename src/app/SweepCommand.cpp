@@ -189,6 +189,11 @@ SweepConfig load_sweep_from_string(const std::string& yaml_text, const std::stri
     ctx.error(ctx.where("parameters"), "parameters", "must list at least one parameter");
   if (ctx.diagnostics().empty() && !config.parameters.empty()) refuse_repeated_cases(config, ctx);
   if (!ctx.diagnostics().empty()) throw InputError(ctx.sorted_diagnostics());
+  for (std::size_t p = 0; p < config.parameters.size(); ++p)
+    for (std::size_t i = 0; i < parameter_values(config.parameters[p]).size(); ++i)
+      config.parameters[p].value_at.push_back(value_location(ctx, p, i));
+  for (std::size_t i = 0; i < config.set.size(); ++i)
+    config.set_at.push_back(ctx.where(schema::index_path("set", i), "set"));
   if (config.name.empty()) {
     const std::string stem = std::filesystem::path(display_name).stem().string();
     config.name = stem.empty() ? "sweep" : stem;
@@ -240,6 +245,7 @@ std::vector<SweepCase> expand_sweep(const SweepConfig& sweep) {
     for (std::size_t p = 0; p < values.size(); ++p) {
       const std::string& v = values[p][choices[k][p]];
       c.parameter_values.push_back(v);
+      c.value_index.push_back(choices[k][p]);
       c.overrides.push_back(sweep.parameters[p].key + "=" + v);
     }
     cases.push_back(std::move(c));
@@ -282,20 +288,55 @@ std::string summary_row(const TensileResult& r) {
 
 }  // namespace
 
-int run_sweep(const SweepOptions& options, const Communicator& world) {
-  const SweepConfig sweep = load_sweep(options.sweep_path, options.overrides);
-  const std::vector<SweepCase> cases = expand_sweep(sweep);
-  // Every case is checked before any runs, on every rank (cheap), so that a bad value stops
-  // the study at once with its location.
+std::vector<CaseConfig> load_sweep_cases(const SweepConfig& sweep,
+                                         const std::vector<SweepCase>& cases) {
   std::vector<CaseConfig> configs;
   for (const SweepCase& c : cases) {
-    configs.push_back(load_case(sweep.case_path, c.overrides));
+    try {
+      configs.push_back(load_case(sweep.case_path, c.overrides));
+    } catch (const InputError& e) {
+      // The overrides are c.overrides in order, numbered from 1 (apply_overrides): the file's
+      // `set`, the command line's, then one per parameter.
+      std::string which = c.folder;
+      for (std::size_t p = 0; p < sweep.parameters.size(); ++p)
+        which += fmt::format("{} {}={}", p == 0 ? ":" : ",", sweep.parameters[p].key,
+                             c.parameter_values[p]);
+      std::vector<Diagnostic> located = e.diagnostics;
+      for (Diagnostic& d : located) {
+        if (d.file == "--set" && d.line > 0) {
+          const auto n = static_cast<std::size_t>(d.line - 1);
+          const schema::Location* at =
+              n < sweep.set_at.size() ? &sweep.set_at[n]
+              : n >= sweep.set.size() && n - sweep.set.size() < sweep.parameters.size()
+                  ? &sweep.parameters[n - sweep.set.size()]
+                         .value_at[c.value_index[n - sweep.set.size()]]
+                  : nullptr;
+          if (at != nullptr) {
+            d.file = at->file;
+            d.line = at->line;
+            d.column = at->column;
+          } else {
+            d.line -= static_cast<int>(sweep.set_at.size());  // the command line's own number
+          }
+        }
+        d.message += " (in " + which + ")";
+      }
+      throw InputError(located);
+    }
     if (scenario_kind(configs.back()) != ScenarioKind::kTensileTest)
       throw InputError({Diagnostic{sweep.case_path, 0, 0, "scenario.type",
                                    "ringdem sweep runs tensile tests; the case's scenario.type "
                                    "is " +
                                        configs.back().scenario.type}});
   }
+  return configs;
+}
+
+int run_sweep(const SweepOptions& options, const Communicator& world) {
+  const SweepConfig sweep = load_sweep(options.sweep_path, options.overrides);
+  const std::vector<SweepCase> cases = expand_sweep(sweep);
+  // Every case is checked before any runs, on every rank.
+  std::vector<CaseConfig> configs = load_sweep_cases(sweep, cases);
   const std::string out_dir =
       options.output_dir.empty() ? "results/" + sweep.name : options.output_dir;
   const bool root = world.is_root() && !options.quiet;

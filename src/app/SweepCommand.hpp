@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "comm/Communicator.hpp"
+#include "io/CaseConfig.hpp"
+#include "io/Schema.hpp"
 
 namespace ringdem {
 
@@ -23,13 +25,17 @@ struct SweepParameterConfig {
     std::string spacing = "linear";  ///< linear | log
   };
   std::optional<Range> range;
+  /// Where each value (parameter_values()) stands in the sweep file: its list entry, or the
+  /// range it comes from. A case's errors from the value point there (load_sweep_cases()).
+  std::vector<schema::Location> value_at;
 };
 
 struct SweepConfig {
   int schema_version = 1;
   std::string name;
   std::string case_path;         ///< relative to the sweep file
-  std::vector<std::string> set;  ///< overrides applied to every case
+  std::vector<std::string> set;  ///< overrides applied to every case: the file's, then --set's
+  std::vector<schema::Location> set_at;  ///< where each of the file's own `set` entries stands
   std::vector<SweepParameterConfig> parameters;
   std::string combine = "product";  ///< product (every combination) | zip (i-th with i-th)
   std::string source_path;
@@ -39,6 +45,7 @@ struct SweepConfig {
 struct SweepCase {
   std::string folder;                         ///< case_000, case_001, ...
   std::vector<std::string> parameter_values;  ///< one per parameter, as given
+  std::vector<std::size_t> value_index;       ///< one per parameter: which of its values
   std::vector<std::string> overrides;         ///< common set + key=value per parameter
 };
 
@@ -51,6 +58,13 @@ SweepConfig load_sweep_from_string(const std::string& yaml_text, const std::stri
 std::vector<std::string> parameter_values(const SweepParameterConfig& parameter);
 /// Every case of the study, in order (product: the last parameter varies fastest).
 std::vector<SweepCase> expand_sweep(const SweepConfig& sweep);
+
+/// Each case's configuration, loaded and checked before any runs (cheap), so that a bad value
+/// stops the study at once. An error of a case says which case it is in, and an error of one of
+/// its overrides points where the sweep gave it: the parameter's value or the `set` entry in the
+/// sweep file, or the command line's --set (InputError).
+std::vector<CaseConfig> load_sweep_cases(const SweepConfig& sweep,
+                                         const std::vector<SweepCase>& cases);
 
 struct SweepOptions {
   std::string sweep_path;

@@ -555,6 +555,47 @@ TEST(CaseLoader, ZippedSweepMayRepeatAValueButNoCase) {
           5, "case 1 repeats case 0");
 }
 
+TEST(CaseLoader, ASweepCaseErrorPointsWhereTheSweepGaveTheValue) {
+  // Each case's overrides are checked as --set's are, but a bad value in a sweep is no --set of
+  // the user's: it is reported at the sweep file's value or `set` entry (the command line's
+  // --set keeps its own number), with the case it is in.
+  const std::string text = "schema_version: 1\ncase: " + std::string(RINGDEM_SOURCE_DIR) +
+                           "/inputs/tensile/ring4_plastic.yaml\n"
+                           "set: [scenario.tensile_test.loading_rate=0.5]\n"
+                           "parameters:\n"
+                           "  - {key: bonds.0.plastic.hardening_ratio, values: [0.05, -1]}\n";
+  const auto first_error = [](const SweepConfig& sweep) {
+    try {
+      load_sweep_cases(sweep, expand_sweep(sweep));
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.diagnostics.size(), 1u) << e.format();
+      return e.diagnostics.front();
+    }
+    ADD_FAILURE() << "accepted";
+    return Diagnostic{};
+  };
+  Diagnostic d = first_error(load_sweep_from_string(text, "s.yaml"));
+  EXPECT_EQ(d.file, "s.yaml");
+  EXPECT_EQ(d.line, 5);
+  EXPECT_EQ(d.column, 59);  // the -1
+  EXPECT_EQ(d.key_path, "bonds[0].plastic.hardening_ratio");
+  EXPECT_EQ(d.message,
+            "must be in [0, 1), got -1 (in case_001: bonds.0.plastic.hardening_ratio=-1)");
+
+  d = first_error(load_sweep_from_string(replaced(text, "rate=0.5", "rate=0"), "s.yaml"));
+  EXPECT_EQ(d.file, "s.yaml");
+  EXPECT_EQ(d.line, 3);
+  EXPECT_EQ(d.key_path, "scenario.tensile_test.loading_rate");
+  EXPECT_EQ(d.message,
+            "must be > 0 m/s, got 0 (in case_000: bonds.0.plastic.hardening_ratio=0.05)");
+
+  d = first_error(load_sweep_from_string(replaced(text, ", -1]", "]"), "s.yaml",
+                                         {"simulation.end_time=2", "simulation.dt=-1"}));
+  EXPECT_EQ(d.file, "--set");
+  EXPECT_EQ(d.line, 2);
+  EXPECT_EQ(d.key_path, "simulation.dt");
+}
+
 }  // namespace
 }  // namespace ringdem
 
