@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Runs the main job: installs missing Debian packages, configures, builds, then
 #   scripts/run.sh [CASE.yaml | debris] [ringdem run options...]
-# Without CASE it runs the rockfall demo (inputs/rockfall/demo.yaml: an 825 kg boulder from
-# 3 m onto a reduced net of 40 rings, a few minutes), draws its figures and says where the
-# ParaView file is. `debris` runs the debris-flow demo (inputs/debris/demo.yaml: a surge into a
-# 10-ring net, about 7 minutes on 2 cores), draws its figures and checks its peak barrier force
+# Without CASE it runs the rockfall demo (inputs/rockfall/demo.yaml: a 200 kg boulder from
+# 2 m onto a reduced net of 40 rings, about a minute and a half on 2 cores), draws its figures
+# and says where the ParaView file is. `debris` runs the debris-flow demo
+# (inputs/debris/demo.yaml: a surge into a 10-ring net, about 2.5 minutes on 2 cores), draws its
+# figures and checks its peak barrier force
 # against the design guidance's hydrodynamic bounds. RINGDEM_RANKS=N runs on N MPI ranks
 # (default: 1 for a given case, up to 2 for the demos).
 set -euo pipefail
