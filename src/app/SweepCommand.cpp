@@ -288,6 +288,15 @@ std::string summary_row(const TensileResult& r) {
 
 }  // namespace
 
+bool is_sweep_file(const std::string& path) {
+  try {
+    const YAML::Node root = YAML::LoadFile(path);
+    return root.IsMap() && root["parameters"] && root["case"];
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+}
+
 std::vector<CaseConfig> load_sweep_cases(const SweepConfig& sweep,
                                          const std::vector<SweepCase>& cases) {
   std::vector<CaseConfig> configs;

@@ -66,6 +66,11 @@ std::vector<SweepCase> expand_sweep(const SweepConfig& sweep);
 std::vector<CaseConfig> load_sweep_cases(const SweepConfig& sweep,
                                          const std::vector<SweepCase>& cases);
 
+/// Whether the file at `path` is a sweep file (a YAML map with `parameters` and `case`), which
+/// `ringdem check` validates with every case instead of as a case file. False for anything
+/// else, a file that is not YAML included: loading it as a case reports that.
+bool is_sweep_file(const std::string& path);
+
 struct SweepOptions {
   std::string sweep_path;
   std::string output_dir;              ///< empty: results/<sweep name>

@@ -82,8 +82,9 @@ int main(int argc, char** argv) {
 
   std::string check_path;
   std::vector<std::string> check_overrides;
-  auto* check = app.add_subcommand("check", "validate a case file without running it");
-  check->add_option("case", check_path, "case file (YAML)")->required();
+  auto* check = app.add_subcommand(
+      "check", "validate a case file, or a sweep file and each of its cases, without running");
+  check->add_option("case", check_path, "case or sweep file (YAML)")->required();
   check->add_option("--set", check_overrides, "override a case key: key.path=value")
       ->allow_extra_args(false);
 
@@ -164,6 +165,15 @@ int main(int argc, char** argv) {
 
   if (*check) {
     try {
+      if (ringdem::is_sweep_file(check_path)) {  // the study and each of its cases
+        const ringdem::SweepConfig study = ringdem::load_sweep(check_path, check_overrides);
+        const std::vector<ringdem::SweepCase> cases = ringdem::expand_sweep(study);
+        ringdem::load_sweep_cases(study, cases);
+        fmt::print("{}: valid sweep ({} cases of {}, {} parameter{}, combine: {})\n", check_path,
+                   cases.size(), study.case_path, study.parameters.size(),
+                   study.parameters.size() == 1 ? "" : "s", study.combine);
+        return 0;
+      }
       const auto config = ringdem::load_case(check_path, check_overrides);
       fmt::print(
           "{}: valid ({} materials, {} bond types, {} rings, {} nets, {} rigid bodies, "

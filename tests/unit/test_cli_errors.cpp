@@ -1,6 +1,7 @@
 // Errors of the command line that must name what they are about (issue 15, item 9): running out
 // of memory names the case file, a folder given as a restart file or to `info` is called a
-// folder, a bad --max-walltime quotes the value. Each runs the ringdem binary.
+// folder, a bad --max-walltime quotes the value, `check` reads a sweep file as a study. Each runs
+// the ringdem binary.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -75,6 +76,36 @@ TEST(CliErrors, BadMaxWalltimeQuotesTheValue) {
     EXPECT_NE(r.output.find("--max-walltime: '" + value + "'"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("stod"), std::string::npos) << r.output;
   }
+  fs::remove_all(dir);
+}
+
+TEST(CliErrors, CheckValidatesASweepWithEachOfItsCases) {
+  // A sweep file given to `check` is read as a study, not as a case (which reported its keys
+  // as unknown and the case's sections as missing): every case is loaded, and a bad value is
+  // reported where the sweep gives it, with its case.
+  const std::string sweeps = std::string(RINGDEM_SOURCE_DIR) + "/inputs/sweeps/";
+  const testing::CommandResult good =
+      run_command(fmt::format("'{}' check '{}plastic_hardening.yaml'", kBinary, sweeps));
+  EXPECT_EQ(good.status, 0) << good.output;
+  // The file zips four values of each of its two parameters.
+  EXPECT_NE(good.output.find("plastic_hardening.yaml: valid sweep (4 cases of "), std::string::npos)
+      << good.output;
+  EXPECT_NE(good.output.find("ring4_plastic.yaml, 2 parameters, combine: zip)"), std::string::npos)
+      << good.output;
+
+  const std::string dir = temp_dir("cli_check_sweep");
+  const std::string sweep = dir + "/s.yaml";
+  std::ofstream(sweep) << "schema_version: 1\ncase: " << RINGDEM_SOURCE_DIR
+                       << "/inputs/tensile/ring4_plastic.yaml\nparameters:\n"
+                          "  - key: bonds.0.plastic.hardening_ratio\n"
+                          "    values: [0.05, -1]\n";
+  const testing::CommandResult bad = run_command(fmt::format("'{}' check '{}'", kBinary, sweep));
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_NE(
+      bad.output.find(sweep + ":5:20: error: bonds[0].plastic.hardening_ratio: must be in [0, 1), "
+                              "got -1 (in case_001: bonds.0.plastic.hardening_ratio=-1)"),
+      std::string::npos)
+      << bad.output;
   fs::remove_all(dir);
 }
 
