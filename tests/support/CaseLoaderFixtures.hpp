@@ -88,6 +88,17 @@ inline std::vector<Diagnostic> errors_of(const std::string& text,
   return {};
 }
 
+/// Loading `text` fails with one error: at `key_path`, on the line of `needle` (line_of), with
+/// `message`.
+inline void expect_one_error(const std::string& text, const std::string& key_path,
+                             const std::string& needle, const std::string& message) {
+  const std::vector<Diagnostic> diags = errors_of(text);
+  ASSERT_EQ(diags.size(), 1u) << InputError(diags).format();
+  EXPECT_EQ(diags[0].key_path, key_path);
+  EXPECT_EQ(diags[0].line, line_of(text, needle)) << needle;
+  EXPECT_EQ(diags[0].message, message);
+}
+
 inline const Diagnostic* find_path(const std::vector<Diagnostic>& diags, const std::string& path) {
   for (const Diagnostic& d : diags)
     if (d.key_path == path) return &d;

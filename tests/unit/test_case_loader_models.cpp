@@ -101,17 +101,13 @@ TEST(CaseLoader, PlasticLimitsAreCheckedAgainstTheBondModel) {
   std::string text = with_bond(
       "  - name: ring\n"
       "    plastic: {yield_stress: 1.5e9, windings: 12, wire_diameter: 0.003}\n");
-  auto diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic");
-  EXPECT_EQ(diags[0].line, line_of(text, "plastic: {"));
-  EXPECT_EQ(diags[0].message,
-            "model 'timoshenko' is elastic and reads no plastic limits; use model "
-            "timoshenko_plastic or remove this section");
+  expect_one_error(text, "bonds[0].plastic", "plastic: {",
+                   "model 'timoshenko' is elastic and reads no plastic limits; use model "
+                   "timoshenko_plastic or remove this section");
 
   // The plastic model without them: reported at its model key.
   text = with_bond("  - name: ring\n    model: timoshenko_plastic\n");
-  diags = errors_of(text);
+  auto diags = errors_of(text);
   ASSERT_EQ(diags.size(), 1u) << all(diags);
   EXPECT_EQ(diags[0].key_path, "bonds[0].plastic");
   EXPECT_EQ(diags[0].line, line_of(text, "model: timoshenko_plastic"));
@@ -126,12 +122,9 @@ TEST(CaseLoader, PlasticLimitsAreCheckedAgainstTheBondModel) {
       "    plastic:\n"
       "      yield_stress: 1.5e9\n"
       "      windings: 12\n");
-  diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic.wire_diameter");
-  EXPECT_EQ(diags[0].line, line_of(text, "yield_stress: 1.5e9"));  // the section's first line
-  EXPECT_EQ(diags[0].message,
-            "missing key 'wire_diameter' (the bond has no derive_from to take it from)");
+  // Reported at the section's first line.
+  expect_one_error(text, "bonds[0].plastic.wire_diameter", "yield_stress: 1.5e9",
+                   "missing key 'wire_diameter' (the bond has no derive_from to take it from)");
   text = with_bond(
       "  - name: ring\n"
       "    model: timoshenko_plastic\n"
@@ -139,11 +132,8 @@ TEST(CaseLoader, PlasticLimitsAreCheckedAgainstTheBondModel) {
       "    plastic:\n"
       "      yield_stress: 1.5e9\n"
       "      windings: 19\n");
-  diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "bonds[0].plastic.windings");
-  EXPECT_EQ(diags[0].line, line_of(text, "windings: 19"));
-  EXPECT_EQ(diags[0].message, "bonds[0].derive_from gives windings: give it in one place only");
+  expect_one_error(text, "bonds[0].plastic.windings", "windings: 19",
+                   "bonds[0].derive_from gives windings: give it in one place only");
 }
 
 // Debris grains: the distribution's own keys, the size classes and the box, each error at the
@@ -195,12 +185,8 @@ TEST(CaseLoader, GrainsEntriesAreCheckedWithTheirLines) {
       "      box_min: [0, 0, 0]\n"
       "      box_max: [1, 0.03, 0.5]\n"
       "      sizes: {min_radius: 0.005, max_radius: 0.02}\n");
-  diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "particles.grains[0].box_max");
-  EXPECT_EQ(diags[0].line, line_of(text, "box_max: [1, 0.03"));
-  EXPECT_EQ(diags[0].message,
-            "the box is 0.03 m wide along y, less than the largest grain's diameter 0.04 m");
+  expect_one_error(text, "particles.grains[0].box_max", "box_max: [1, 0.03",
+                   "the box is 0.03 m wide along y, less than the largest grain's diameter 0.04 m");
 
   text = with_grains(
       "    - material: rock\n"
@@ -241,28 +227,18 @@ TEST(CaseLoader, InflowEntriesAreCheckedWithTheirLines) {
                         "rigid_bodies:\n");
   };
   std::string text = with_inflow("[0, 0, 0]", "0.01", "");
-  auto diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "inflow[0].velocity");
-  EXPECT_EQ(diags[0].line, line_of(text, "velocity: [0, 0, 0]"));
-  EXPECT_EQ(diags[0].message, "must not be zero: the grains enter at this velocity");
+  expect_one_error(text, "inflow[0].velocity", "velocity: [0, 0, 0]",
+                   "must not be zero: the grains enter at this velocity");
 
   // A batch every 0.2 m / 2 m/s = 0.1 s of a 0.2 x 0.5 x 0.3 m box: 0.5 m^3/s fills 1.67 of it.
   text = with_inflow("[2, 0, 0]", "0.5", "");
-  diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "inflow[0].discharge");
-  EXPECT_EQ(diags[0].line, line_of(text, "discharge: 0.5"));
-  EXPECT_EQ(diags[0].message,
-            "needs a solid fraction of 1.67 in the inlet box, above the 0.35 that random "
-            "sequential addition reaches: raise the velocity or widen the box across the flow");
+  expect_one_error(
+      text, "inflow[0].discharge", "discharge: 0.5",
+      "needs a solid fraction of 1.67 in the inlet box, above the 0.35 that random "
+      "sequential addition reaches: raise the velocity or widen the box across the flow");
 
   text = with_inflow("[2, 0, 0]", "0.01", "    start_time: 0.3\n    end_time: 0.2\n");
-  diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "inflow[0].end_time");
-  EXPECT_EQ(diags[0].line, line_of(text, "end_time: 0.2"));
-  EXPECT_EQ(diags[0].message, "must be after start_time = 0.3");
+  expect_one_error(text, "inflow[0].end_time", "end_time: 0.2", "must be after start_time = 0.3");
 
   // The flow may run along any axis, either way: a batch comes each time the last has moved the
   // box's depth along it.
@@ -314,11 +290,8 @@ TEST(CaseLoader, BarrierBodiesAndGroupsAreCheckedWithTheirLines) {
             "barrier's, not both");
 
   text = with_barrier("    bed: pin\n");
-  diags = errors_of(text);
-  ASSERT_EQ(diags.size(), 1u) << all(diags);
-  EXPECT_EQ(diags[0].key_path, "scenario.barrier.bed");
-  EXPECT_EQ(diags[0].line, line_of(text, "bed: pin"));
-  EXPECT_EQ(diags[0].message, "rigid body 'pin' must be a plane (the bed the flow runs on)");
+  expect_one_error(text, "scenario.barrier.bed", "bed: pin",
+                   "rigid body 'pin' must be a plane (the bed the flow runs on)");
 
   text = with_barrier(
       "    bed: floor\n"
