@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "app/OutputLock.hpp"
@@ -273,6 +275,46 @@ const char* kSummaryColumns =
     "bending_stage_stiffness_N_per_m,tensile_stage_stiffness_N_per_m,steps,wall_time_s,"
     "particle_steps_per_s";
 
+/// A case's row of sweep.csv, as columns and values (each rank writes its cases' rows into
+/// their folders, rank 0 joins them).
+using SweepRow = std::vector<std::pair<std::string, std::string>>;
+
+/// The numbers of a summary.json (read as YAML, of which JSON is a part) in the file's order,
+/// an object's members as "object.member": lists, text, null and the loop's time per phase (not
+/// a result of the case) left out.
+void add_summary_numbers(const YAML::Node& node, const std::string& prefix, SweepRow& row) {
+  for (const auto& member : node) {
+    const std::string key = prefix + member.first.as<std::string>();
+    const YAML::Node& value = member.second;
+    if (value.IsMap()) {
+      if (key != "time_per_phase_s") add_summary_numbers(value, key + ".", row);
+      continue;
+    }
+    double x = 0.0;  // a quoted scalar is JSON text, whatever it reads like
+    if (value.IsScalar() && value.Tag() != "!" && YAML::convert<double>::decode(value, x))
+      row.emplace_back(key, csv_number(x));
+  }
+}
+
+/// A case of any scenario but the tensile test, run by `ringdem run`'s loop alone on this rank:
+/// its exit code (0 done, 1 diverged or failed, ...) and the numbers of its summary.json.
+SweepRow run_scenario_case(const CaseConfig& config, const std::string& dir,
+                           const Communicator& self) {
+  RunOptions run;
+  run.output_dir = dir;
+  run.quiet = true;
+  int code = 1;
+  try {
+    code = run_case(config, run, self);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "ringdem sweep: {}: {}\n", dir, e.what());
+  }
+  SweepRow row{{"exit_code", std::to_string(code)}};
+  if (std::filesystem::exists(dir + "/summary.json"))
+    add_summary_numbers(YAML::LoadFile(dir + "/summary.json"), "", row);
+  return row;
+}
+
 std::string summary_row(const TensileResult& r) {
   const auto opt = [](const std::optional<double>& v) {
     return v ? csv_number(*v) : std::string();
@@ -332,11 +374,6 @@ std::vector<CaseConfig> load_sweep_cases(const SweepConfig& sweep,
       }
       throw InputError(located);
     }
-    if (scenario_kind(configs.back()) != ScenarioKind::kTensileTest)
-      throw InputError({Diagnostic{sweep.case_path, 0, 0, "scenario.type",
-                                   "ringdem sweep runs tensile tests; the case's scenario.type "
-                                   "is " +
-                                       configs.back().scenario.type}});
   }
   return configs;
 }
@@ -359,45 +396,84 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
 
   // Each rank runs its cases alone.
   const Communicator self = Communicator::self();
+  std::int64_t worst_exit = 0;  // of the cases that are no tensile test
   for (std::size_t k = static_cast<std::size_t>(world.rank()); k < cases.size();
        k += static_cast<std::size_t>(world.size())) {
     const std::string dir = out_dir + "/" + cases[k].folder;
     configs[k].name = sweep.name + "_" + cases[k].folder;
-    TensileRunOptions run;
-    run.output_dir = dir;
-    run.verbose = false;
-    const TensileResult r = run_tensile_test(configs[k], run, self);
-    std::ofstream(dir + "/sweep_row.csv") << summary_row(r) << "\n";
-    if (!options.quiet) {
-      std::string parameters;
-      for (std::size_t p = 0; p < sweep.parameters.size(); ++p)
-        parameters += fmt::format(" {}={}", sweep.parameters[p].key, cases[k].parameter_values[p]);
-      fmt::print("[rank {}] {}:{}: {}, peak {:.2f} kN at {:.1f} mm, {:.0f} s\n", world.rank(),
-                 cases[k].folder, parameters, stop_reason_name(r.stop_reason),
-                 1e-3 * r.analysis.peak_load, 1e3 * r.analysis.displacement_at_peak, r.wall_time);
-      std::fflush(stdout);
+    std::string parameters;
+    for (std::size_t p = 0; p < sweep.parameters.size(); ++p)
+      parameters += fmt::format(" {}={}", sweep.parameters[p].key, cases[k].parameter_values[p]);
+    std::string header, values;
+    if (scenario_kind(configs[k]) == ScenarioKind::kTensileTest) {
+      TensileRunOptions run;
+      run.output_dir = dir;
+      run.verbose = false;
+      const TensileResult r = run_tensile_test(configs[k], run, self);
+      header = kSummaryColumns;
+      values = summary_row(r);
+      if (!options.quiet)
+        fmt::print("[rank {}] {}:{}: {}, peak {:.2f} kN at {:.1f} mm, {:.0f} s\n", world.rank(),
+                   cases[k].folder, parameters, stop_reason_name(r.stop_reason),
+                   1e-3 * r.analysis.peak_load, 1e3 * r.analysis.displacement_at_peak, r.wall_time);
+    } else {
+      const SweepRow row = run_scenario_case(configs[k], dir, self);
+      worst_exit = std::max<std::int64_t>(worst_exit, std::stoi(row.front().second));
+      for (const auto& [column, value] : row) {
+        header += (header.empty() ? "" : ",") + column;
+        values += (values.empty() ? "" : ",") + value;
+      }
+      if (!options.quiet)
+        fmt::print("[rank {}] {}:{}: exit {}\n", world.rank(), cases[k].folder, parameters,
+                   row.front().second);
     }
+    std::fflush(stdout);
+    std::ofstream(dir + "/sweep_row.csv") << header << "\n" << values << "\n";
   }
-  world.barrier();
+  worst_exit = world.max(worst_exit);  // also the barrier before rank 0 reads the rows
 
   if (world.is_root()) {
+    // The cases' columns in the order they first come (the cases of one study share them, but
+    // a case that failed early has fewer); a case without a column leaves its cell empty.
+    std::vector<std::string> columns;
+    std::vector<std::map<std::string, std::string>> rows(cases.size());
+    const auto split = [](const std::string& line) {
+      std::vector<std::string> out;
+      std::stringstream in(line);
+      for (std::string cell; std::getline(in, cell, ',');)
+        out.push_back(cell);
+      return out;
+    };
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+      std::ifstream row(out_dir + "/" + cases[k].folder + "/sweep_row.csv");
+      std::string header, values;
+      std::getline(row, header);
+      std::getline(row, values);
+      const std::vector<std::string> names = split(header), cells = split(values);
+      for (std::size_t c = 0; c < names.size(); ++c) {
+        if (std::find(columns.begin(), columns.end(), names[c]) == columns.end())
+          columns.push_back(names[c]);
+        rows[k][names[c]] = c < cells.size() ? cells[c] : std::string();
+      }
+    }
     std::ofstream table(out_dir + "/sweep.csv");
     table << "case,folder";
     for (const auto& p : sweep.parameters)
       table << "," << csv_text(p.key);
-    table << "," << kSummaryColumns << "\n";
+    for (const std::string& column : columns)
+      table << "," << column;
+    table << "\n";
     for (std::size_t k = 0; k < cases.size(); ++k) {
-      std::ifstream row(out_dir + "/" + cases[k].folder + "/sweep_row.csv");
-      std::string line;
-      std::getline(row, line);
       table << k << "," << cases[k].folder;
       for (const std::string& v : cases[k].parameter_values)
         table << "," << csv_text(v);
-      table << "," << line << "\n";
+      for (const std::string& column : columns)
+        table << "," << rows[k][column];
+      table << "\n";
     }
     if (root) fmt::print("combined table: {}/sweep.csv\n", out_dir);
   }
-  return 0;
+  return static_cast<int>(worst_exit);
 }
 
 }  // namespace ringdem

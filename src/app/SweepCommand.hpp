@@ -79,8 +79,11 @@ struct SweepOptions {
   bool break_lock = false;  ///< take over a lock of the output folder held on another host
 };
 
-/// Runs the study; returns the exit code. Writes OUT/case_NNN/{summary.json, series.csv} per
-/// case and OUT/sweep.csv (one row per case: its parameters and its summary numbers).
+/// Runs the study; returns the exit code: the largest of the cases' (a case that is no tensile
+/// test runs as `ringdem run` runs it: 1 diverged or failed, 3 stopped with a checkpoint). Writes
+/// OUT/case_NNN/{summary.json, series.csv} per case and OUT/sweep.csv (one row per case: its
+/// parameters and its summary numbers; for a case that is no tensile test its exit code and
+/// every number of its summary.json).
 int run_sweep(const SweepOptions& options, const Communicator& world);
 
 }  // namespace ringdem
