@@ -303,6 +303,9 @@ SweepRow run_scenario_case(const CaseConfig& config, const std::string& dir,
   RunOptions run;
   run.output_dir = dir;
   run.quiet = true;
+  // A summary left by an earlier study in this folder must not stand for a case that ends
+  // before it writes its own.
+  std::filesystem::remove(dir + "/summary.json");
   int code = 1;
   try {
     code = run_case(config, run, self);
