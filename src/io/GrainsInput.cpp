@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 #include <vector>
 
@@ -155,6 +156,36 @@ GrainsConfig inflow_fill(const InflowConfig& in) {
   g.velocity = in.velocity;
   g.seed = in.seed;
   return g;
+}
+
+void check_outflow_groups(const CaseConfig& c, std::size_t i, schema::Context& ctx) {
+  std::set<std::string> loose, in_rings;
+  for (const GrainsConfig& g : c.grains)
+    loose.insert(g.group);
+  for (const LatticeConfig& l : c.lattices)
+    loose.insert(l.group);
+  for (const SphereConfig& s : c.spheres)
+    loose.insert(s.group);
+  for (const SphereFileConfig& f : c.sphere_files)
+    loose.insert(f.group);
+  for (const InflowConfig& in : c.inflow)
+    loose.insert(in.group);
+  for (const RingConfig& r : c.rings)
+    in_rings.insert(r.group);
+  for (const RingNetConfig& n : c.nets) {
+    in_rings.insert(n.group);
+    if (n.shackles.enabled) in_rings.insert(n.shackles.group);
+  }
+  const std::string p = schema::index_path("outflow", i);
+  const std::vector<std::string>& groups = c.outflow[i].groups;
+  for (std::size_t k = 0; k < groups.size(); ++k) {
+    const std::string key = fmt::format("{}.groups[{}]", p, k);
+    if (!ctx.failed(key) && loose.count(groups[k]) == 0 && in_rings.count(groups[k]) != 0)
+      ctx.error(ctx.where(key, p + ".groups"), key,
+                fmt::format("particle group '{}' holds only ring particles, which an outflow box "
+                            "never takes",
+                            groups[k]));
+  }
 }
 
 void validate_inflow(const InflowConfig& in, const std::string& p, schema::Context& ctx) {

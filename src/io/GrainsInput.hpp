@@ -43,4 +43,9 @@ GrainsConfig inflow_fill(const InflowConfig& inflow);
 /// solid fraction that random sequential addition reaches, an end after the start.
 void validate_inflow(const InflowConfig& inflow, const std::string& p, schema::Context& ctx);
 
+/// Outflow box i's groups against what it can take, free particles in no ring: a group of ring
+/// particles only (a net's, its shackles') is an error, as the box would do nothing with it.
+/// (An undefined group is reported by the group check.)
+void check_outflow_groups(const CaseConfig& c, std::size_t i, schema::Context& ctx);
+
 }  // namespace ringdem

@@ -304,5 +304,23 @@ TEST(CaseLoader, BarrierBodiesAndGroupsAreCheckedWithTheirLines) {
   EXPECT_EQ(c.scenario.barrier->net_group, "rings");
 }
 
+// An outflow box takes free particles in no ring: a group of ring particles only is refused at
+// its entry (it would do nothing); a group of grains loads.
+TEST(CaseLoader, OutflowGroupsMustHoldParticlesItCanTake) {
+  const auto with_outflow = [](const std::string& groups) {
+    return replaced(kValidCase, "rigid_bodies:\n",
+                    "outflow:\n  - {name: out, box_min: [-5, -5, -5], box_max: [5, 5, 5], "
+                    "groups: " +
+                        groups + "}\nrigid_bodies:\n");
+  };
+  const std::string text = with_outflow("[debris, rings]");
+  expect_one_error(text, "outflow[0].groups[1]", "groups: [debris, rings]",
+                   "particle group 'rings' holds only ring particles, which an outflow box never "
+                   "takes");
+  const CaseConfig c = load_case_from_string(with_outflow("[debris]"), "case.yaml");
+  ASSERT_EQ(c.outflow.size(), 1u);
+  EXPECT_EQ(c.outflow[0].groups, std::vector<std::string>{"debris"});
+}
+
 }  // namespace
 }  // namespace ringdem
