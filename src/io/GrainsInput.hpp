@@ -1,8 +1,9 @@
 #pragma once
 
-/// The loader's side of the debris grain source (engine/GrainSource.hpp): the radius
-/// distribution a `particles.grains[]` entry describes, its grain count, and the checks that
-/// relate its keys to each other.
+/// The loader's side of the debris sources and sink (engine/GrainSource.hpp, InflowSource.hpp,
+/// OutflowSink.hpp): the radius distribution a `particles.grains[]` entry describes, its grain
+/// count, the checks that relate its keys to each other, and those of the inlets and of the
+/// outflow boxes' groups.
 
 #include <string>
 
