@@ -159,23 +159,20 @@ GrainsConfig inflow_fill(const InflowConfig& in) {
 }
 
 void check_outflow_groups(const CaseConfig& c, std::size_t i, schema::Context& ctx) {
+  const auto groups_of = [](std::set<std::string>& to, const auto& entries) {
+    for (const auto& e : entries)
+      to.insert(e.group);
+  };
   std::set<std::string> loose, in_rings;
-  for (const GrainsConfig& g : c.grains)
-    loose.insert(g.group);
-  for (const LatticeConfig& l : c.lattices)
-    loose.insert(l.group);
-  for (const SphereConfig& s : c.spheres)
-    loose.insert(s.group);
-  for (const SphereFileConfig& f : c.sphere_files)
-    loose.insert(f.group);
-  for (const InflowConfig& in : c.inflow)
-    loose.insert(in.group);
-  for (const RingConfig& r : c.rings)
-    in_rings.insert(r.group);
-  for (const RingNetConfig& n : c.nets) {
-    in_rings.insert(n.group);
+  groups_of(loose, c.grains);
+  groups_of(loose, c.lattices);
+  groups_of(loose, c.spheres);
+  groups_of(loose, c.sphere_files);
+  groups_of(loose, c.inflow);
+  groups_of(in_rings, c.rings);
+  groups_of(in_rings, c.nets);
+  for (const RingNetConfig& n : c.nets)
     if (n.shackles.enabled) in_rings.insert(n.shackles.group);
-  }
   const std::string p = schema::index_path("outflow", i);
   const std::vector<std::string>& groups = c.outflow[i].groups;
   for (std::size_t k = 0; k < groups.size(); ++k) {
