@@ -31,16 +31,6 @@ namespace ringdem {
 
 namespace {
 
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ','))
-    cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
-
 std::string trimmed(const std::string& s) {
   const auto first = s.find_first_not_of(" \t\r\"");
   if (first == std::string::npos) return "";

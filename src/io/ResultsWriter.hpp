@@ -51,4 +51,8 @@ class SeriesWriter {
   std::size_t n_columns_ = 0;
 };
 
+/// The cells of one line of CSV: a cell in double quotes may hold commas, and "" in it is a
+/// quote (as sweep.csv writes text); a line that ends in a comma ends in an empty cell.
+std::vector<std::string> split_csv_line(const std::string& line);
+
 }  // namespace ringdem

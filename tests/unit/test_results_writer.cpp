@@ -49,5 +49,15 @@ TEST(JsonObject, NumbersReadBackExactlyInInsertionOrder) {
   EXPECT_EQ(read["bodies"]["count"].get<int>(), 7);
 }
 
+TEST(CsvLine, QuotedCellsKeepTheirCommasAndQuotes) {
+  // The cells as written by hand: sweep.csv quotes a swept value with a comma or a quote in it.
+  EXPECT_EQ(split_csv_line("a,b,c"), (std::vector<std::string>{"a", "b", "c"}));
+  EXPECT_EQ(split_csv_line("0,\"[0, 0, -1]\",x"),
+            (std::vector<std::string>{"0", "[0, 0, -1]", "x"}));
+  EXPECT_EQ(split_csv_line("\"say \"\"hi\"\"\",2"), (std::vector<std::string>{"say \"hi\"", "2"}));
+  EXPECT_EQ(split_csv_line("1,,3,"), (std::vector<std::string>{"1", "", "3", ""}));
+  EXPECT_TRUE(split_csv_line("").empty());
+}
+
 }  // namespace
 }  // namespace ringdem
