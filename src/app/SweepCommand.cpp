@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -12,7 +13,9 @@
 
 #include "app/OutputLock.hpp"
 #include "app/RunCommand.hpp"
+#include "app/RunControl.hpp"
 #include "app/ScenarioDriver.hpp"
+#include "app/SweepCaseRecord.hpp"
 #include "app/TensileTest.hpp"
 #include "io/CaseLoader.hpp"
 #include "io/ResultsWriter.hpp"
@@ -298,11 +301,9 @@ void add_summary_numbers(const YAML::Node& node, const std::string& prefix, Swee
 
 /// A case of any scenario but the tensile test, run by `ringdem run`'s loop alone on this rank:
 /// its exit code (0 done, 1 diverged or failed, ...) and the numbers of its summary.json.
-SweepRow run_scenario_case(const CaseConfig& config, const std::string& dir,
+SweepRow run_scenario_case(const CaseConfig& config, const RunOptions& run,
                            const Communicator& self) {
-  RunOptions run;
-  run.output_dir = dir;
-  run.quiet = true;
+  const std::string& dir = run.output_dir;
   // A summary left by an earlier study in this folder must not stand for a case that ends
   // before it writes its own.
   std::filesystem::remove(dir + "/summary.json");
@@ -381,25 +382,63 @@ std::vector<CaseConfig> load_sweep_cases(const SweepConfig& sweep,
   return configs;
 }
 
+namespace {
+
+/// On a restart, every case folder that is there must hold this study's case: a folder of a
+/// case with other overrides (another study, or this one changed) is refused before anything
+/// runs, so that the table never mixes two studies. Every rank checks every case (cheap).
+void check_restart_folders(const std::string& out_dir, const SweepConfig& sweep,
+                           const std::vector<SweepCase>& cases) {
+  std::vector<Diagnostic> problems;
+  for (const SweepCase& c : cases) {
+    const std::string dir = out_dir + "/" + c.folder;
+    const SweepCaseRecord record = read_case_record(dir);
+    if (record.overrides && *record.overrides != c.overrides) {
+      std::string was, is;
+      for (const std::string& o : *record.overrides)
+        was += (was.empty() ? "" : " ") + o;
+      for (const std::string& o : c.overrides)
+        is += (is.empty() ? "" : " ") + o;
+      problems.push_back({sweep.source_path, 0, 0, "",
+                          fmt::format("--restart: {} was run with other values ({}) than this "
+                                      "study gives it ({}); continue the study it belongs to, or "
+                                      "give another output folder",
+                                      dir, was.empty() ? "none" : was, is.empty() ? "none" : is)});
+    } else if (!record.overrides && record.has_row()) {
+      problems.push_back({sweep.source_path, 0, 0, "",
+                          fmt::format("--restart: {} does not say which values it was run with "
+                                      "(no sweep_case.txt: written by an older ringdem); give "
+                                      "another output folder",
+                                      dir)});
+    }
+  }
+  if (!problems.empty()) throw InputError(problems);
+}
+
+}  // namespace
+
 int run_sweep(const SweepOptions& options, const Communicator& world) {
+  const auto study_start = std::chrono::steady_clock::now();
   const SweepConfig sweep = load_sweep(options.sweep_path, options.overrides);
   const std::vector<SweepCase> cases = expand_sweep(sweep);
   // Every case is checked before any runs, on every rank.
   std::vector<CaseConfig> configs = load_sweep_cases(sweep, cases);
   const std::string out_dir =
       options.output_dir.empty() ? "results/" + sweep.name : options.output_dir;
+  if (options.restart) check_restart_folders(out_dir, sweep, cases);
   const bool root = world.is_root() && !options.quiet;
   // Held to the end of the study: no second sweep into this folder (app/OutputLock.hpp).
   const OutputLock lock = lock_output_folder(out_dir, world, options.break_lock);
   if (root)
-    fmt::print("sweep {} ({}): {} cases of {} over {} rank{}, output in {}\n", sweep.name,
+    fmt::print("sweep {} ({}): {} cases of {} over {} rank{}, output in {}{}\n", sweep.name,
                sweep.source_path, cases.size(), sweep.case_path, world.size(),
-               world.size() == 1 ? "" : "s", out_dir);
+               world.size() == 1 ? "" : "s", out_dir,
+               options.restart ? ", continuing the cases not done" : "");
   world.barrier();
 
   // Each rank runs its cases alone.
   const Communicator self = Communicator::self();
-  std::int64_t worst_exit = 0;  // of the cases that are no tensile test
+  std::int64_t worst_exit = 0;
   for (std::size_t k = static_cast<std::size_t>(world.rank()); k < cases.size();
        k += static_cast<std::size_t>(world.size())) {
     const std::string dir = out_dir + "/" + cases[k].folder;
@@ -407,6 +446,30 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
     std::string parameters;
     for (std::size_t p = 0; p < sweep.parameters.size(); ++p)
       parameters += fmt::format(" {}={}", sweep.parameters[p].key, cases[k].parameter_values[p]);
+    if (options.restart) {
+      const SweepCaseRecord record = read_case_record(dir);
+      if (record.finished()) {  // its row stays as it is
+        worst_exit = std::max<std::int64_t>(worst_exit, record.exit_code());
+        if (!options.quiet)
+          fmt::print("[rank {}] {}:{}: done before (exit {}), kept\n", world.rank(),
+                     cases[k].folder, parameters, record.exit_code());
+        continue;
+      }
+    }
+    // The study stops on SIGUSR1 or at its wall-time limit: the case that runs then writes a
+    // checkpoint and stops (a tensile test runs to its end); the cases after it do not start.
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - study_start).count();
+    if (stop_signal_received() || (options.max_walltime > 0.0 && elapsed >= options.max_walltime)) {
+      worst_exit = std::max<std::int64_t>(worst_exit, kExitCaseNotStarted);
+      write_case_start(dir, cases[k].overrides);  // the folder is this study's case
+      write_case_row(dir, "exit_code", std::to_string(kExitCaseNotStarted));
+      if (!options.quiet)
+        fmt::print("[rank {}] {}:{}: not started (the study was asked to stop)\n", world.rank(),
+                   cases[k].folder, parameters);
+      continue;
+    }
+    write_case_start(dir, cases[k].overrides);
     std::string header, values;
     if (scenario_kind(configs[k]) == ScenarioKind::kTensileTest) {
       TensileRunOptions run;
@@ -420,7 +483,12 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
                    cases[k].folder, parameters, stop_reason_name(r.stop_reason),
                    1e-3 * r.analysis.peak_load, 1e3 * r.analysis.displacement_at_peak, r.wall_time);
     } else {
-      const SweepRow row = run_scenario_case(configs[k], dir, self);
+      RunOptions run;
+      run.output_dir = dir;
+      run.quiet = true;
+      run.restart = options.restart ? "auto" : "";
+      if (options.max_walltime > 0.0) run.max_walltime = options.max_walltime - elapsed;
+      const SweepRow row = run_scenario_case(configs[k], run, self);
       worst_exit = std::max<std::int64_t>(worst_exit, std::stoi(row.front().second));
       for (const auto& [column, value] : row) {
         header += (header.empty() ? "" : ",") + column;
@@ -431,7 +499,7 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
                    row.front().second);
     }
     std::fflush(stdout);
-    std::ofstream(dir + "/sweep_row.csv") << header << "\n" << values << "\n";
+    write_case_row(dir, header, values);
   }
   worst_exit = world.max(worst_exit);  // also the barrier before rank 0 reads the rows
 
@@ -440,19 +508,10 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
     // a case that failed early has fewer); a case without a column leaves its cell empty.
     std::vector<std::string> columns;
     std::vector<std::map<std::string, std::string>> rows(cases.size());
-    const auto split = [](const std::string& line) {
-      std::vector<std::string> out;
-      std::stringstream in(line);
-      for (std::string cell; std::getline(in, cell, ',');)
-        out.push_back(cell);
-      return out;
-    };
     for (std::size_t k = 0; k < cases.size(); ++k) {
-      std::ifstream row(out_dir + "/" + cases[k].folder + "/sweep_row.csv");
-      std::string header, values;
-      std::getline(row, header);
-      std::getline(row, values);
-      const std::vector<std::string> names = split(header), cells = split(values);
+      const SweepCaseRecord record = read_case_record(out_dir + "/" + cases[k].folder);
+      const std::vector<std::string> names = split_csv_line(record.header);
+      const std::vector<std::string> cells = split_csv_line(record.values);
       for (std::size_t c = 0; c < names.size(); ++c) {
         if (std::find(columns.begin(), columns.end(), names[c]) == columns.end())
           columns.push_back(names[c]);
@@ -475,6 +534,11 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
       table << "\n";
     }
     if (root) fmt::print("combined table: {}/sweep.csv\n", out_dir);
+    if (root && worst_exit == kExitCaseNotStarted)
+      fmt::print(
+          "some cases stopped with a checkpoint or did not start (exit_code 3 in sweep.csv): "
+          "`ringdem sweep {} -o {} --restart` continues them and keeps the others\n",
+          options.sweep_path, out_dir);
   }
   return static_cast<int>(worst_exit);
 }

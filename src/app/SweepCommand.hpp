@@ -77,10 +77,17 @@ struct SweepOptions {
   std::vector<std::string> overrides;  ///< applied to every case after the sweep's own `set`
   bool quiet = false;
   bool break_lock = false;  ///< take over a lock of the output folder held on another host
+  /// Continue a study in its output folder: keep the cases that are done (their sweep_row.csv),
+  /// continue a stopped case from its newest checkpoint, start the others (SweepCaseRecord).
+  bool restart = false;
+  /// Wall seconds for the whole study (0: no limit): a case running when they are spent writes a
+  /// checkpoint and stops; the cases after it do not start. Both exit with code 3.
+  double max_walltime = 0.0;
 };
 
 /// Runs the study; returns the exit code: the largest of the cases' (a case that is no tensile
-/// test runs as `ringdem run` runs it: 1 diverged or failed, 3 stopped with a checkpoint). Writes
+/// test runs as `ringdem run` runs it: 1 diverged or failed, 3 stopped with a checkpoint; 3 also
+/// for a case not started because the study was asked to stop: SIGUSR1, max_walltime). Writes
 /// OUT/case_NNN/{summary.json, series.csv} per case and OUT/sweep.csv (one row per case: its
 /// parameters and its summary numbers; for a case that is no tensile test its exit code and
 /// every number of its summary.json).

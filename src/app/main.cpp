@@ -97,6 +97,13 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   sweep->add_flag("-q,--quiet", sweep_opts.quiet, "no progress lines");
   sweep->add_flag("--break-lock", sweep_opts.break_lock, break_lock_help);
+  sweep->add_flag("--restart", sweep_opts.restart,
+                  "continue the study in its output folder: keep the cases that are done, "
+                  "continue a stopped case from its newest checkpoint, start the others");
+  std::string sweep_max_walltime;
+  sweep->add_option("--max-walltime", sweep_max_walltime,
+                    "wall time for the whole study (as run's): the case running then writes a "
+                    "checkpoint and stops, the cases after it do not start; exit code 3");
 
   ringdem::CalibrationOptions cal_opts;
   std::vector<double> lambda_range, modulus_range;
@@ -152,14 +159,20 @@ int main(int argc, char** argv) {
     cal_opts.modulus_upper = modulus_range[1];
   }
 
-  if (*run && !max_walltime.empty()) {
+  // --max-walltime of run or sweep: a duration ("3600", "1:00:00", "60m").
+  const auto parse_walltime = [](const std::string& text, double& seconds) {
+    if (text.empty()) return true;
     try {
-      run_opts.max_walltime = ringdem::parse_duration(max_walltime);
+      seconds = ringdem::parse_duration(text);
+      return true;
     } catch (const std::exception& e) {
       std::cerr << "ringdem: --max-walltime: " << e.what() << "\n";
-      return kExitInputError;
+      return false;
     }
-  }
+  };
+  if (*run && !parse_walltime(max_walltime, run_opts.max_walltime)) return kExitInputError;
+  if (*sweep && !parse_walltime(sweep_max_walltime, sweep_opts.max_walltime))
+    return kExitInputError;
 
   if (*info) return ringdem::print_file_info(info_path, std::cout);
 

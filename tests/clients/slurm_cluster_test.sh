@@ -7,7 +7,9 @@
 #     itself (no job ends in TIMEOUT);
 #   - the chain of jobs ends with one that finished the run (COMPLETED, exit 0);
 #   - the final state equals, bit for bit, that of the same case run uninterrupted (the last
-#     checkpoint, series.csv, the rebuild count in summary.json, the last frame).
+#     checkpoint, series.csv, the rebuild count in summary.json, the last frame);
+#   - a sweep file submitted with the same script runs as `ringdem sweep`: a study of two falling
+#     spheres on 2 tasks completes, each case's final kinetic energy m (g t)^2 / 2 in sweep.csv.
 # It stops every daemon it started (by pid, on exit). Exit 77 (ctest: skipped) when SLURM or
 # munge is not installed or this is not root (slurmd starts the job steps as their user).
 # usage: slurm_cluster_test.sh RINGDEM_BINARY SOURCE_DIR
@@ -235,4 +237,55 @@ echo "neighbour rebuilds: $(rebuilds "$slurm_out/summary.json") in both"
 segment=$(ls "$slurm_out"/frames_*.h5 | tail -1)
 $py "$src/scripts/compare_h5.py" "$work/straight/frames_0000.h5" "$segment" \
   --groups particles bonds --frame -1 --skip particles/rank
-echo "PASS (${#jobs[@]} jobs in ${t_slurm} s)"
+
+# --- a sweep file through the same script: ringdem sweep, a case on each task ---
+cat > "$work/submit/fall.yaml" << 'EOF'
+schema_version: 1
+simulation: {dt: 1.0e-4, end_time: 0.01, gravity: [0, 0, -9.81]}
+materials:
+  - {name: rock, density: 2600, youngs_modulus: 1.0e9}
+particles:
+  spheres:
+    - {position: [0, 0, 1], radius: 0.01, material: rock}
+EOF
+cat > "$work/submit/fall_study.yaml" << 'EOF'
+schema_version: 1
+case: fall.yaml
+parameters:
+  - {key: simulation.end_time, values: [0.01, 0.02]}
+EOF
+study=$(sbatch --parsable --ntasks=2 --time=1 "$src/scripts/slurm/ringdem.sbatch" fall_study.yaml)
+deadline=$(($(date +%s) + 120))
+while [ -n "$(squeue -h -o %i)" ]; do
+  [ "$(date +%s)" -le "$deadline" ] || {
+    echo "FAIL: the sweep job $study still queued after 120 s"
+    exit 1
+  }
+  sleep 1
+done
+state=$(scontrol show job "$study" | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p')
+exit_code=$(scontrol show job "$study" | sed -n 's/.* ExitCode=\([0-9:]*\).*/\1/p')
+[ "$state" = COMPLETED ] && [ "$exit_code" = "0:0" ] || {
+  echo "FAIL: the sweep job $study ended $state with exit $exit_code"
+  cat "ringdem-$study.out"
+  exit 1
+}
+grep -q "^\[rank 1\] case_001" "ringdem-$study.out" || {
+  echo "FAIL: the sweep's second case did not run on the second task"
+  cat "ringdem-$study.out"
+  exit 1
+}
+# Velocity Verlet is exact under gravity alone: each case ends with m (g t)^2 / 2, t = steps dt.
+$py - "$work/submit/results/fall_study/sweep.csv" << 'EOF'
+import csv, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 2, rows
+for r in rows:
+    assert r["exit_code"] == "0", r
+    t = float(r["steps"]) * float(r["dt_s"])
+    assert abs(t - float(r["simulation.end_time"])) < 1e-12, r
+    expected = 0.5 * 2600 * 4 / 3 * math.pi * 1e-6 * (9.81 * t) ** 2
+    assert abs(float(r["final_kinetic_energy_J"]) - expected) <= 1e-9 * expected, (r, expected)
+print("sweep job: 2 cases, each at m (g t)^2 / 2")
+EOF
+echo "PASS (${#jobs[@]} jobs in ${t_slurm} s; a sweep job)"
