@@ -343,40 +343,77 @@ bool is_sweep_file(const std::string& path) {
   }
 }
 
+namespace {
+
+/// Where a case's diagnostic points: the overrides are c.overrides in order, numbered from 1
+/// (apply_overrides): the file's `set`, the command line's, then one per parameter. One that
+/// came from the file's `set` or a parameter's value points there in the sweep file; one from
+/// the command line keeps its own --set number.
+void locate_in_sweep(const SweepConfig& sweep, const SweepCase& c, Diagnostic& d) {
+  if (d.file != "--set" || d.line <= 0) return;
+  const auto n = static_cast<std::size_t>(d.line - 1);
+  const schema::Location* at =
+      n < sweep.set_at.size() ? &sweep.set_at[n]
+      : n >= sweep.set.size() && n - sweep.set.size() < sweep.parameters.size()
+          ? &sweep.parameters[n - sweep.set.size()].value_at[c.value_index[n - sweep.set.size()]]
+          : nullptr;
+  if (at != nullptr) {
+    d.file = at->file;
+    d.line = at->line;
+    d.column = at->column;
+  } else {
+    d.line -= static_cast<int>(sweep.set_at.size());  // the command line's own number
+  }
+}
+
+/// "case_001: key=value, key=value".
+std::string describe_case(const SweepConfig& sweep, const SweepCase& c) {
+  std::string which = c.folder;
+  for (std::size_t p = 0; p < sweep.parameters.size(); ++p)
+    which +=
+        fmt::format("{} {}={}", p == 0 ? ":" : ",", sweep.parameters[p].key, c.parameter_values[p]);
+  return which;
+}
+
+}  // namespace
+
 std::vector<CaseConfig> load_sweep_cases(const SweepConfig& sweep,
-                                         const std::vector<SweepCase>& cases) {
+                                         const std::vector<SweepCase>& cases,
+                                         std::vector<Diagnostic>* warnings) {
   std::vector<CaseConfig> configs;
+  // Each warning once, with the cases it comes from, in the order they first come.
+  std::vector<std::pair<Diagnostic, std::vector<std::string>>> seen;
   for (const SweepCase& c : cases) {
+    std::vector<Diagnostic> case_warnings;
     try {
-      configs.push_back(load_case(sweep.case_path, c.overrides));
+      configs.push_back(load_case(sweep.case_path, c.overrides, &case_warnings));
     } catch (const InputError& e) {
-      // The overrides are c.overrides in order, numbered from 1 (apply_overrides): the file's
-      // `set`, the command line's, then one per parameter.
-      std::string which = c.folder;
-      for (std::size_t p = 0; p < sweep.parameters.size(); ++p)
-        which += fmt::format("{} {}={}", p == 0 ? ":" : ",", sweep.parameters[p].key,
-                             c.parameter_values[p]);
       std::vector<Diagnostic> located = e.diagnostics;
       for (Diagnostic& d : located) {
-        if (d.file == "--set" && d.line > 0) {
-          const auto n = static_cast<std::size_t>(d.line - 1);
-          const schema::Location* at =
-              n < sweep.set_at.size() ? &sweep.set_at[n]
-              : n >= sweep.set.size() && n - sweep.set.size() < sweep.parameters.size()
-                  ? &sweep.parameters[n - sweep.set.size()]
-                         .value_at[c.value_index[n - sweep.set.size()]]
-                  : nullptr;
-          if (at != nullptr) {
-            d.file = at->file;
-            d.line = at->line;
-            d.column = at->column;
-          } else {
-            d.line -= static_cast<int>(sweep.set_at.size());  // the command line's own number
-          }
-        }
-        d.message += " (in " + which + ")";
+        locate_in_sweep(sweep, c, d);
+        d.message += " (in " + describe_case(sweep, c) + ")";
       }
       throw InputError(located);
+    }
+    for (Diagnostic& d : case_warnings) {
+      locate_in_sweep(sweep, c, d);
+      const std::string text = format_diagnostic(d);
+      auto it = std::find_if(seen.begin(), seen.end(), [&](const auto& entry) {
+        return format_diagnostic(entry.first) == text;
+      });
+      if (it == seen.end()) it = seen.insert(seen.end(), {d, {}});
+      it->second.push_back(describe_case(sweep, c));
+    }
+  }
+  if (warnings != nullptr) {
+    warnings->clear();
+    for (auto& [d, which] : seen) {
+      std::string in;
+      for (const std::string& w : which)
+        in += (in.empty() ? "" : "; ") + w;
+      d.message += which.size() == cases.size() && cases.size() > 1 ? " (in every case)"
+                                                                    : " (in " + in + ")";
+      warnings->push_back(d);
     }
   }
   return configs;
@@ -422,7 +459,9 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
   const SweepConfig sweep = load_sweep(options.sweep_path, options.overrides);
   const std::vector<SweepCase> cases = expand_sweep(sweep);
   // Every case is checked before any runs, on every rank.
-  std::vector<CaseConfig> configs = load_sweep_cases(sweep, cases);
+  std::vector<Diagnostic> warnings;
+  std::vector<CaseConfig> configs = load_sweep_cases(sweep, cases, &warnings);
+  if (world.is_root()) fmt::print(stderr, "{}", format_diagnostics(warnings));
   const std::string out_dir =
       options.output_dir.empty() ? "results/" + sweep.name : options.output_dir;
   if (options.restart) check_restart_folders(out_dir, sweep, cases);

@@ -62,9 +62,11 @@ std::vector<SweepCase> expand_sweep(const SweepConfig& sweep);
 /// Each case's configuration, loaded and checked before any runs (cheap), so that a bad value
 /// stops the study at once. An error of a case says which case it is in, and an error of one of
 /// its overrides points where the sweep gave it: the parameter's value or the `set` entry in the
-/// sweep file, or the command line's --set (InputError).
+/// sweep file, or the command line's --set (InputError). The cases' warnings, located alike,
+/// go into `warnings` when given: each once, with the cases it comes from ("in every case").
 std::vector<CaseConfig> load_sweep_cases(const SweepConfig& sweep,
-                                         const std::vector<SweepCase>& cases);
+                                         const std::vector<SweepCase>& cases,
+                                         std::vector<Diagnostic>* warnings = nullptr);
 
 /// Whether the file at `path` is a sweep file (a YAML map with `parameters` and `case`), which
 /// `ringdem check` validates with every case instead of as a case file. False for anything

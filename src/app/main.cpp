@@ -181,13 +181,17 @@ int main(int argc, char** argv) {
       if (ringdem::is_sweep_file(check_path)) {  // the study and each of its cases
         const ringdem::SweepConfig study = ringdem::load_sweep(check_path, check_overrides);
         const std::vector<ringdem::SweepCase> cases = ringdem::expand_sweep(study);
-        ringdem::load_sweep_cases(study, cases);
+        std::vector<ringdem::Diagnostic> warnings;
+        ringdem::load_sweep_cases(study, cases, &warnings);
+        std::cerr << ringdem::format_diagnostics(warnings);
         fmt::print("{}: valid sweep ({} cases of {}, {} parameter{}, combine: {})\n", check_path,
                    cases.size(), study.case_path, study.parameters.size(),
                    study.parameters.size() == 1 ? "" : "s", study.combine);
         return 0;
       }
-      const auto config = ringdem::load_case(check_path, check_overrides);
+      std::vector<ringdem::Diagnostic> warnings;
+      const auto config = ringdem::load_case(check_path, check_overrides, &warnings);
+      std::cerr << ringdem::format_diagnostics(warnings);
       fmt::print(
           "{}: valid ({} materials, {} bond types, {} rings, {} nets, {} rigid bodies, "
           "scenario {})\n",
@@ -223,7 +227,9 @@ int main(int argc, char** argv) {
       } else if (*calibrate) {
         ringdem::run_calibration(cal_opts, comm);
       } else {
-        const auto config = ringdem::load_case(run_opts.case_path, run_opts.overrides);
+        std::vector<ringdem::Diagnostic> warnings;
+        const auto config = ringdem::load_case(run_opts.case_path, run_opts.overrides, &warnings);
+        if (comm.is_root()) std::cerr << ringdem::format_diagnostics(warnings);
         code = ringdem::run_case(config, run_opts, comm);
       }
     } catch (const ringdem::InputError& e) {

@@ -32,7 +32,8 @@ std::string default_name(const std::string& display_name) {
 // ---- public API -------------------------------------------------------------------------------
 
 CaseConfig load_case_from_string(const std::string& yaml_text, const std::string& display_name,
-                                 const std::vector<std::string>& overrides) {
+                                 const std::vector<std::string>& overrides,
+                                 std::vector<Diagnostic>* warnings) {
   Context ctx(display_name);
   CaseConfig config;
   try {
@@ -55,12 +56,14 @@ CaseConfig load_case_from_string(const std::string& yaml_text, const std::string
               std::string("internal error while reading the case: ") + e.what());
   }
   if (!ctx.diagnostics().empty()) throw InputError(ctx.sorted_diagnostics());
+  if (warnings != nullptr) *warnings = ctx.sorted_warnings();
   if (config.name.empty()) config.name = default_name(display_name);
   config.source_path = display_name;
   return config;
 }
 
-CaseConfig load_case(const std::string& path, const std::vector<std::string>& overrides) {
+CaseConfig load_case(const std::string& path, const std::vector<std::string>& overrides,
+                     std::vector<Diagnostic>* warnings) {
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   std::string problem;
@@ -79,7 +82,7 @@ CaseConfig load_case(const std::string& path, const std::vector<std::string>& ov
       text = buffer.str();
   }
   if (!problem.empty()) throw InputError({Diagnostic{path, 0, 0, "", problem}});
-  return load_case_from_string(text, path, overrides);
+  return load_case_from_string(text, path, overrides, warnings);
 }
 
 std::string dump_case(const CaseConfig& config) {

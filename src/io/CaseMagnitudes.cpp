@@ -202,35 +202,6 @@ std::vector<Kind> particle_kinds(const CaseConfig& c, const Context& ctx) {
   return kinds;
 }
 
-/// How long a run of the scenario may go on (simulated seconds), and the key that sets it.
-std::pair<double, std::string> run_duration(const CaseConfig& c) {
-  if (c.scenario.type == "tensile_test") {
-    const TensileTestConfig& t = c.scenario.tensile_test;
-    const double travel = t.max_displacement / t.loading_rate;
-    if (travel < c.simulation.end_time) return {travel, "scenario.tensile_test.max_displacement"};
-  }
-  if (c.scenario.type == "rockfall") {
-    // The sag (at most sag_max_time), the fall (the driver gives up after
-    // sqrt(2 (drop_height + 1) / g) + 1 s without contact) and `duration` after the contact.
-    const RockfallConfig& rf = c.scenario.rockfall;
-    const double g = std::abs(c.simulation.gravity.z);
-    const double fall = std::sqrt(2.0 * (rf.drop_height + 1.0) / g) + 1.0;
-    const std::string p = "scenario.rockfall.";
-    std::string key = p + "sag_max_time";
-    if (fall > std::max(rf.sag_max_time, rf.duration)) key = p + "drop_height";
-    if (rf.duration > std::max(rf.sag_max_time, fall)) key = p + "duration";
-    if (rf.impacts > 1) {
-      // Each further impact: a re-settle (at most resettle_max_time), a fall and `duration`.
-      const double more = static_cast<double>(rf.impacts - 1);
-      return {
-          rf.sag_max_time + fall + rf.duration + more * (rf.resettle_max_time + fall + rf.duration),
-          key};
-    }
-    return {rf.sag_max_time + fall + rf.duration, key};
-  }
-  return {c.simulation.end_time, "simulation.end_time"};
-}
-
 /// The smallest stability limit found so far and where it comes from.
 struct Limit {
   double value = std::numeric_limits<double>::infinity();
@@ -439,6 +410,34 @@ void check_bodies(const CaseConfig& c, const std::set<std::string>& bad_material
 
 }  // namespace
 
+std::pair<double, std::string> run_duration(const CaseConfig& c) {
+  if (c.scenario.type == "tensile_test") {
+    const TensileTestConfig& t = c.scenario.tensile_test;
+    const double travel = t.max_displacement / t.loading_rate;
+    if (travel < c.simulation.end_time) return {travel, "scenario.tensile_test.max_displacement"};
+  }
+  if (c.scenario.type == "rockfall") {
+    // The sag (at most sag_max_time), the fall (the driver gives up after
+    // sqrt(2 (drop_height + 1) / g) + 1 s without contact) and `duration` after the contact.
+    const RockfallConfig& rf = c.scenario.rockfall;
+    const double g = std::abs(c.simulation.gravity.z);
+    const double fall = std::sqrt(2.0 * (rf.drop_height + 1.0) / g) + 1.0;
+    const std::string p = "scenario.rockfall.";
+    std::string key = p + "sag_max_time";
+    if (fall > std::max(rf.sag_max_time, rf.duration)) key = p + "drop_height";
+    if (rf.duration > std::max(rf.sag_max_time, fall)) key = p + "duration";
+    if (rf.impacts > 1) {
+      // Each further impact: a re-settle (at most resettle_max_time), a fall and `duration`.
+      const double more = static_cast<double>(rf.impacts - 1);
+      return {
+          rf.sag_max_time + fall + rf.duration + more * (rf.resettle_max_time + fall + rf.duration),
+          key};
+    }
+    return {rf.sag_max_time + fall + rf.duration, key};
+  }
+  return {c.simulation.end_time, "simulation.end_time"};
+}
+
 void check_case_magnitudes(const CaseConfig& c, Context& ctx) {
   const std::set<std::string> bad_materials = check_materials(c, ctx);
   check_bodies(c, bad_materials, ctx);
@@ -462,6 +461,13 @@ void check_case_magnitudes(const CaseConfig& c, Context& ctx) {
   // stability limit, or the run is unstable) or dt_safety times that limit.
   const SimulationConfig& s = c.simulation;
   const auto [duration, duration_key] = run_duration(c);
+  if (s.dt && *s.dt > limit.value && !ctx.failed("simulation.dt"))
+    ctx.warn(ctx.where("simulation.dt", "simulation"), "simulation.dt",
+             fmt::format("the fixed time step {} s is {:.3g} times the smallest stability limit, "
+                         "{} s ({}): the run may diverge; lower it, or leave it out to "
+                         "take dt_safety x that limit",
+                         format_number(*s.dt), *s.dt / limit.value, short_number(limit.value),
+                         limit.what));
   if (!ctx.failed("simulation") && !ctx.failed(duration_key) && std::isfinite(limit.value)) {
     const double dt = s.dt ? std::min(*s.dt, limit.value) : s.dt_safety * limit.value;
     const double steps = duration / dt;

@@ -10,6 +10,9 @@
 /// the extent of the model against the block grid of the domain decomposition) and report a
 /// value out of range at the key that sets it, with file:line:col.
 
+#include <string>
+#include <utility>
+
 #include "io/CaseConfig.hpp"
 #include "io/Schema.hpp"
 
@@ -25,6 +28,10 @@ inline constexpr double kMaxStepsPerRun = 1e15;
 /// bits per axis, 2^20 each way from the origin; particles must start within half of that
 /// (2^19 cells of 2 * largest particle radius + skin) so that they can still move.
 inline constexpr double kMaxCellsFromOrigin = 524288.0;
+
+/// How long a run of the case's scenario may go on (simulated seconds; for a rockfall the most
+/// its phases may take), and the key that sets it.
+std::pair<double, std::string> run_duration(const CaseConfig& config);
 
 /// Reports derived quantities out of range to `ctx`. Runs after the other cross-key checks
 /// (cross_validate_case calls it last); entries with errors already are skipped.

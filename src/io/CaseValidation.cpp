@@ -626,7 +626,7 @@ void cross_validate_case(CaseConfig& c, Context& ctx) {
   for (std::size_t i = 0; i < c.inflow.size(); ++i) {
     const InflowConfig& in = c.inflow[i];
     const std::string p = schema::index_path("inflow", i);
-    validate_inflow(in, p, ctx);
+    validate_inflow(in, p, run_duration(c).first, ctx);
     check_reference(in.material, materials, materials_ok, p + ".material", p, "material",
                     "materials", ctx);
   }

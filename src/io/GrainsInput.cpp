@@ -185,7 +185,8 @@ void check_outflow_groups(const CaseConfig& c, std::size_t i, schema::Context& c
   }
 }
 
-void validate_inflow(const InflowConfig& in, const std::string& p, schema::Context& ctx) {
+void validate_inflow(const InflowConfig& in, const std::string& p, double run_duration,
+                     schema::Context& ctx) {
   // Before the batch's own checks: at zero velocity the batch has no interval, hence no solid
   // fraction and no grains, which validate_grains() takes for a box it has reported.
   if (!ctx.failed(p + ".velocity") && norm2(in.velocity) == 0.0) {
@@ -205,6 +206,12 @@ void validate_inflow(const InflowConfig& in, const std::string& p, schema::Conte
   if (in.end_time && !(*in.end_time > in.start_time))
     ctx.error(ctx.where(p + ".end_time", p), p + ".end_time",
               fmt::format("must be after start_time = {}", schema::format_number(in.start_time)));
+  if (in.start_time >= run_duration && !ctx.failed(p + ".start_time"))
+    ctx.warn(ctx.where(p + ".start_time", p), p + ".start_time",
+             fmt::format("the inlet '{}' opens at {} s, when the run has ended (at {} s at the "
+                         "latest): it adds no grains",
+                         in.name, schema::format_number(in.start_time),
+                         schema::format_number(run_duration)));
 }
 
 }  // namespace ringdem

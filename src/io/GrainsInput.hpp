@@ -41,8 +41,10 @@ InflowBatch inflow_batch(const InflowConfig& inflow);
 GrainsConfig inflow_fill(const InflowConfig& inflow);
 
 /// Cross-key checks of the inlet at path `p`: its box and sizes as for grains, a velocity, a
-/// solid fraction that random sequential addition reaches, an end after the start.
-void validate_inflow(const InflowConfig& inflow, const std::string& p, schema::Context& ctx);
+/// solid fraction that random sequential addition reaches, an end after the start; a warning
+/// when it opens only after the run has ended (`run_duration`, CaseMagnitudes.hpp).
+void validate_inflow(const InflowConfig& inflow, const std::string& p, double run_duration,
+                     schema::Context& ctx);
 
 /// Outflow box i's groups against what it can take, free particles in no ring: a group of ring
 /// particles only (a net's, its shackles') is an error, as the box would do nothing with it.

@@ -95,8 +95,12 @@ void Context::add_override(std::string path, int index, int value_column) {
   overrides_.push_back({std::move(path), index, value_column});
 }
 
-std::vector<Diagnostic> Context::sorted_diagnostics() const {
-  std::vector<Diagnostic> out = diagnostics_;
+void Context::warn(const Location& at, const std::string& path, std::string message) {
+  warnings_.push_back({at.file, at.line, at.column, path, std::move(message), Severity::kWarning});
+}
+
+std::vector<Diagnostic> Context::sorted(const std::vector<Diagnostic>& diagnostics) const {
+  std::vector<Diagnostic> out = diagnostics;
   std::stable_sort(out.begin(), out.end(), [this](const Diagnostic& a, const Diagnostic& b) {
     return std::make_tuple(a.file != file_, a.line, a.column) <
            std::make_tuple(b.file != file_, b.line, b.column);

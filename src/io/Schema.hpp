@@ -137,9 +137,15 @@ class Context {
   /// whose value starts at 1-based column `value_column` of the "key=value" argument.
   void add_override(std::string path, int index, int value_column);
 
+  /// A valid input that is most likely a mistake: reported, never stops the loading.
+  void warn(const Location& at, const std::string& path, std::string message);
+
+  /// The errors.
   const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }
-  /// Diagnostics ordered by position: the file first, then the overrides.
-  std::vector<Diagnostic> sorted_diagnostics() const;
+  /// Errors ordered by position: the file first, then the overrides.
+  std::vector<Diagnostic> sorted_diagnostics() const { return sorted(diagnostics_); }
+  /// Warnings ordered as the errors.
+  std::vector<Diagnostic> sorted_warnings() const { return sorted(warnings_); }
 
  private:
   struct OverrideOrigin {
@@ -147,8 +153,11 @@ class Context {
     int index;
     int column;
   };
+  std::vector<Diagnostic> sorted(const std::vector<Diagnostic>& diagnostics) const;
+
   std::string file_;
   std::vector<Diagnostic> diagnostics_;
+  std::vector<Diagnostic> warnings_;
   std::map<std::string, Location> where_;
   std::set<std::string> failed_;
   std::vector<OverrideOrigin> overrides_;

@@ -63,7 +63,7 @@ void expect_free_fall(const std::map<std::string, std::string>& row, double g) {
 const char* const kFallingSphere = R"(schema_version: 1
 simulation: {dt: 1.0e-4, end_time: 0.01, gravity: [0, 0, -9.81]}
 materials:
-  - {name: rock, density: 2600, youngs_modulus: 1.0e9}
+  - {name: rock, density: 2600, youngs_modulus: 1.0e8}
 particles:
   spheres:
     - {position: [0, 0, 1], radius: 0.01, material: rock}
