@@ -637,13 +637,7 @@ void cross_validate_case(CaseConfig& c, Context& ctx) {
     const std::string p = schema::index_path("outflow", i);
     for (std::size_t k = 0; k < o.groups.size(); ++k)
       check_group(o.groups[k], groups, fmt::format("{}.groups[{}]", p, k), p + ".groups", ctx);
-    check_outflow_groups(c, i, ctx);
-    const Vec3 e = o.box_max - o.box_min;
-    if (!ctx.failed(p + ".box_min") && !ctx.failed(p + ".box_max") &&
-        !(e.x > 0.0 && e.y > 0.0 && e.z > 0.0))
-      ctx.error(ctx.where(p + ".box_max", p), p + ".box_max",
-                fmt::format("must be above box_min on every axis (box {} to {})",
-                            schema::format_vec3(o.box_min), schema::format_vec3(o.box_max)));
+    validate_outflow(c, i, ctx);
   }
 
   for (std::size_t i = 0; i < c.rigid_bodies.size(); ++i) {

@@ -158,6 +158,8 @@ GrainsConfig inflow_fill(const InflowConfig& in) {
   return g;
 }
 
+namespace {
+
 void check_outflow_groups(const CaseConfig& c, std::size_t i, schema::Context& ctx) {
   const auto groups_of = [](std::set<std::string>& to, const auto& entries) {
     for (const auto& e : entries)
@@ -183,6 +185,66 @@ void check_outflow_groups(const CaseConfig& c, std::size_t i, schema::Context& c
                             "never takes",
                             groups[k]));
   }
+}
+
+/// A box of grain centres to be: a release volume or an inlet.
+struct GrainSourceBox {
+  std::string path;  ///< particles.grains[i] or inflow[i]
+  std::string what;  ///< for messages: "the inlet 'x'", "the release box"
+  std::string group;
+  Vec3 box_min, box_max;
+};
+
+void check_sources_within_outflow(const CaseConfig& c, std::size_t i, schema::Context& ctx) {
+  const OutflowConfig& o = c.outflow[i];
+  std::vector<GrainSourceBox> sources;
+  for (std::size_t k = 0; k < c.grains.size(); ++k)
+    sources.push_back({schema::index_path("particles.grains", k), "the release box",
+                       c.grains[k].group, c.grains[k].box_min, c.grains[k].box_max});
+  for (std::size_t k = 0; k < c.inflow.size(); ++k)
+    sources.push_back({schema::index_path("inflow", k),
+                       fmt::format("the inlet '{}'", c.inflow[k].name), c.inflow[k].group,
+                       c.inflow[k].box_min, c.inflow[k].box_max});
+  const auto box = [](const Vec3& lo, const Vec3& hi) {
+    return schema::format_vec3(lo) + " to " + schema::format_vec3(hi);
+  };
+  for (const GrainSourceBox& s : sources) {
+    const bool takes =
+        o.groups.empty() || std::find(o.groups.begin(), o.groups.end(), s.group) != o.groups.end();
+    if (!takes || ctx.failed(s.path + ".box_min") || ctx.failed(s.path + ".box_max")) continue;
+    bool overlaps = true, inside = true;
+    for (int a = 0; a < 3; ++a) {
+      overlaps = overlaps && s.box_min[a] < o.box_max[a] && s.box_max[a] > o.box_min[a];
+      inside = inside && s.box_min[a] >= o.box_min[a] && s.box_max[a] <= o.box_max[a];
+    }
+    const std::string where =
+        fmt::format("{} ({}) {} the outflow box '{}' ({}), which takes its group '{}'", s.what,
+                    box(s.box_min, s.box_max), overlaps ? "reaches out of" : "lies wholly outside",
+                    o.name, box(o.box_min, o.box_max), s.group);
+    if (!overlaps)
+      ctx.error(ctx.where(s.path + ".box_min", s.path), s.path + ".box_min",
+                where + ": every grain it makes would be taken out at its first step");
+    else if (!inside)
+      ctx.warn(ctx.where(s.path + ".box_min", s.path), s.path + ".box_min",
+               where + ": grains it makes out there are taken out at their first step");
+  }
+}
+
+}  // namespace
+
+void validate_outflow(const CaseConfig& c, std::size_t i, schema::Context& ctx) {
+  const OutflowConfig& o = c.outflow[i];
+  const std::string p = schema::index_path("outflow", i);
+  check_outflow_groups(c, i, ctx);
+  const Vec3 e = o.box_max - o.box_min;
+  if (ctx.failed(p + ".box_min") || ctx.failed(p + ".box_max")) return;
+  if (!(e.x > 0.0 && e.y > 0.0 && e.z > 0.0)) {
+    ctx.error(ctx.where(p + ".box_max", p), p + ".box_max",
+              fmt::format("must be above box_min on every axis (box {} to {})",
+                          schema::format_vec3(o.box_min), schema::format_vec3(o.box_max)));
+    return;
+  }
+  check_sources_within_outflow(c, i, ctx);
 }
 
 void validate_inflow(const InflowConfig& in, const std::string& p, double run_duration,

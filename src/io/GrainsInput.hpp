@@ -46,9 +46,13 @@ GrainsConfig inflow_fill(const InflowConfig& inflow);
 void validate_inflow(const InflowConfig& inflow, const std::string& p, double run_duration,
                      schema::Context& ctx);
 
-/// Outflow box i's groups against what it can take, free particles in no ring: a group of ring
-/// particles only (a net's, its shackles') is an error, as the box would do nothing with it.
-/// (An undefined group is reported by the group check.)
-void check_outflow_groups(const CaseConfig& c, std::size_t i, schema::Context& ctx);
+/// Cross-key checks of outflow box i (after its groups are known to exist):
+/// - its box_max above its box_min;
+/// - its groups against what it can take, free particles in no ring: a group of ring particles
+///   only (a net's, its shackles') is an error, as the box would do nothing with it;
+/// - the grain sources (`particles.grains`, `inflow`) of the groups it takes against its box:
+///   a source box wholly outside it is an error (every grain would be taken out at its first
+///   step), one that reaches out of it a warning (some would).
+void validate_outflow(const CaseConfig& c, std::size_t i, schema::Context& ctx);
 
 }  // namespace ringdem

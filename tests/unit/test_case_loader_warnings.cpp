@@ -102,6 +102,56 @@ TEST(CaseLoaderWarnings, AnInletThatOpensAfterTheRunEndsIsReported) {
             "adds no grains");
 }
 
+// A grain source against the outflow boxes that take its group: wholly outside one, every grain
+// it makes is taken out at its first step (an error: the debris demo with its outflow box moved
+// past the release and the inlet ran on with none of its grains); reaching out of one, some are
+// (a warning). A box that does not take the group, or holds the source, says nothing.
+TEST(CaseLoaderWarnings, GrainSourcesOutsideAnOutflowBoxAreReported) {
+  // The grains entry goes last under particles (the fixture's spheres), the flow group's.
+  const auto with = [](const std::string& outflow_box, const std::string& groups) {
+    return replaced(kValidCase, "rigid_bodies:\n",
+                    "  grains:\n"
+                    "    - {group: flow, material: rock, box_min: [0, 0, 2], box_max: [0.2, 0.2, "
+                    "2.2], sizes: {min_radius: 0.01, max_radius: 0.02}}\n"
+                    "inflow:\n"
+                    "  - {name: inlet, group: flow, material: rock, box_min: [-1, 0, 0], "
+                    "box_max: [-0.8, 0.5, 0.3], velocity: [2, 0, 0], discharge: 0.01, sizes: "
+                    "{min_radius: 0.01, max_radius: 0.02}}\n"
+                    "outflow:\n"
+                    "  - {name: out, " +
+                        outflow_box + (groups.empty() ? "" : ", groups: " + groups) +
+                        "}\nrigid_bodies:\n");
+  };
+  const std::string inside = with("box_min: [-2, -1, -1], box_max: [2, 1, 3]", "[flow]");
+  EXPECT_TRUE(warnings_of(inside).empty()) << inside;
+
+  // The inlet (x from -1 to -0.8) reaches out of a box from x = -0.9.
+  std::string text = with("box_min: [-0.9, -1, -1], box_max: [2, 1, 3]", "[flow]");
+  std::vector<Diagnostic> warnings = warnings_of(text);
+  ASSERT_EQ(warnings.size(), 1u) << InputError(warnings).format();
+  EXPECT_EQ(warnings[0].key_path, "inflow[0].box_min");
+  EXPECT_EQ(warnings[0].line, line_of(text, "  - {name: inlet"));
+  EXPECT_EQ(warnings[0].message,
+            "the inlet 'inlet' ([-1, 0, 0] to [-0.8, 0.5, 0.3]) reaches out of the outflow box "
+            "'out' ([-0.9, -1, -1] to [2, 1, 3]), which takes its group 'flow': grains it "
+            "makes out there are taken out at their first step");
+  // The same box for another group (the lattice's) says nothing about the flow.
+  EXPECT_TRUE(warnings_of(with("box_min: [-0.9, -1, -1], box_max: [2, 1, 3]", "[debris]")).empty());
+
+  // Wholly outside: the release box (z from 2 to 2.2) above a box that ends at z = 1.5.
+  text = with("box_min: [-2, -1, -1], box_max: [2, 1, 1.5]", "[flow]");
+  case_fixture::expect_one_error(
+      text, "particles.grains[0].box_min", "    - {group: flow, material: rock, box_min",
+      "the release box ([0, 0, 2] to [0.2, 0.2, 2.2]) lies wholly outside the outflow box 'out' "
+      "([-2, -1, -1] to [2, 1, 1.5]), which takes its group 'flow': every grain it makes would "
+      "be taken out at its first step");
+  // An outflow box without groups takes every free grain.
+  text = with("box_min: [-2, -1, -1], box_max: [2, 1, 1.5]", "");
+  const std::vector<Diagnostic> errors = case_fixture::errors_of(text);
+  ASSERT_EQ(errors.size(), 1u) << case_fixture::all(errors);
+  EXPECT_EQ(errors[0].key_path, "particles.grains[0].box_min");
+}
+
 TEST(CaseLoaderWarnings, ASweepReportsEachWarningOnceWithItsCasesAndWhereItsValueIs) {
   // The case's dt is over the limit in every case; an inlet opening at 0.015 s is after the end
   // of the case that ends at 0.01 s only; the swept dt of the last case is over the limit there.
