@@ -27,7 +27,9 @@
 #include "engine/ModelBuilder.hpp"
 #include "engine/ModelTable.hpp"
 #include "io/CaseMagnitudes.hpp"
+#include "io/DebrisValidation.hpp"
 #include "io/GrainsInput.hpp"
+#include "io/ReferenceChecks.hpp"
 #include "io/SizeEstimate.hpp"
 #include "io/SphereFile.hpp"
 
@@ -37,66 +39,6 @@ namespace {
 
 using schema::Context;
 using schema::Location;
-
-template <class E>
-std::vector<std::string> unique_names(const std::vector<E>& items, std::string E::*name,
-                                      const std::string& list_path, const std::string& what,
-                                      Context& ctx, bool* reliable) {
-  std::vector<std::string> names;
-  std::map<std::string, std::size_t> first;
-  // A missing or malformed list would make every reference to it an error too.
-  *reliable = !ctx.failed_here(list_path);
-  for (std::size_t i = 0; i < items.size(); ++i) {
-    const std::string item_path = schema::index_path(list_path, i);
-    const std::string name_path = item_path + ".name";
-    if (ctx.failed(name_path) || !ctx.given(name_path)) {
-      *reliable = false;
-      continue;
-    }
-    const std::string& n = items[i].*name;
-    const auto [it, inserted] = first.emplace(n, i);
-    if (!inserted) {
-      ctx.error(ctx.where(name_path, item_path), name_path,
-                fmt::format("duplicate {} name '{}' (already used by {})", what, n,
-                            schema::index_path(list_path, it->second)));
-      continue;
-    }
-    names.push_back(n);
-  }
-  return names;
-}
-
-/// Reports `value` at `key_path` if it is not one of `names` (defined in `defined_in`).
-/// `fallback` locates the error when the key itself was not given (a default value).
-void check_reference(const std::string& value, const std::vector<std::string>& names,
-                     bool names_reliable, const std::string& key_path, const std::string& fallback,
-                     const std::string& what, const std::string& defined_in, Context& ctx) {
-  if (ctx.failed(key_path) || std::find(names.begin(), names.end(), value) != names.end()) return;
-  if (!names_reliable) return;  // the list itself has errors; do not guess
-  std::string message =
-      fmt::format("{} '{}'{} is not defined in '{}'", what, value,
-                  ctx.given(key_path) ? "" : " (the default, key not given)", defined_in);
-  const std::string hint = schema::did_you_mean(value, names);
-  if (!hint.empty())
-    message += hint;
-  else if (names.empty())
-    message += " (none defined)";
-  else
-    message += " (defined: " + schema::join_names(names) + ")";
-  ctx.error(ctx.where(key_path, fallback), key_path, message);
-}
-
-/// Reports `group` at `key_path` if no particle generator uses it.
-void check_group(const std::string& group, const std::set<std::string>& groups,
-                 const std::string& key_path, const std::string& fallback, Context& ctx) {
-  if (ctx.failed(key_path) || groups.count(group) != 0) return;
-  const std::vector<std::string> names(groups.begin(), groups.end());
-  std::string message = fmt::format("particle group '{}'{} is not used by any particles", group,
-                                    ctx.given(key_path) ? "" : " (the default, key not given)");
-  const std::string hint = schema::did_you_mean(group, names);
-  message += hint.empty() ? " (groups: " + schema::join_names(names) + ")" : hint;
-  ctx.error(ctx.where(key_path, fallback), key_path, message);
-}
 
 /// Bonds with `derive_from`: E_b = eta E with eta = 1 / (5 gamma^2), gamma = lambda r_eq / R_eq
 /// (physics.md §2, Eq. 17), r_eq the particle radius of the rings that use the bond.
@@ -422,55 +364,6 @@ void validate_rockfall(const CaseConfig& c, Context& ctx, const std::set<std::st
         fmt::format("a rockfall test needs gravity along -z, got {}{}", schema::format_vec3(g),
                     ctx.given("simulation.gravity") ? "" : " (the default, key not given)"));
   }
-}
-
-/// scenario.barrier: a free run's, its groups and bodies defined, the bed a plane.
-void validate_barrier(CaseConfig& c, Context& ctx, const std::set<std::string>& groups,
-                      bool bodies_ok) {
-  if (!c.scenario.barrier) return;
-  const std::string p = "scenario.barrier";
-  BarrierConfig& b = *c.scenario.barrier;
-  if (c.scenario.type != "free_run" && !ctx.failed("scenario.type"))
-    ctx.error(ctx.where(p), p,
-              fmt::format("applies to scenario type free_run only, not {}", c.scenario.type));
-  if (!ctx.failed(p + ".direction")) b.direction = normalized(b.direction);
-  for (std::size_t k = 0; k < b.grain_groups.size(); ++k)
-    check_group(b.grain_groups[k], groups, fmt::format("{}.grain_groups[{}]", p, k),
-                p + ".grain_groups", ctx);
-  for (const auto& [key, group] :
-       {std::pair{".net_group", &b.net_group}, std::pair{".frame_group", &b.frame_group}})
-    if (!group->empty()) check_group(*group, groups, p + key, p, ctx);
-  std::vector<std::string> names;
-  for (const auto& body : c.rigid_bodies)
-    names.push_back(body.name);
-  for (std::size_t k = 0; k < b.posts.size(); ++k)
-    check_reference(b.posts[k], names, bodies_ok, fmt::format("{}.posts[{}]", p, k), p + ".posts",
-                    "rigid body", "rigid_bodies", ctx);
-  check_reference(b.bed, names, bodies_ok, p + ".bed", p, "rigid body", "rigid_bodies", ctx);
-  // The barrier's load sums its posts' contact loads along the flow: the bed among them would
-  // add the flow's friction on the bed. (A name given twice is the schema's error.)
-  for (std::size_t k = 0; k < b.posts.size(); ++k) {
-    const std::string key = fmt::format("{}.posts[{}]", p, k);
-    if (b.posts[k] == b.bed && !ctx.failed(key))
-      ctx.error(ctx.where(key, p + ".posts"), key,
-                fmt::format("rigid body '{}' is the bed: the flow's friction on it would count as "
-                            "load on the barrier",
-                            b.posts[k]));
-  }
-  // The net's deflection and load are its own particles', never the flow's.
-  for (const auto& [key, group] :
-       {std::pair{".net_group", &b.net_group}, std::pair{".frame_group", &b.frame_group}})
-    if (!group->empty() && !ctx.failed(p + key) &&
-        std::find(b.grain_groups.begin(), b.grain_groups.end(), *group) != b.grain_groups.end())
-      ctx.error(ctx.where(p + key, p), p + key,
-                fmt::format("particle group '{}' is one of grain_groups too: a group is the "
-                            "flow's or the barrier's, not both",
-                            *group));
-  const auto bed = std::find(names.begin(), names.end(), b.bed);
-  if (bed != names.end() &&
-      c.rigid_bodies[static_cast<std::size_t>(bed - names.begin())].shape != ShapeKind::kPlane)
-    ctx.error(ctx.where(p + ".bed", p), p + ".bed",
-              fmt::format("rigid body '{}' must be a plane (the bed the flow runs on)", b.bed));
 }
 
 }  // namespace

@@ -1,9 +1,9 @@
 #pragma once
 
-/// The loader's side of the debris sources and sink (engine/GrainSource.hpp, InflowSource.hpp,
-/// OutflowSink.hpp): the radius distribution a `particles.grains[]` entry describes, its grain
-/// count, the checks that relate its keys to each other, and those of the inlets and of the
-/// outflow boxes' groups.
+/// The loader's side of the grain sources (engine/GrainSource.hpp, InflowSource.hpp): the
+/// radius distribution a `particles.grains[]` entry or an inlet describes, its grain count, the
+/// checks that relate its keys to each other, and how an inlet delivers its discharge. The
+/// inlets' and outflow boxes' own checks are DebrisValidation's.
 
 #include <string>
 
@@ -39,20 +39,5 @@ InflowBatch inflow_batch(const InflowConfig& inflow);
 
 /// The inlet's box and sizes as a grains entry (what validate_grains checks).
 GrainsConfig inflow_fill(const InflowConfig& inflow);
-
-/// Cross-key checks of the inlet at path `p`: its box and sizes as for grains, a velocity, a
-/// solid fraction that random sequential addition reaches, an end after the start; a warning
-/// when it opens only after the run has ended (`run_duration`, CaseMagnitudes.hpp).
-void validate_inflow(const InflowConfig& inflow, const std::string& p, double run_duration,
-                     schema::Context& ctx);
-
-/// Cross-key checks of outflow box i (after its groups are known to exist):
-/// - its box_max above its box_min;
-/// - its groups against what it can take, free particles in no ring: a group of ring particles
-///   only (a net's, its shackles') is an error, as the box would do nothing with it;
-/// - the grain sources (`particles.grains`, `inflow`) of the groups it takes against its box:
-///   a source box wholly outside it is an error (every grain would be taken out at its first
-///   step), one that reaches out of it a warning (some would).
-void validate_outflow(const CaseConfig& c, std::size_t i, schema::Context& ctx);
 
 }  // namespace ringdem
