@@ -21,6 +21,9 @@ inline bool is_candidate(const ParticleStore& p, std::size_t n_local, bool owned
   if (a >= n_local && b >= n_local) return false;
   const double cut = p.radius[a] + p.radius[b] + skin;
   if (norm2(p.position[b] - p.position[a]) >= cut * cut) return false;
+  // Two held particles (fixed or prescribed, which no force moves) do not touch: their force
+  // would only be reported (contact energy, loads), as the start's overlap check has it.
+  if (p.motion[a] != Motion::kFree && p.motion[b] != Motion::kFree) return false;
   return !ex.excluded(a, p.gid[b]);
 }
 

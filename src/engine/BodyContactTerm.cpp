@@ -71,7 +71,10 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
         distance = sp.distance;
       }
       const double overlap = p.radius[k] - distance;
-      if (overlap <= 0.0) {
+      // A held particle (fixed or prescribed) on a held body: neither moves by the force, which
+      // would only be reported (a constant load on the body and contact energy, such as a
+      // net's fixed shackle inside its post): no contact, as the start's overlap check has it.
+      if (overlap <= 0.0 || (p.motion[k] != Motion::kFree && body.motion != Motion::kFree)) {
         const std::uint32_t slot = slots_.begin + static_cast<std::uint32_t>(w);
         spring[w] = {};
         slots.set(slot, {}, {});

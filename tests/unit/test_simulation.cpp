@@ -250,6 +250,44 @@ TEST(RigidBodies, PlaneCarriesWeightOfRestingSphere) {
   EXPECT_NEAR(sim.model().bodies[0].force.x, 0.0, 1e-9 * weight);
 }
 
+// Held particles (fixed or prescribed) never move by a force: one pressed 0.5 mm into the floor
+// and another 1 mm into the first exert nothing, on the floor or on each other (as the start's
+// overlap check treats them). Beside them a free sphere comes to rest on the same floor, which
+// then carries its weight alone, as in PlaneCarriesWeightOfRestingSphere. (The debris demo's
+// fixed shackles inside its fixed posts had put 2.5e8 N on each post and 4.6 MJ into the
+// contact energy.)
+TEST(RigidBodies, HeldParticlesExertNothingOnHeldBodiesOrEachOther) {
+  CaseConfig c = testing::base_case();
+  c.simulation.gravity = {0, 0, -9.81};
+  c.damping.global = 0.3;
+  SphereConfig held_in_floor, held_in_held, free_sphere;
+  held_in_floor.position = {0, 0, 0.0040};
+  held_in_floor.motion = Motion::kFixed;
+  held_in_held.position = {0.008, 0, 0.0040};
+  held_in_held.motion = Motion::kPrescribed;
+  free_sphere.position = {0.1, 0, 0.0045};
+  c.spheres = {held_in_floor, held_in_held, free_sphere};
+  RigidBodyConfig floor;
+  floor.name = "floor";
+  floor.shape = ShapeKind::kPlane;
+  c.rigid_bodies = {floor};
+  const Communicator comm = self_comm();
+  Simulation sim(build_model(c, comm), comm, settings_at(c, 0.0));
+  sim.run_steps(100000);
+  const ParticleStore& p = sim.model().particles;
+  const double weight = p.mass[2] * 9.81;
+  EXPECT_NEAR(sim.model().bodies[0].force.z / -weight, 1.0, 1e-6);
+  for (std::size_t k = 0; k < 2; ++k) {  // their own weight only
+    EXPECT_NEAR(norm(p.force[k] - Vec3{0, 0, -9.81 * p.mass[k]}), 0.0, 1e-12) << k;
+    EXPECT_EQ(norm(p.torque[k]), 0.0) << k;
+  }
+  // Hertz energy of the resting sphere alone, 2/5 F delta with delta = (3 F / (4 E* sqrt(R)))^(2/3)
+  // at its weight: far below what the held overlaps would hold (0.5 and 1 mm).
+  const double e_star = 200e9 / (2.0 * (1.0 - 0.3 * 0.3));
+  const double delta = std::cbrt(std::pow(3.0 * weight / (4.0 * e_star * std::sqrt(0.0045)), 2));
+  EXPECT_NEAR(sim.energies().contact_elastic / (0.4 * weight * delta), 1.0, 1e-3);
+}
+
 // A free rigid sphere (boulder) under gravity alone follows z = z0 - g t^2 / 2 exactly
 // (velocity Verlet integrates constant acceleration without error).
 TEST(RigidBodies, FreeBodyFallsBallistically) {
