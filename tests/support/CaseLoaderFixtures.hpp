@@ -74,6 +74,23 @@ inline std::string replaced(std::string text, const std::string& from, const std
   return text;
 }
 
+/// kValidCase with one inlet 'inlet' of rock (box [-1, 0, 0] to [-0.8, 0.5, 0.3], radii 10 to
+/// 20 mm) at `velocity` and `discharge`; `more_keys` are further lines of the entry (each
+/// "    key: value\n").
+inline std::string case_with_inlet(const std::string& velocity, const std::string& discharge,
+                                   const std::string& more_keys = "") {
+  return replaced(kValidCase, "rigid_bodies:\n",
+                  "inflow:\n"
+                  "  - name: inlet\n"
+                  "    material: rock\n"
+                  "    box_min: [-1, 0, 0]\n"
+                  "    box_max: [-0.8, 0.5, 0.3]\n"
+                  "    velocity: " +
+                      velocity + "\n    discharge: " + discharge + "\n" + more_keys +
+                      "    sizes: {min_radius: 0.01, max_radius: 0.02}\n"
+                      "rigid_bodies:\n");
+}
+
 /// The diagnostics of loading `text`; fails the test if it loads.
 inline std::vector<Diagnostic> errors_of(const std::string& text,
                                          const std::vector<std::string>& overrides = {}) {

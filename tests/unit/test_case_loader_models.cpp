@@ -210,39 +210,24 @@ TEST(CaseLoader, GrainsEntriesAreCheckedWithTheirLines) {
 // no batch interval, hence no solid fraction and no grains, which read as a box reported
 // already.)
 TEST(CaseLoader, InflowEntriesAreCheckedWithTheirLines) {
-  const auto with_inflow = [](const std::string& velocity, const std::string& discharge,
-                              const std::string& times) {
-    return replaced(kValidCase, "rigid_bodies:\n",
-                    "inflow:\n"
-                    "  - name: inlet\n"
-                    "    material: rock\n"
-                    "    box_min: [-1, 0, 0]\n"
-                    "    box_max: [-0.8, 0.5, 0.3]\n"
-                    "    velocity: " +
-                        velocity +
-                        "\n"
-                        "    discharge: " +
-                        discharge + "\n" + times +
-                        "    sizes: {min_radius: 0.01, max_radius: 0.02}\n"
-                        "rigid_bodies:\n");
-  };
-  std::string text = with_inflow("[0, 0, 0]", "0.01", "");
+  std::string text = case_fixture::case_with_inlet("[0, 0, 0]", "0.01", "");
   expect_one_error(text, "inflow[0].velocity", "velocity: [0, 0, 0]",
                    "must not be zero: the grains enter at this velocity");
 
   // A batch every 0.2 m / 2 m/s = 0.1 s of a 0.2 x 0.5 x 0.3 m box: 0.5 m^3/s fills 1.67 of it.
-  text = with_inflow("[2, 0, 0]", "0.5", "");
+  text = case_fixture::case_with_inlet("[2, 0, 0]", "0.5", "");
   expect_one_error(
       text, "inflow[0].discharge", "discharge: 0.5",
       "needs a solid fraction of 1.67 in the inlet box, above the 0.35 that random "
       "sequential addition reaches: raise the velocity or widen the box across the flow");
 
-  text = with_inflow("[2, 0, 0]", "0.01", "    start_time: 0.3\n    end_time: 0.2\n");
+  text = case_fixture::case_with_inlet("[2, 0, 0]", "0.01",
+                                       "    start_time: 0.3\n    end_time: 0.2\n");
   expect_one_error(text, "inflow[0].end_time", "end_time: 0.2", "must be after start_time = 0.3");
 
   // The flow may run along any axis, either way: a batch comes each time the last has moved the
   // box's depth along it.
-  text = with_inflow("[0, -2, 0]", "0.01", "    end_time: 0.4\n");
+  text = case_fixture::case_with_inlet("[0, -2, 0]", "0.01", "    end_time: 0.4\n");
   const CaseConfig c = load_case_from_string(text, "case.yaml");
   ASSERT_EQ(c.inflow.size(), 1u);
   EXPECT_EQ(c.inflow[0].velocity.y, -2.0);

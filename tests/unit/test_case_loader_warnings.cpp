@@ -77,19 +77,8 @@ TEST(CaseLoaderWarnings, AFixedTimeStepAboveTheStabilityLimitIsReportedAtItsLine
 TEST(CaseLoaderWarnings, AnInletThatOpensAfterTheRunEndsIsReported) {
   EXPECT_TRUE(warnings_of(kValidCase).empty());  // end_time 0.5 s
   const auto with_inlet = [](const std::string& start_time) {
-    return replaced(kValidCase, "rigid_bodies:\n",
-                    "inflow:\n"
-                    "  - name: inlet\n"
-                    "    material: rock\n"
-                    "    box_min: [-1, 0, 0]\n"
-                    "    box_max: [-0.8, 0.5, 0.3]\n"
-                    "    velocity: [2, 0, 0]\n"
-                    "    discharge: 0.01\n"
-                    "    start_time: " +
-                        start_time +
-                        "\n"
-                        "    sizes: {min_radius: 0.01, max_radius: 0.02}\n"
-                        "rigid_bodies:\n");
+    return case_fixture::case_with_inlet("[2, 0, 0]", "0.01",
+                                         "    start_time: " + start_time + "\n");
   };
   EXPECT_TRUE(warnings_of(with_inlet("0.45")).empty());
   const std::string text = with_inlet("0.5");

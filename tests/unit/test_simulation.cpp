@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "StepSettings.hpp"
 #include "TestCases.hpp"
@@ -231,17 +232,24 @@ TEST(Simulation, SwitchingGlobalDampingOffLeavesNoDampingPowerBehind) {
   EXPECT_EQ(sim.energies().global_damping, tally);
 }
 
-TEST(RigidBodies, PlaneCarriesWeightOfRestingSphere) {
+/// `spheres` (steel, 4.5 mm) over a fixed steel floor plane z = 0, under gravity, damped to
+/// come to rest.
+CaseConfig spheres_over_a_floor(std::vector<SphereConfig> spheres) {
   CaseConfig c = testing::base_case();
   c.simulation.gravity = {0, 0, -9.81};
   c.damping.global = 0.3;
-  SphereConfig s;
-  s.position = {0, 0, 0.0045};
-  c.spheres = {s};
+  c.spheres = std::move(spheres);
   RigidBodyConfig floor;
   floor.name = "floor";
   floor.shape = ShapeKind::kPlane;
   c.rigid_bodies = {floor};
+  return c;
+}
+
+TEST(RigidBodies, PlaneCarriesWeightOfRestingSphere) {
+  SphereConfig s;
+  s.position = {0, 0, 0.0045};
+  const CaseConfig c = spheres_over_a_floor({s});
   const Communicator comm = self_comm();
   Simulation sim(build_model(c, comm), comm, settings_at(c, 0.0));
   sim.run_steps(100000);
@@ -257,20 +265,13 @@ TEST(RigidBodies, PlaneCarriesWeightOfRestingSphere) {
 // fixed shackles inside its fixed posts had put 2.5e8 N on each post and 4.6 MJ into the
 // contact energy.)
 TEST(RigidBodies, HeldParticlesExertNothingOnHeldBodiesOrEachOther) {
-  CaseConfig c = testing::base_case();
-  c.simulation.gravity = {0, 0, -9.81};
-  c.damping.global = 0.3;
   SphereConfig held_in_floor, held_in_held, free_sphere;
   held_in_floor.position = {0, 0, 0.0040};
   held_in_floor.motion = Motion::kFixed;
   held_in_held.position = {0.008, 0, 0.0040};
   held_in_held.motion = Motion::kPrescribed;
   free_sphere.position = {0.1, 0, 0.0045};
-  c.spheres = {held_in_floor, held_in_held, free_sphere};
-  RigidBodyConfig floor;
-  floor.name = "floor";
-  floor.shape = ShapeKind::kPlane;
-  c.rigid_bodies = {floor};
+  const CaseConfig c = spheres_over_a_floor({held_in_floor, held_in_held, free_sphere});
   const Communicator comm = self_comm();
   Simulation sim(build_model(c, comm), comm, settings_at(c, 0.0));
   sim.run_steps(100000);
