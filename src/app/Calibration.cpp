@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
@@ -432,9 +433,15 @@ CalibrationResult run_calibration(const CalibrationOptions& options, const Commu
 
   CalibrationResult result;
   const Communicator self = Communicator::self();
-  const double lowest = -std::numeric_limits<double>::infinity();
   // Runs the trials (lambda, E_b) not run before, trial j of the batch on rank j mod size;
-  // every rank gets every misfit (relative to the reference peak).
+  // every rank gets every misfit (relative to the reference peak). A rank runs its trials one
+  // after the other with no collective between them, and one gather at the end of the batch
+  // hands every rank every result: a reduction after each trial made each rank wait for the
+  // others' trials before its next, which ran a batch one trial at a time on any rank count.
+  struct TrialOutcome {
+    std::uint64_t slot;
+    double rms, relative, peak, wall;
+  };
   auto run_trials = [&](const std::vector<std::pair<double, double>>& trials) {
     std::vector<double> misfits(trials.size());
     std::vector<std::size_t> to_run;
@@ -449,53 +456,62 @@ CalibrationResult run_calibration(const CalibrationOptions& options, const Commu
       else
         to_run.push_back(j);
     }
+    const std::size_t first_evaluation = result.evaluations.size();
+    auto folder_of = [&](std::size_t slot) {
+      return fmt::format("evaluations/eval_{:03}", first_evaluation + slot);
+    };
+    std::vector<TrialOutcome> mine;
+    for (std::size_t slot = static_cast<std::size_t>(world.rank()); slot < to_run.size();
+         slot += static_cast<std::size_t>(world.size())) {
+      const std::pair<double, double>& t = trials[to_run[slot]];
+      const std::string folder = folder_of(slot);
+      CaseConfig trial = base;
+      trial.name = base.name + "_" + folder.substr(folder.find('/') + 1);
+      BondConfig& b = trial.bonds[bond_index];
+      b.radius_multiplier = t.first;
+      b.youngs_modulus = t.second;
+      if (fit_modulus) b.derive_from.reset();
+      TensileRunOptions run;
+      run.output_dir = out_dir + "/" + folder;
+      run.verbose = false;
+      TrialOutcome outcome{slot, 0.0, 0.0, 0.0, 0.0};
+      try {
+        const TensileResult r = run_tensile_test(trial, run, self);
+        const CurveMisfit m = compare_curves(reference, curve_of(r),
+                                             r.stop_reason == TensileStopRule::Reason::kFailure);
+        outcome = {slot, m.rms_load, m.relative_to_peak, r.analysis.peak_load, r.wall_time};
+      } catch (const std::exception& e) {  // a trial that blows up is a bad trial
+        fmt::print(stderr, "calibrate: trial lambda = {} failed on rank {}: {}\n", t.first,
+                   world.rank(), e.what());
+        const double bad = std::numeric_limits<double>::infinity();
+        outcome = {slot, bad, bad, 0.0, 0.0};
+      }
+      mine.push_back(outcome);
+      // Printed as each trial ends, by the rank that ran it: numbered, as ranks interleave.
+      if (!options.quiet) {
+        fmt::print(
+            "eval {:3}: lambda = {:.5f}  E_b = {:7.2f} GPa  misfit {:9.4f} kN "
+            "({:6.3f} % of the reference peak)  peak {:8.3f} kN  {:.1f} s\n",
+            first_evaluation + slot, t.first, 1e-9 * t.second, 1e-3 * outcome.rms,
+            100.0 * outcome.relative, 1e-3 * outcome.peak, outcome.wall);
+        std::fflush(stdout);
+      }
+    }
+    std::vector<TrialOutcome> outcomes(to_run.size());
+    for (const TrialOutcome& o : world.allgather(mine))
+      outcomes[o.slot] = o;
     for (std::size_t slot = 0; slot < to_run.size(); ++slot) {
       const std::size_t j = to_run[slot];
       CalibrationEvaluation ev;
       ev.radius_multiplier = trials[j].first;
       ev.bond_youngs_modulus = trials[j].second;
-      ev.folder = fmt::format("evaluations/eval_{:03}", result.evaluations.size());
-      double rms = lowest, relative = lowest, peak = lowest, wall = lowest;
-      if (static_cast<int>(slot % static_cast<std::size_t>(world.size())) == world.rank()) {
-        CaseConfig trial = base;
-        trial.name = base.name + "_" + ev.folder.substr(ev.folder.find('/') + 1);
-        BondConfig& b = trial.bonds[bond_index];
-        b.radius_multiplier = ev.radius_multiplier;
-        b.youngs_modulus = ev.bond_youngs_modulus;
-        if (fit_modulus) b.derive_from.reset();
-        TensileRunOptions run;
-        run.output_dir = out_dir + "/" + ev.folder;
-        run.verbose = false;
-        try {
-          const TensileResult r = run_tensile_test(trial, run, self);
-          const CurveMisfit m = compare_curves(reference, curve_of(r),
-                                               r.stop_reason == TensileStopRule::Reason::kFailure);
-          rms = m.rms_load;
-          relative = m.relative_to_peak;
-          peak = r.analysis.peak_load;
-          wall = r.wall_time;
-        } catch (const std::exception& e) {  // a trial that blows up is a bad trial
-          fmt::print(stderr, "calibrate: trial lambda = {} failed on rank {}: {}\n",
-                     ev.radius_multiplier, world.rank(), e.what());
-          rms = relative = std::numeric_limits<double>::infinity();
-          peak = wall = 0.0;
-        }
-      }
-      ev.misfit.rms_load = world.max(rms);
-      ev.misfit.relative_to_peak = world.max(relative);
-      ev.peak_load = world.max(peak);
-      ev.wall_time = world.max(wall);
+      ev.folder = folder_of(slot);
+      ev.misfit.rms_load = outcomes[slot].rms;
+      ev.misfit.relative_to_peak = outcomes[slot].relative;
+      ev.peak_load = outcomes[slot].peak;
+      ev.wall_time = outcomes[slot].wall;
       misfits[j] = ev.misfit.relative_to_peak;
       result.evaluations.push_back(ev);
-      if (print) {
-        fmt::print(
-            "eval {:3}: lambda = {:.5f}  E_b = {:7.2f} GPa  misfit {:9.4f} kN "
-            "({:6.3f} % of the reference peak)  peak {:8.3f} kN  {:.1f} s\n",
-            result.evaluations.size() - 1, ev.radius_multiplier, 1e-9 * ev.bond_youngs_modulus,
-            1e-3 * ev.misfit.rms_load, 100.0 * ev.misfit.relative_to_peak, 1e-3 * ev.peak_load,
-            ev.wall_time);
-        std::fflush(stdout);
-      }
     }
     return misfits;
   };

@@ -115,7 +115,8 @@ struct CalibrationResult {
 
 /// Runs the calibration; every rank calls it with the same options. Evaluations that can run
 /// together (the lambda scan, the first simplex) are spread over the ranks, each on its own
-/// (Communicator::self()). Rank 0 prints each evaluation and writes OUT/calibration.json,
+/// (Communicator::self()), and give the same evaluations on any rank count. Each evaluation is
+/// printed by the rank that ran it as it ends; rank 0 writes OUT/calibration.json,
 /// OUT/evaluations.csv, OUT/best_series.csv and OUT/best_summary.json; every trial's curve is in
 /// OUT/evaluations/eval_NNN/. Throws InputError for a bad case, reference or option.
 CalibrationResult run_calibration(const CalibrationOptions& options, const Communicator& world);
