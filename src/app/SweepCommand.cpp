@@ -9,8 +9,10 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
+#include "app/CaseClaims.hpp"
 #include "app/OutputLock.hpp"
 #include "app/RunCommand.hpp"
 #include "app/RunControl.hpp"
@@ -475,11 +477,12 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
                options.restart ? ", continuing the cases not done" : "");
   world.barrier();
 
-  // Each rank runs its cases alone.
+  // Each rank runs its cases alone, the next one as it comes free (app/CaseClaims).
   const Communicator self = Communicator::self();
+  CaseClaims claims(out_dir, cases.size(), world);
   std::int64_t worst_exit = 0;
-  for (std::size_t k = static_cast<std::size_t>(world.rank()); k < cases.size();
-       k += static_cast<std::size_t>(world.size())) {
+  while (const std::optional<std::size_t> claimed = claims.next()) {
+    const std::size_t k = *claimed;
     const std::string dir = out_dir + "/" + cases[k].folder;
     configs[k].name = sweep.name + "_" + cases[k].folder;
     std::string parameters;
@@ -540,6 +543,7 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
     std::fflush(stdout);
     write_case_row(dir, header, values);
   }
+  claims.close(world);
   worst_exit = world.max(worst_exit);  // also the barrier before rank 0 reads the rows
 
   if (world.is_root()) {

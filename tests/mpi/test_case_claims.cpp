@@ -1,0 +1,108 @@
+// A parameter study's cases go to the ranks as they come free (app/CaseClaims): every case to
+// exactly one rank, however the ranks race for them, and none kept back by a busy rank.
+#include <gtest/gtest.h>
+#include <mpi.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <numeric>
+
+#include "app/CaseClaims.hpp"
+
+namespace ringdem {
+namespace {
+
+constexpr std::size_t kCases = 7;
+
+/// A folder that every rank of `comm` names alike (made by the root).
+std::string shared_folder(const Communicator& comm) {
+  std::vector<char> chars;
+  if (comm.is_root()) {
+    std::string t = (std::filesystem::temp_directory_path() / "ringdem_claims_XXXXXX").string();
+    if (!mkdtemp(t.data())) throw std::runtime_error("mkdtemp failed");
+    chars.assign(t.begin(), t.end());
+  }
+  comm.broadcast(chars, 0);
+  return std::string(chars.begin(), chars.end());
+}
+
+/// Every case this rank gets by asking until none is left.
+std::vector<std::int64_t> claim_all(CaseClaims& claims) {
+  std::vector<std::int64_t> mine;
+  while (const auto k = claims.next())
+    mine.push_back(static_cast<std::int64_t>(*k));
+  return mine;
+}
+
+std::vector<std::int64_t> every_case() {
+  std::vector<std::int64_t> all(kCases);
+  std::iota(all.begin(), all.end(), 0);
+  return all;
+}
+
+struct WorldComm {
+  WorldComm() { MPI_Comm_dup(MPI_COMM_WORLD, &raw); }
+  ~WorldComm() { MPI_Comm_free(&raw); }
+  MPI_Comm raw;
+};
+
+TEST(CaseClaims, EveryCaseGoesToExactlyOneRankAndAKilledStudysClaimsAreCleared) {
+  WorldComm world;
+  const Communicator comm(world.raw);
+  const std::string dir = shared_folder(comm);
+  {
+    CaseClaims claims(dir, kCases, comm);  // all ranks race for all cases at once
+    std::vector<std::int64_t> got = comm.allgather(claim_all(claims));
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, every_case()) << comm.size() << " ranks";
+    // Not closed: as a study killed at this point leaves its claims.
+  }
+  {
+    CaseClaims claims(dir, kCases, comm);  // the next study into the folder starts afresh
+    std::vector<std::int64_t> got = comm.allgather(claim_all(claims));
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, every_case()) << "after a killed study, " << comm.size() << " ranks";
+    claims.close(comm);
+  }
+  if (comm.is_root()) {
+    EXPECT_FALSE(std::filesystem::exists(std::filesystem::path(dir) / CaseClaims::kFolderName));
+  }
+  comm.barrier();
+  if (comm.is_root()) std::filesystem::remove_all(dir);
+}
+
+TEST(CaseClaims, ABusyRankKeepsNoCaseBack) {
+  WorldComm world;
+  const Communicator comm(world.raw);
+  const std::string dir = shared_folder(comm);
+  CaseClaims claims(dir, kCases, comm);
+  std::vector<std::int64_t> mine;
+  if (comm.is_root()) {
+    // Rank 0 takes one case and is busy with it while the others take the rest.
+    const auto first = claims.next();
+    ASSERT_TRUE(first.has_value());
+    mine.push_back(static_cast<std::int64_t>(*first));
+    comm.barrier();
+    const std::vector<std::int64_t> after = claim_all(claims);
+    mine.insert(mine.end(), after.begin(), after.end());
+  } else {
+    mine = claim_all(claims);
+    comm.barrier();
+  }
+  // A fixed deal (case i on rank i mod N) would have left cases 2, 4, 6 to the busy rank 0 at
+  // 2 ranks; here it has its first case only, unless it is alone.
+  if (comm.size() == 1) {
+    EXPECT_EQ(mine, every_case());
+  } else if (comm.is_root()) {
+    EXPECT_EQ(mine.size(), 1u);
+  }
+  std::vector<std::int64_t> got = comm.allgather(mine);
+  std::sort(got.begin(), got.end());
+  EXPECT_EQ(got, every_case());
+  claims.close(comm);
+  if (comm.is_root()) std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace ringdem
