@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "io/ResultsWriter.hpp"
 
@@ -11,6 +12,7 @@ namespace {
 
 const char* const kCaseFile = "/sweep_case.txt";
 const char* const kRowFile = "/sweep_row.csv";
+const char* const kCaseTextFile = "/sweep_case_resolved.txt";
 
 }  // namespace
 
@@ -35,6 +37,11 @@ SweepCaseRecord read_case_record(const std::string& dir) {
     for (std::string line; std::getline(in, line);)
       record.overrides->push_back(line);
   }
+  if (std::ifstream in(dir + kCaseTextFile); in) {
+    std::ostringstream text;
+    text << in.rdbuf();
+    record.case_text = text.str();
+  }
   if (std::ifstream in(dir + kRowFile); in) {
     std::getline(in, record.header);
     std::getline(in, record.values);
@@ -42,11 +49,13 @@ SweepCaseRecord read_case_record(const std::string& dir) {
   return record;
 }
 
-void write_case_start(const std::string& dir, const std::vector<std::string>& overrides) {
+void write_case_start(const std::string& dir, const std::vector<std::string>& overrides,
+                      const std::string& case_text) {
   std::filesystem::create_directories(dir);
   std::ofstream out(dir + kCaseFile);
   for (const std::string& o : overrides)
     out << o << "\n";
+  std::ofstream(dir + kCaseTextFile) << case_text;
 }
 
 void write_case_row(const std::string& dir, const std::string& header, const std::string& values) {

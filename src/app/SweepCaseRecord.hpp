@@ -4,6 +4,8 @@
 /// --restart` can tell the cases that are done from those still to run, and refuse a folder
 /// that holds another study's cases:
 /// - `sweep_case.txt`, written when the case starts: the overrides that make it, one a line;
+/// - `sweep_case_resolved.txt`, written with it: the resolved case (io/CaseText), so that a
+///   restart sees a case file or sweep file edited since a case was run;
 /// - `sweep_row.csv`, written when it ends (or is not started): its row of sweep.csv, a line of
 ///   column names and a line of values.
 
@@ -21,6 +23,9 @@ struct SweepCaseRecord {
   /// The overrides of sweep_case.txt; empty when the file is missing (a case not yet started,
   /// or a folder written before the file existed).
   std::optional<std::vector<std::string>> overrides;
+  /// The resolved case of sweep_case_resolved.txt; empty when the file is missing (written by
+  /// an older ringdem).
+  std::optional<std::string> case_text;
   std::string header;  ///< sweep_row.csv's column names; empty when there is no row
   std::string values;  ///< sweep_row.csv's values
 
@@ -36,8 +41,9 @@ struct SweepCaseRecord {
 
 /// Reads the record of the case folder `dir` (missing files leave their fields empty).
 SweepCaseRecord read_case_record(const std::string& dir);
-/// Writes sweep_case.txt (creates the folder).
-void write_case_start(const std::string& dir, const std::vector<std::string>& overrides);
+/// Writes sweep_case.txt and sweep_case_resolved.txt (creates the folder).
+void write_case_start(const std::string& dir, const std::vector<std::string>& overrides,
+                      const std::string& case_text);
 /// Writes sweep_row.csv (creates the folder).
 void write_case_row(const std::string& dir, const std::string& header, const std::string& values);
 

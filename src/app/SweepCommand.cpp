@@ -20,6 +20,8 @@
 #include "app/SweepCaseRecord.hpp"
 #include "app/TensileTest.hpp"
 #include "io/CaseLoader.hpp"
+#include "io/CaseText.hpp"
+#include "io/RestartChanges.hpp"
 #include "io/ResultsWriter.hpp"
 #include "io/Schema.hpp"
 
@@ -427,9 +429,11 @@ namespace {
 /// case with other overrides (another study, or this one changed) is refused before anything
 /// runs, so that the table never mixes two studies. Every rank checks every case (cheap).
 void check_restart_folders(const std::string& out_dir, const SweepConfig& sweep,
-                           const std::vector<SweepCase>& cases) {
+                           const std::vector<SweepCase>& cases,
+                           const std::vector<std::string>& case_texts) {
   std::vector<Diagnostic> problems;
-  for (const SweepCase& c : cases) {
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const SweepCase& c = cases[k];
     const std::string dir = out_dir + "/" + c.folder;
     const SweepCaseRecord record = read_case_record(dir);
     if (record.overrides && *record.overrides != c.overrides) {
@@ -449,6 +453,20 @@ void check_restart_folders(const std::string& out_dir, const SweepConfig& sweep,
                                       "(no sweep_case.txt: written by an older ringdem); give "
                                       "another output folder",
                                       dir)});
+    } else if (record.finished() && record.case_text && *record.case_text != case_texts[k]) {
+      // A case that is kept must be the case this study would run now; one that continues
+      // from a checkpoint is checked by the restart itself (io/RestartChanges).
+      const std::vector<CaseChange> changes = case_changes(*record.case_text, case_texts[k]);
+      std::string listed;
+      for (std::size_t i = 0; i < changes.size() && i < 3; ++i)
+        listed += (listed.empty() ? "" : "; ") + describe_change(changes[i]);
+      if (changes.size() > 3) listed += fmt::format("; and {} more", changes.size() - 3);
+      problems.push_back({sweep.source_path, 0, 0, "",
+                          fmt::format("--restart: {} was run from another case than this study "
+                                      "gives it now ({}); restore the case or sweep file it was "
+                                      "run with, remove the folder to run the case again, or give "
+                                      "another output folder",
+                                      dir, listed)});
     }
   }
   if (!problems.empty()) throw InputError(problems);
@@ -466,7 +484,12 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
   if (world.is_root()) fmt::print(stderr, "{}", format_diagnostics(warnings));
   const std::string out_dir =
       options.output_dir.empty() ? "results/" + sweep.name : options.output_dir;
-  if (options.restart) check_restart_folders(out_dir, sweep, cases);
+  std::vector<std::string> case_texts(cases.size());
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    configs[k].name = sweep.name + "_" + cases[k].folder;
+    case_texts[k] = canonical_case_text(configs[k]);
+  }
+  if (options.restart) check_restart_folders(out_dir, sweep, cases, case_texts);
   const bool root = world.is_root() && !options.quiet;
   // Held to the end of the study: no second sweep into this folder (app/OutputLock.hpp).
   const OutputLock lock = lock_output_folder(out_dir, world, options.break_lock);
@@ -484,7 +507,6 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
   while (const std::optional<std::size_t> claimed = claims.next()) {
     const std::size_t k = *claimed;
     const std::string dir = out_dir + "/" + cases[k].folder;
-    configs[k].name = sweep.name + "_" + cases[k].folder;
     std::string parameters;
     for (std::size_t p = 0; p < sweep.parameters.size(); ++p)
       parameters += fmt::format(" {}={}", sweep.parameters[p].key, cases[k].parameter_values[p]);
@@ -504,14 +526,14 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - study_start).count();
     if (stop_signal_received() || (options.max_walltime > 0.0 && elapsed >= options.max_walltime)) {
       worst_exit = std::max<std::int64_t>(worst_exit, kExitCaseNotStarted);
-      write_case_start(dir, cases[k].overrides);  // the folder is this study's case
+      write_case_start(dir, cases[k].overrides, case_texts[k]);  // the folder is this study's
       write_case_row(dir, "exit_code", std::to_string(kExitCaseNotStarted));
       if (!options.quiet)
         fmt::print("[rank {}] {}:{}: not started (the study was asked to stop)\n", world.rank(),
                    cases[k].folder, parameters);
       continue;
     }
-    write_case_start(dir, cases[k].overrides);
+    write_case_start(dir, cases[k].overrides, case_texts[k]);
     std::string header, values;
     if (scenario_kind(configs[k]) == ScenarioKind::kTensileTest) {
       TensileRunOptions run;

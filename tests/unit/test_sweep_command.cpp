@@ -105,7 +105,7 @@ TEST(SweepCommand, ARestartedSweepKeepsWhatIsDoneAndContinuesTheRest) {
   // expect_free_fall says. Then one case is made to look killed mid-run (its row and summary
   // gone, its checkpoints after t = 0.01 s too): a restart keeps the other three and continues
   // that one from t = 0.01 s to the same numbers as its whole run. A restart with another value
-  // for every case is refused.
+  // for every case is refused, and so is one after the case file was edited.
   const std::string dir = testing::temp_dir("sweep_restart");
   std::ofstream(dir + "/fall.yaml")
       << kFallingSphere << "output: {checkpoint_interval: 0.0025, checkpoints_kept: 10}\n";
@@ -176,6 +176,17 @@ TEST(SweepCommand, ARestartedSweepKeepsWhatIsDoneAndContinuesTheRest) {
   r = testing::run_command(sweep + " --restart --set simulation.gravity=[0,0,-1]");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("case_000 was run with other values"), std::string::npos) << r.output;
+
+  // The case file edited after the study ran: its finished cases are not this study's any more.
+  std::ofstream(dir + "/fall.yaml")
+      << std::string(kFallingSphere).replace(std::string(kFallingSphere).find("1.0e8"), 5, "2.0e8")
+      << "output: {checkpoint_interval: 0.0025, checkpoints_kept: 10}\n";
+  r = testing::run_command(sweep + " --restart");
+  EXPECT_EQ(r.status, 2) << r.output;
+  for (const char* folder : {"case_000", "case_001", "case_002", "case_003"})
+    EXPECT_NE(r.output.find(fmt::format("{} was run from another case", folder)), std::string::npos)
+        << r.output;
+  EXPECT_NE(r.output.find("youngs_modulus"), std::string::npos) << r.output;
   std::filesystem::remove_all(dir);
 }
 
