@@ -11,10 +11,8 @@
 namespace ringdem {
 
 CaseClaims::CaseClaims(const std::string& output_dir, std::size_t case_count,
-                       const Communicator& world)
-    : folder_(output_dir + "/" + kFolderName),
-      case_count_(case_count),
-      own_first_(static_cast<std::size_t>(world.rank())) {
+                       const Communicator& world, std::size_t first_case)
+    : folder_(output_dir + "/" + kFolderName), case_count_(case_count), own_first_(first_case) {
   std::string error;
   if (world.is_root()) {
     std::error_code ec;

@@ -25,12 +25,13 @@ class CaseClaims {
   /// A fresh set of claims on `case_count` cases in `output_dir`/kFolderName: the root rank
   /// removes what an earlier study left there (a killed one) and every rank waits for it, so
   /// collective over `world`. The caller holds the folder's output lock, so no other study
-  /// claims there at the same time.
-  CaseClaims(const std::string& output_dir, std::size_t case_count, const Communicator& world);
+  /// claims there at the same time. `first_case`: the case this rank asks for first (its own
+  /// number, or its group's), so that the first round needs no contest.
+  CaseClaims(const std::string& output_dir, std::size_t case_count, const Communicator& world,
+             std::size_t first_case);
 
-  /// The next case this rank runs, or nothing when every case is taken. A rank asks first for
-  /// the case of its own number (so the first round needs no contest), then for the lowest
-  /// case not yet taken.
+  /// The next case this rank runs, or nothing when every case is taken: first_case, then the
+  /// lowest case not yet taken.
   std::optional<std::size_t> next();
 
   /// Collective: when every rank has asked for its last case, the root rank removes the claims.

@@ -303,22 +303,23 @@ void add_summary_numbers(const YAML::Node& node, const std::string& prefix, Swee
   }
 }
 
-/// A case of any scenario but the tensile test, run by `ringdem run`'s loop alone on this rank:
-/// its exit code (0 done, 1 diverged or failed, ...) and the numbers of its summary.json.
+/// A case of any scenario but the tensile test, run by `ringdem run`'s loop on the ranks of
+/// `group`: its exit code (0 done, 1 diverged or failed, ...) and, on the group's first rank,
+/// the numbers of its summary.json.
 SweepRow run_scenario_case(const CaseConfig& config, const RunOptions& run,
-                           const Communicator& self) {
+                           const Communicator& group) {
   const std::string& dir = run.output_dir;
   // A summary left by an earlier study in this folder must not stand for a case that ends
-  // before it writes its own.
-  std::filesystem::remove(dir + "/summary.json");
+  // before it writes its own (the first rank writes it).
+  if (group.is_root()) std::filesystem::remove(dir + "/summary.json");
   int code = 1;
   try {
-    code = run_case(config, run, self);
+    code = run_case(config, run, group);
   } catch (const std::exception& e) {
     fmt::print(stderr, "ringdem sweep: {}: {}\n", dir, e.what());
   }
   SweepRow row{{"exit_code", std::to_string(code)}};
-  if (std::filesystem::exists(dir + "/summary.json"))
+  if (group.is_root() && std::filesystem::exists(dir + "/summary.json"))
     add_summary_numbers(YAML::LoadFile(dir + "/summary.json"), "", row);
   return row;
 }
@@ -476,6 +477,13 @@ void check_restart_folders(const std::string& out_dir, const SweepConfig& sweep,
 
 int run_sweep(const SweepOptions& options, const Communicator& world) {
   const auto study_start = std::chrono::steady_clock::now();
+  if (options.ranks_per_case < 1 || world.size() % options.ranks_per_case != 0)
+    throw InputError(
+        {{options.sweep_path, 0, 0, "",
+          fmt::format("--ranks-per-case {} does not divide the {} rank{} of this "
+                      "job: start a multiple of it (each case runs on that many "
+                      "ranks, the next case on the first group that comes free)",
+                      options.ranks_per_case, world.size(), world.size() == 1 ? "" : "s")}});
   const SweepConfig sweep = load_sweep(options.sweep_path, options.overrides);
   const std::vector<SweepCase> cases = expand_sweep(sweep);
   // Every case is checked before any runs, on every rank.
@@ -494,56 +502,89 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
   // Held to the end of the study: no second sweep into this folder (app/OutputLock.hpp).
   const OutputLock lock = lock_output_folder(out_dir, world, options.break_lock);
   if (root)
-    fmt::print("sweep {} ({}): {} cases of {} over {} rank{}, output in {}{}\n", sweep.name,
+    fmt::print("sweep {} ({}): {} cases of {} over {} rank{}{}, output in {}{}\n", sweep.name,
                sweep.source_path, cases.size(), sweep.case_path, world.size(),
-               world.size() == 1 ? "" : "s", out_dir,
-               options.restart ? ", continuing the cases not done" : "");
+               world.size() == 1 ? "" : "s",
+               options.ranks_per_case > 1 ? fmt::format(" ({} to a case)", options.ranks_per_case)
+                                          : std::string(),
+               out_dir, options.restart ? ", continuing the cases not done" : "");
   world.barrier();
 
-  // Each rank runs its cases alone, the next one as it comes free (app/CaseClaims).
-  const Communicator self = Communicator::self();
-  CaseClaims claims(out_dir, cases.size(), world);
+  // Each case runs on a group of options.ranks_per_case ranks (one by default), the next case
+  // on the first group that comes free (app/CaseClaims). The group's first rank claims it and
+  // decides what happens to it; the others follow, so a group never disagrees.
+  const int per_case = options.ranks_per_case;
+  const SplitCommunicator split(world, world.rank() / per_case);
+  const Communicator& group = split.get();
+  const bool leader = group.is_root();
+  const std::string ranks =
+      per_case == 1 ? fmt::format("rank {}", world.rank())
+                    : fmt::format("ranks {}-{}", world.rank(), world.rank() + per_case - 1);
+  CaseClaims claims(out_dir, cases.size(), world,
+                    static_cast<std::size_t>(world.rank() / per_case));
+  enum CaseAction : std::int64_t { kNoCaseLeft, kKept, kNotStarted, kStart };
   std::int64_t worst_exit = 0;
-  while (const std::optional<std::size_t> claimed = claims.next()) {
-    const std::size_t k = *claimed;
+  for (;;) {
+    std::vector<std::int64_t> next{kNoCaseLeft, 0, 0};  // action, case, study's seconds (ns)
+    if (leader) {
+      if (const std::optional<std::size_t> claimed = claims.next()) {
+        next[1] = static_cast<std::int64_t>(*claimed);
+        const auto elapsed = std::chrono::steady_clock::now() - study_start;
+        next[2] = std::chrono::duration_cast<std::chrono::nanoseconds>(elapsed).count();
+        const double seconds = 1e-9 * static_cast<double>(next[2]);
+        if (options.restart && read_case_record(out_dir + "/" + cases[*claimed].folder).finished())
+          next[0] = kKept;
+        // The study stops on SIGUSR1 or at its wall-time limit: the case that runs then writes
+        // a checkpoint and stops (a tensile test runs to its end); the cases after it do not
+        // start.
+        else if (stop_signal_received() ||
+                 (options.max_walltime > 0.0 && seconds >= options.max_walltime))
+          next[0] = kNotStarted;
+        else
+          next[0] = kStart;
+      }
+    }
+    group.broadcast(next, 0);
+    if (next[0] == kNoCaseLeft) break;
+    const std::size_t k = static_cast<std::size_t>(next[1]);
+    const double elapsed = 1e-9 * static_cast<double>(next[2]);
     const std::string dir = out_dir + "/" + cases[k].folder;
     std::string parameters;
     for (std::size_t p = 0; p < sweep.parameters.size(); ++p)
       parameters += fmt::format(" {}={}", sweep.parameters[p].key, cases[k].parameter_values[p]);
-    if (options.restart) {
-      const SweepCaseRecord record = read_case_record(dir);
-      if (record.finished()) {  // its row stays as it is
-        worst_exit = std::max<std::int64_t>(worst_exit, record.exit_code());
-        if (!options.quiet)
-          fmt::print("[rank {}] {}:{}: done before (exit {}), kept\n", world.rank(),
-                     cases[k].folder, parameters, record.exit_code());
-        continue;
+    const bool say = leader && !options.quiet;
+    if (next[0] == kKept) {  // its row stays as it is
+      if (leader) {
+        const int code = read_case_record(dir).exit_code();
+        worst_exit = std::max<std::int64_t>(worst_exit, code);
+        if (say)
+          fmt::print("[{}] {}:{}: done before (exit {}), kept\n", ranks, cases[k].folder,
+                     parameters, code);
       }
+      continue;
     }
-    // The study stops on SIGUSR1 or at its wall-time limit: the case that runs then writes a
-    // checkpoint and stops (a tensile test runs to its end); the cases after it do not start.
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - study_start).count();
-    if (stop_signal_received() || (options.max_walltime > 0.0 && elapsed >= options.max_walltime)) {
+    if (next[0] == kNotStarted) {
       worst_exit = std::max<std::int64_t>(worst_exit, kExitCaseNotStarted);
-      write_case_start(dir, cases[k].overrides, case_texts[k]);  // the folder is this study's
-      write_case_row(dir, "exit_code", std::to_string(kExitCaseNotStarted));
-      if (!options.quiet)
-        fmt::print("[rank {}] {}:{}: not started (the study was asked to stop)\n", world.rank(),
+      if (leader) {
+        write_case_start(dir, cases[k].overrides, case_texts[k]);  // the folder is this study's
+        write_case_row(dir, "exit_code", std::to_string(kExitCaseNotStarted));
+      }
+      if (say)
+        fmt::print("[{}] {}:{}: not started (the study was asked to stop)\n", ranks,
                    cases[k].folder, parameters);
       continue;
     }
-    write_case_start(dir, cases[k].overrides, case_texts[k]);
+    if (leader) write_case_start(dir, cases[k].overrides, case_texts[k]);
     std::string header, values;
     if (scenario_kind(configs[k]) == ScenarioKind::kTensileTest) {
       TensileRunOptions run;
       run.output_dir = dir;
       run.verbose = false;
-      const TensileResult r = run_tensile_test(configs[k], run, self);
+      const TensileResult r = run_tensile_test(configs[k], run, group);
       header = kSummaryColumns;
       values = summary_row(r);
-      if (!options.quiet)
-        fmt::print("[rank {}] {}:{}: {}, peak {:.2f} kN at {:.1f} mm, {:.0f} s\n", world.rank(),
+      if (say)
+        fmt::print("[{}] {}:{}: {}, peak {:.2f} kN at {:.1f} mm, {:.0f} s\n", ranks,
                    cases[k].folder, parameters, stop_reason_name(r.stop_reason),
                    1e-3 * r.analysis.peak_load, 1e3 * r.analysis.displacement_at_peak, r.wall_time);
     } else {
@@ -552,18 +593,17 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
       run.quiet = true;
       run.restart = options.restart ? "auto" : "";
       if (options.max_walltime > 0.0) run.max_walltime = options.max_walltime - elapsed;
-      const SweepRow row = run_scenario_case(configs[k], run, self);
+      const SweepRow row = run_scenario_case(configs[k], run, group);
       worst_exit = std::max<std::int64_t>(worst_exit, std::stoi(row.front().second));
       for (const auto& [column, value] : row) {
         header += (header.empty() ? "" : ",") + column;
         values += (values.empty() ? "" : ",") + value;
       }
-      if (!options.quiet)
-        fmt::print("[rank {}] {}:{}: exit {}\n", world.rank(), cases[k].folder, parameters,
-                   row.front().second);
+      if (say)
+        fmt::print("[{}] {}:{}: exit {}\n", ranks, cases[k].folder, parameters, row.front().second);
     }
     std::fflush(stdout);
-    write_case_row(dir, header, values);
+    if (leader) write_case_row(dir, header, values);
   }
   claims.close(world);
   worst_exit = world.max(worst_exit);  // also the barrier before rank 0 reads the rows

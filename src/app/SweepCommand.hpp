@@ -85,6 +85,9 @@ struct SweepOptions {
   /// Wall seconds for the whole study (0: no limit): a case running when they are spent writes a
   /// checkpoint and stops; the cases after it do not start. Both exit with code 3.
   double max_walltime = 0.0;
+  /// Ranks that run each case together (a divisor of the job's rank count): the next case goes
+  /// to the first group of them that comes free.
+  int ranks_per_case = 1;
 };
 
 /// Runs the study; returns the exit code: the largest of the cases' (a case that is no tensile

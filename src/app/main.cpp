@@ -100,6 +100,11 @@ int main(int argc, char** argv) {
   sweep->add_flag("--restart", sweep_opts.restart,
                   "continue the study in its output folder: keep the cases that are done, "
                   "continue a stopped case from its newest checkpoint, start the others");
+  sweep
+      ->add_option("--ranks-per-case", sweep_opts.ranks_per_case,
+                   "ranks that run each case together (default 1; the job's rank count must be "
+                   "a multiple): the next case goes to the first group that comes free")
+      ->check(CLI::PositiveNumber);
   std::string sweep_max_walltime;
   sweep->add_option("--max-walltime", sweep_max_walltime,
                     "wall time for the whole study (as run's): the case running then writes a "

@@ -200,4 +200,17 @@ int Communicator::ranks_on_this_node() const {
   return n;
 }
 
+MPI_Comm SplitCommunicator::split(const Communicator& parent, int colour) {
+  MPI_Comm part = MPI_COMM_NULL;
+  MPI_Comm_split(parent.raw(), colour, parent.rank(), &part);
+  return part;
+}
+
+SplitCommunicator::SplitCommunicator(const Communicator& parent, int colour)
+    : raw_(split(parent, colour)), comm_(raw_) {}
+
+SplitCommunicator::~SplitCommunicator() {
+  MPI_Comm_free(&raw_);
+}
+
 }  // namespace ringdem

@@ -110,4 +110,23 @@ class Communicator {
   int size_ = 1;
 };
 
+/// The ranks of a communicator that share a colour, as a communicator of their own (in the
+/// parent's rank order), freed with this handle: e.g. the groups of ranks that run one case of a
+/// parameter study together. Collective over the parent.
+class SplitCommunicator {
+ public:
+  SplitCommunicator(const Communicator& parent, int colour);
+  ~SplitCommunicator();
+  SplitCommunicator(const SplitCommunicator&) = delete;
+  SplitCommunicator& operator=(const SplitCommunicator&) = delete;
+
+  const Communicator& get() const { return comm_; }
+
+ private:
+  static MPI_Comm split(const Communicator& parent, int colour);
+
+  MPI_Comm raw_;
+  Communicator comm_;
+};
+
 }  // namespace ringdem

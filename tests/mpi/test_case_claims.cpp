@@ -52,14 +52,18 @@ TEST(CaseClaims, EveryCaseGoesToExactlyOneRankAndAKilledStudysClaimsAreCleared) 
   const Communicator comm(world.raw);
   const std::string dir = shared_folder(comm);
   {
-    CaseClaims claims(dir, kCases, comm);  // all ranks race for all cases at once
+    CaseClaims claims(
+        dir, kCases, comm,
+        static_cast<std::size_t>(comm.rank()));  // all ranks race for all cases at once
     std::vector<std::int64_t> got = comm.allgather(claim_all(claims));
     std::sort(got.begin(), got.end());
     EXPECT_EQ(got, every_case()) << comm.size() << " ranks";
     // Not closed: as a study killed at this point leaves its claims.
   }
   {
-    CaseClaims claims(dir, kCases, comm);  // the next study into the folder starts afresh
+    CaseClaims claims(
+        dir, kCases, comm,
+        static_cast<std::size_t>(comm.rank()));  // the next study into the folder starts afresh
     std::vector<std::int64_t> got = comm.allgather(claim_all(claims));
     std::sort(got.begin(), got.end());
     EXPECT_EQ(got, every_case()) << "after a killed study, " << comm.size() << " ranks";
@@ -76,19 +80,20 @@ TEST(CaseClaims, ABusyRankKeepsNoCaseBack) {
   WorldComm world;
   const Communicator comm(world.raw);
   const std::string dir = shared_folder(comm);
-  CaseClaims claims(dir, kCases, comm);
+  CaseClaims claims(dir, kCases, comm, static_cast<std::size_t>(comm.rank()));
   std::vector<std::int64_t> mine;
+  // Rank 0 takes one case and is busy with it while the others take the rest.
   if (comm.is_root()) {
-    // Rank 0 takes one case and is busy with it while the others take the rest.
     const auto first = claims.next();
     ASSERT_TRUE(first.has_value());
     mine.push_back(static_cast<std::int64_t>(*first));
-    comm.barrier();
+  }
+  comm.barrier();
+  if (!comm.is_root()) mine = claim_all(claims);
+  comm.barrier();
+  if (comm.is_root()) {
     const std::vector<std::int64_t> after = claim_all(claims);
     mine.insert(mine.end(), after.begin(), after.end());
-  } else {
-    mine = claim_all(claims);
-    comm.barrier();
   }
   // A fixed deal (case i on rank i mod N) would have left cases 2, 4, 6 to the busy rank 0 at
   // 2 ranks; here it has its first case only, unless it is alone.

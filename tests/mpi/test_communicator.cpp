@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -114,6 +115,26 @@ TEST_F(CommunicatorTest, AllgatherConcatenatesInRankOrderAlsoWhenEmpty) {
   EXPECT_EQ(c.allgather(mine), expected);
   // Nothing anywhere: an empty result, and no memcpy from a null pointer (UBSan, asan preset).
   EXPECT_TRUE(c.allgather(std::vector<double>{}).empty());
+}
+
+TEST_F(CommunicatorTest, SplitGroupsTheRanksOfAColourInRankOrder) {
+  const Communicator c(comm_);
+  // Groups of two consecutive ranks (the last one alone on an odd count), as a sweep's
+  // --ranks-per-case 2 makes them.
+  const SplitCommunicator split(c, c.rank() / 2);
+  const Communicator& group = split.get();
+  const int first = c.rank() - c.rank() % 2;
+  const int members = std::min(2, c.size() - first);
+  EXPECT_EQ(group.size(), members);
+  EXPECT_EQ(group.rank(), c.rank() - first);
+  // Rank-encoded: each group sums its own members' world ranks, and only theirs.
+  std::int64_t expected = 0;
+  for (int r = first; r < first + members; ++r)
+    expected += 100 + r;
+  EXPECT_EQ(group.sum(std::int64_t{100} + c.rank()), expected);
+  std::vector<std::int64_t> from_first{c.rank()};
+  group.broadcast(from_first, 0);
+  EXPECT_EQ(from_first, std::vector<std::int64_t>{first});
 }
 
 }  // namespace
