@@ -473,6 +473,42 @@ void check_restart_folders(const std::string& out_dir, const SweepConfig& sweep,
   if (!problems.empty()) throw InputError(problems);
 }
 
+/// What a group of ranks does next in a study (CaseAction), and with which case.
+enum class CaseAction : std::int64_t { kNoCaseLeft, kKept, kNotStarted, kStart };
+struct NextCase {
+  CaseAction action = CaseAction::kNoCaseLeft;
+  std::size_t index = 0;
+  double study_seconds = 0.0;  ///< the study's wall time when the case was claimed
+};
+
+/// The group's first rank claims the next case and decides what becomes of it; the others get
+/// its decision, so that a group never disagrees. Collective over `group`.
+NextCase next_case_of_group(CaseClaims& claims, const Communicator& group,
+                            const SweepOptions& options, const std::string& out_dir,
+                            const std::vector<SweepCase>& cases,
+                            std::chrono::steady_clock::time_point study_start) {
+  std::vector<std::int64_t> next{static_cast<std::int64_t>(CaseAction::kNoCaseLeft), 0, 0};
+  if (group.is_root()) {
+    if (const std::optional<std::size_t> claimed = claims.next()) {
+      const auto elapsed = std::chrono::steady_clock::now() - study_start;
+      const double seconds = std::chrono::duration<double>(elapsed).count();
+      CaseAction action = CaseAction::kStart;
+      if (options.restart && read_case_record(out_dir + "/" + cases[*claimed].folder).finished())
+        action = CaseAction::kKept;
+      // The study stops on SIGUSR1 or at its wall-time limit: the case that runs then writes a
+      // checkpoint and stops (a tensile test runs to its end); the cases after it do not start.
+      else if (stop_signal_received() ||
+               (options.max_walltime > 0.0 && seconds >= options.max_walltime))
+        action = CaseAction::kNotStarted;
+      next = {static_cast<std::int64_t>(action), static_cast<std::int64_t>(*claimed),
+              std::chrono::duration_cast<std::chrono::nanoseconds>(elapsed).count()};
+    }
+  }
+  group.broadcast(next, 0);
+  return {static_cast<CaseAction>(next[0]), static_cast<std::size_t>(next[1]),
+          1e-9 * static_cast<double>(next[2])};
+}
+
 }  // namespace
 
 int run_sweep(const SweepOptions& options, const Communicator& world) {
@@ -522,38 +558,17 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
                     : fmt::format("ranks {}-{}", world.rank(), world.rank() + per_case - 1);
   CaseClaims claims(out_dir, cases.size(), world,
                     static_cast<std::size_t>(world.rank() / per_case));
-  enum CaseAction : std::int64_t { kNoCaseLeft, kKept, kNotStarted, kStart };
   std::int64_t worst_exit = 0;
   for (;;) {
-    std::vector<std::int64_t> next{kNoCaseLeft, 0, 0};  // action, case, study's seconds (ns)
-    if (leader) {
-      if (const std::optional<std::size_t> claimed = claims.next()) {
-        next[1] = static_cast<std::int64_t>(*claimed);
-        const auto elapsed = std::chrono::steady_clock::now() - study_start;
-        next[2] = std::chrono::duration_cast<std::chrono::nanoseconds>(elapsed).count();
-        const double seconds = 1e-9 * static_cast<double>(next[2]);
-        if (options.restart && read_case_record(out_dir + "/" + cases[*claimed].folder).finished())
-          next[0] = kKept;
-        // The study stops on SIGUSR1 or at its wall-time limit: the case that runs then writes
-        // a checkpoint and stops (a tensile test runs to its end); the cases after it do not
-        // start.
-        else if (stop_signal_received() ||
-                 (options.max_walltime > 0.0 && seconds >= options.max_walltime))
-          next[0] = kNotStarted;
-        else
-          next[0] = kStart;
-      }
-    }
-    group.broadcast(next, 0);
-    if (next[0] == kNoCaseLeft) break;
-    const std::size_t k = static_cast<std::size_t>(next[1]);
-    const double elapsed = 1e-9 * static_cast<double>(next[2]);
+    const NextCase next = next_case_of_group(claims, group, options, out_dir, cases, study_start);
+    if (next.action == CaseAction::kNoCaseLeft) break;
+    const std::size_t k = next.index;
     const std::string dir = out_dir + "/" + cases[k].folder;
     std::string parameters;
     for (std::size_t p = 0; p < sweep.parameters.size(); ++p)
       parameters += fmt::format(" {}={}", sweep.parameters[p].key, cases[k].parameter_values[p]);
     const bool say = leader && !options.quiet;
-    if (next[0] == kKept) {  // its row stays as it is
+    if (next.action == CaseAction::kKept) {  // its row stays as it is
       if (leader) {
         const int code = read_case_record(dir).exit_code();
         worst_exit = std::max<std::int64_t>(worst_exit, code);
@@ -563,7 +578,7 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
       }
       continue;
     }
-    if (next[0] == kNotStarted) {
+    if (next.action == CaseAction::kNotStarted) {
       worst_exit = std::max<std::int64_t>(worst_exit, kExitCaseNotStarted);
       if (leader) {
         write_case_start(dir, cases[k].overrides, case_texts[k]);  // the folder is this study's
@@ -592,7 +607,7 @@ int run_sweep(const SweepOptions& options, const Communicator& world) {
       run.output_dir = dir;
       run.quiet = true;
       run.restart = options.restart ? "auto" : "";
-      if (options.max_walltime > 0.0) run.max_walltime = options.max_walltime - elapsed;
+      if (options.max_walltime > 0.0) run.max_walltime = options.max_walltime - next.study_seconds;
       const SweepRow row = run_scenario_case(configs[k], run, group);
       worst_exit = std::max<std::int64_t>(worst_exit, std::stoi(row.front().second));
       for (const auto& [column, value] : row) {
