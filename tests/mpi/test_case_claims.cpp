@@ -2,30 +2,18 @@
 // exactly one rank, however the ranks race for them, and none kept back by a busy rank.
 #include <gtest/gtest.h>
 #include <mpi.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <numeric>
 
+#include "SharedTempDir.hpp"
 #include "app/CaseClaims.hpp"
 
 namespace ringdem {
 namespace {
 
 constexpr std::size_t kCases = 7;
-
-/// A folder that every rank of `comm` names alike (made by the root).
-std::string shared_folder(const Communicator& comm) {
-  std::vector<char> chars;
-  if (comm.is_root()) {
-    std::string t = (std::filesystem::temp_directory_path() / "ringdem_claims_XXXXXX").string();
-    if (!mkdtemp(t.data())) throw std::runtime_error("mkdtemp failed");
-    chars.assign(t.begin(), t.end());
-  }
-  comm.broadcast(chars, 0);
-  return std::string(chars.begin(), chars.end());
-}
 
 /// Every case this rank gets by asking until none is left.
 std::vector<std::int64_t> claim_all(CaseClaims& claims) {
@@ -41,16 +29,10 @@ std::vector<std::int64_t> every_case() {
   return all;
 }
 
-struct WorldComm {
-  WorldComm() { MPI_Comm_dup(MPI_COMM_WORLD, &raw); }
-  ~WorldComm() { MPI_Comm_free(&raw); }
-  MPI_Comm raw;
-};
-
 TEST(CaseClaims, EveryCaseGoesToExactlyOneRankAndAKilledStudysClaimsAreCleared) {
-  WorldComm world;
-  const Communicator comm(world.raw);
-  const std::string dir = shared_folder(comm);
+  const testing::WorldCopy world;
+  const Communicator comm(world.raw());
+  const std::string dir = testing::shared_temp_dir(comm, "claims");
   {
     CaseClaims claims(
         dir, kCases, comm,
@@ -77,9 +59,9 @@ TEST(CaseClaims, EveryCaseGoesToExactlyOneRankAndAKilledStudysClaimsAreCleared) 
 }
 
 TEST(CaseClaims, ABusyRankKeepsNoCaseBack) {
-  WorldComm world;
-  const Communicator comm(world.raw);
-  const std::string dir = shared_folder(comm);
+  const testing::WorldCopy world;
+  const Communicator comm(world.raw());
+  const std::string dir = testing::shared_temp_dir(comm, "claims");
   CaseClaims claims(dir, kCases, comm, static_cast<std::size_t>(comm.rank()));
   std::vector<std::int64_t> mine;
   // Rank 0 takes one case and is busy with it while the others take the rest.

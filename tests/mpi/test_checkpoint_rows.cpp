@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <map>
 
+#include "SharedTempDir.hpp"
 #include "engine/Model.hpp"
 #include "io/Checkpoint.hpp"
 
@@ -41,14 +42,7 @@ TEST(CheckpointRows, SparseGidsRoundTripOnAnyRankCount) {
   MPI_Comm_dup(MPI_COMM_WORLD, &world);
   {
     const Communicator comm(world);
-    std::vector<char> dir_chars;
-    if (comm.is_root()) {
-      std::string t = (std::filesystem::temp_directory_path() / "ringdem_rows_XXXXXX").string();
-      ASSERT_NE(mkdtemp(t.data()), nullptr);
-      dir_chars.assign(t.begin(), t.end());
-    }
-    comm.broadcast(dir_chars, 0);
-    const std::string dir(dir_chars.begin(), dir_chars.end());
+    const std::string dir = testing::shared_temp_dir(comm, "rows");
     Model written = sparse_model(comm.rank(), comm.size());
     RestartState state;
     state.dt = 1e-6;

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "SharedTempDir.hpp"
 #include "io/FrameWriter.hpp"
 #include "io/Hdf5File.hpp"
 
@@ -138,18 +139,6 @@ void write_all(const Communicator& comm, const std::string& h5, const std::strin
     update(p, bonds, s[static_cast<std::size_t>(f)], f, comm.rank(), comm.size());
     frames.write(p, bonds, {}, 0.1 * f, 10 * f);
   }
-}
-
-std::string shared_temp_dir(const Communicator& comm) {
-  std::vector<char> path;
-  if (comm.is_root()) {
-    std::string templ =
-        (std::filesystem::temp_directory_path() / "ringdem_changing_XXXXXX").string();
-    if (!mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
-    path.assign(templ.begin(), templ.end());
-  }
-  comm.broadcast(path, 0);
-  return std::string(path.begin(), path.end());
 }
 
 void expect_frames_as_written(const std::string& path) {
@@ -299,7 +288,7 @@ TEST(FrameFile, ChangingCountsAndSparseGids) {
   MPI_Comm_dup(MPI_COMM_WORLD, &world);
   {
     const Communicator comm(world);
-    const std::string dir = shared_temp_dir(comm);
+    const std::string dir = testing::shared_temp_dir(comm, "changing");
     write_all(comm, dir + "/parallel.h5", dir + "/parallel.xdmf");
     if (comm.is_root()) write_all(Communicator::self(), dir + "/serial.h5", dir + "/serial.xdmf");
     comm.barrier();

@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "engine/ModelBuilder.hpp"
@@ -26,19 +27,6 @@
 
 namespace ringdem {
 namespace {
-
-/// A directory all ranks share (created by rank 0).
-std::string shared_temp_dir(const Communicator& comm, const std::string& tag) {
-  std::vector<char> path;
-  if (comm.is_root()) {
-    std::string templ =
-        (std::filesystem::temp_directory_path() / ("ringdem_" + tag + "_XXXXXX")).string();
-    if (!mkdtemp(templ.data())) throw std::runtime_error("mkdtemp failed");
-    path.assign(templ.begin(), templ.end());
-  }
-  comm.broadcast(path, 0);
-  return std::string(path.begin(), path.end());
-}
 
 void write_frames(Simulation& sim, FrameWriter& frames, std::int64_t steps, std::int64_t every) {
   for (std::int64_t k = 0; k <= steps; ++k) {
@@ -94,7 +82,7 @@ TEST(FrameFile, SameOnAnyRankCountOrderedByGid) {
   MPI_Comm_dup(MPI_COMM_WORLD, &world);
   {
     const Communicator comm(world);
-    const std::string dir = shared_temp_dir(comm, "frames");
+    const std::string dir = testing::shared_temp_dir(comm, "frames");
     const CaseConfig c = testing::ring_patch_hit_by_sphere(-0.005, 60.0, 0.5);
     const SimulationSettings s = settings_from_case(c);
     constexpr std::int64_t kSteps = 900, kEvery = 300;
@@ -211,7 +199,7 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
   MPI_Comm_dup(MPI_COMM_WORLD, &world);
   {
     const Communicator comm(world);
-    const std::string dir = shared_temp_dir(comm, "restart");
+    const std::string dir = testing::shared_temp_dir(comm, "restart");
     const CaseConfig c = testing::ring_patch_hit_by_sphere(-0.005, 60.0, 0.5);
     const SimulationSettings s = settings_from_case(c);
     constexpr std::int64_t kHalf = 1000;
@@ -289,7 +277,7 @@ TEST(Checkpoint, InflowAndOutflowRestartBitwiseOnAnyRankCount) {
   MPI_Comm_dup(MPI_COMM_WORLD, &world);
   {
     const Communicator comm(world);
-    const std::string dir = shared_temp_dir(comm, "outflow");
+    const std::string dir = testing::shared_temp_dir(comm, "outflow");
     const CaseConfig c = [] {
       CaseConfig grains = testing::grains_entering_and_leaving();
       grains.simulation.sort_every = 700;
@@ -382,7 +370,7 @@ TEST(Checkpoint, RestartKeepsTheNeighbourRebuildSteps) {
   MPI_Comm_dup(MPI_COMM_WORLD, &world);
   {
     const Communicator comm(world);
-    const std::string dir = shared_temp_dir(comm, "rebuilds");
+    const std::string dir = testing::shared_temp_dir(comm, "rebuilds");
     const CaseConfig c =
         load_case(std::string(RINGDEM_SOURCE_DIR) + "/tests/data/restart_net.yaml");
     const SimulationSettings s = settings_from_case(c);
@@ -441,7 +429,7 @@ TEST(Checkpoint, PendingRebuildSurvivesRestart) {
   MPI_Comm_dup(MPI_COMM_WORLD, &world);
   {
     const Communicator comm(world);
-    const std::string dir = shared_temp_dir(comm, "pending");
+    const std::string dir = testing::shared_temp_dir(comm, "pending");
     const CaseConfig c =
         load_case(std::string(RINGDEM_SOURCE_DIR) + "/tests/data/restart_net.yaml");
     const SimulationSettings s = settings_from_case(c);
@@ -507,7 +495,7 @@ TEST(Checkpoint, BondBrokenBeforeTheCheckpointRebuildsAfterTheRestart) {
   MPI_Comm_dup(MPI_COMM_WORLD, &world);
   {
     const Communicator comm(world);
-    const std::string dir = shared_temp_dir(comm, "broke");
+    const std::string dir = testing::shared_temp_dir(comm, "broke");
     const CaseConfig c =
         load_case(std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_reference.yaml",
                   {"scenario.tensile_test.loading_rate=0.5", "bonds[0].tensile_strength=1e7",
@@ -566,7 +554,7 @@ TEST(Checkpoint, PlasticBondStateRestartsBitwiseMidYield) {
   MPI_Comm_dup(MPI_COMM_WORLD, &world);
   {
     const Communicator comm(world);
-    const std::string dir = shared_temp_dir(comm, "plastic");
+    const std::string dir = testing::shared_temp_dir(comm, "plastic");
     const CaseConfig c =
         load_case(std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_plastic.yaml",
                   {"scenario.tensile_test.loading_rate=0.5", "bonds[0].plastic.yield_stress=15e6"});
