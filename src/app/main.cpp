@@ -14,6 +14,7 @@
 #include "app/BuildInfo.hpp"
 #include "app/Calibration.hpp"
 #include "app/InfoCommand.hpp"
+#include "app/LaunchedRank.hpp"
 #include "app/RunCommand.hpp"
 #include "app/RunControl.hpp"
 #include "app/SweepCommand.hpp"
@@ -148,10 +149,16 @@ int main(int argc, char** argv) {
   calibrate->add_flag("-q,--quiet", cal_opts.quiet, "no progress lines");
   calibrate->add_flag("--break-lock", cal_opts.break_lock, break_lock_help);
 
+  // Under mpirun every rank parses the same command line: only the first prints the help, the
+  // version or a parse error, once for the job.
+  std::ostream silent(nullptr);
+  const bool speaks = ringdem::launched_rank() == 0;
+  std::ostream& parser_out = speaks ? std::cout : silent;
+  std::ostream& parser_err = speaks ? std::cerr : silent;
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
+    const int code = app.exit(e, parser_out, parser_err);
     return code == 0 ? 0 : kExitInputError;
   }
 
@@ -165,13 +172,13 @@ int main(int argc, char** argv) {
   }
 
   // --max-walltime of run or sweep: a duration ("3600", "1:00:00", "60m").
-  const auto parse_walltime = [](const std::string& text, double& seconds) {
+  const auto parse_walltime = [&parser_err](const std::string& text, double& seconds) {
     if (text.empty()) return true;
     try {
       seconds = ringdem::parse_duration(text);
       return true;
     } catch (const std::exception& e) {
-      std::cerr << "ringdem: --max-walltime: " << e.what() << "\n";
+      parser_err << "ringdem: --max-walltime: " << e.what() << "\n";
       return false;
     }
   };

@@ -109,5 +109,45 @@ TEST(CliErrors, CheckValidatesASweepWithEachOfItsCases) {
   fs::remove_all(dir);
 }
 
+TEST(CliErrors, OnlyTheFirstLaunchedProcessPrintsTheParsersText) {
+  // The command line is parsed before MPI starts; under mpirun every rank printed the same help
+  // or parse error. The rank comes from the launcher's environment: the first prints, the others
+  // exit with the same status in silence.
+  const std::string clean = "env -u OMPI_COMM_WORLD_RANK -u PMIX_RANK -u PMI_RANK -u SLURM_PROCID";
+  const std::string bogus = fmt::format("'{}' run '{}' --bogus", kBinary, kCase);
+  const std::string expected = "The following argument was not expected: --bogus";
+  for (const std::string launcher :
+       {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"}) {
+    const testing::CommandResult first =
+        run_command(fmt::format("{} {}=0 {}", clean, launcher, bogus));
+    EXPECT_EQ(first.status, 2) << launcher << ": " << first.output;
+    EXPECT_NE(first.output.find(expected), std::string::npos) << launcher << ": " << first.output;
+    const testing::CommandResult other =
+        run_command(fmt::format("{} {}=3 {}", clean, launcher, bogus));
+    EXPECT_EQ(other.status, 2) << launcher << ": " << other.output;
+    EXPECT_EQ(other.output, "") << launcher;
+  }
+  const testing::CommandResult help =
+      run_command(fmt::format("{} OMPI_COMM_WORLD_RANK=1 '{}' run --help", clean, kBinary));
+  EXPECT_EQ(help.status, 0) << help.output;
+  EXPECT_EQ(help.output, "");
+  const testing::CommandResult walltime = run_command(fmt::format(
+      "{} OMPI_COMM_WORLD_RANK=1 '{}' run '{}' --max-walltime ten", clean, kBinary, kCase));
+  EXPECT_EQ(walltime.status, 2) << walltime.output;
+  EXPECT_EQ(walltime.output, "");
+
+  // A real job of 2 ranks prints its help once.
+  const testing::CommandResult job =
+      run_command(fmt::format("{} OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+                              "OMPI_MCA_rmaps_base_oversubscribe=1 mpirun -np 2 '{}' run --help",
+                              clean, kBinary));
+  EXPECT_EQ(job.status, 0) << job.output;
+  std::size_t usages = 0;
+  for (std::size_t at = job.output.find("Usage:"); at != std::string::npos;
+       at = job.output.find("Usage:", at + 1))
+    ++usages;
+  EXPECT_EQ(usages, 1u) << job.output;
+}
+
 }  // namespace
 }  // namespace ringdem
