@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs the main job: installs missing Debian packages, configures, builds, then
 #   scripts/run.sh [CASE.yaml | debris] [ringdem run options...]
+#   scripts/run.sh --help      this text (`ringdem run --help` lists the run options)
 # Without CASE it runs the rockfall demo (inputs/rockfall/demo.yaml: a 200 kg boulder from
 # 2 m onto a reduced net of 40 rings, about a minute and a half on 2 cores), draws its figures
 # and says where the ParaView file is. `debris` runs the debris-flow demo
@@ -10,6 +11,11 @@
 # (default: 1 for a given case, up to 2 for the demos).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+
+if [ "${1:-}" = -h ] || [ "${1:-}" = --help ]; then
+  sed -n '2,/^set -euo/{/^set -euo/d;s/^# \{0,1\}//;p}' "$0"
+  exit 0
+fi
 
 demo=1
 demo_name=rockfall
