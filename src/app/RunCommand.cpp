@@ -76,8 +76,16 @@ void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64
   const std::string origin = config.simulation.dt
                                  ? std::string("fixed")
                                  : fmt::format("auto, safety {}", config.simulation.dt_safety);
-  fmt::print("time step {:.4g} s ({}), {} steps planned\n", sim.dt(),
-             time_step_origin.empty() ? origin : origin + ", " + time_step_origin, planned_steps);
+  // A driver that ends the run by what happens (the rockfall's phases) cannot know its steps:
+  // say what bounds them rather than "0 steps planned".
+  const std::string steps =
+      planned_steps > 0
+          ? fmt::format("{} steps planned", planned_steps)
+          : fmt::format("the scenario's phases set the steps (at most {} to end_time {:g} s)",
+                        sim.steps_until(config.simulation.end_time) - sim.steps(),
+                        config.simulation.end_time);
+  fmt::print("time step {:.4g} s ({}), {}\n", sim.dt(),
+             time_step_origin.empty() ? origin : origin + ", " + time_step_origin, steps);
   for (const auto& [name, limit] : sim.limits().named())
     if (std::isfinite(limit))
       fmt::print("  {:<14} limit {:.4g} s: dt is {:.3f} of it\n", name, limit, sim.dt() / limit);
