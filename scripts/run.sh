@@ -4,11 +4,11 @@
 #   scripts/run.sh --help      this text (`ringdem run --help` lists the run options)
 # Without CASE it runs the rockfall demo (inputs/rockfall/demo.yaml: a 200 kg boulder from
 # 2 m onto a reduced net of 40 rings, about a minute and a half on 2 cores), draws its figures
-# and says where the ParaView file is. `debris` runs the debris-flow demo
-# (inputs/debris/demo.yaml: a surge into a 10-ring net, about 2.5 minutes on 2 cores), draws its
-# figures and checks its peak barrier force
-# against the design guidance's hydrodynamic bounds. RINGDEM_RANKS=N runs on N MPI ranks
-# (default: 1 for a given case, up to 2 for the demos).
+# and says where the ParaView file is: results/rockfall_demo, or the folder that -o names.
+# `debris` runs the debris-flow demo (inputs/debris/demo.yaml: a surge into a 10-ring net,
+# about 2.5 minutes on 2 cores), draws its figures and checks its peak barrier force against
+# the design guidance's hydrodynamic bounds. RINGDEM_RANKS=N runs on N MPI ranks (default: 1
+# for a given case, up to 2 for the demos).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
@@ -42,9 +42,19 @@ fi
 
 cores=$(nproc)
 ranks="${RINGDEM_RANKS:-$(( cores < 2 ? cores : 2 ))}"
+# The demo's output folder, unless the user names one (-o DIR, --output DIR, --output=DIR).
 out=results/${demo_name}_demo
+args=("$@")
+output_args=(-o "$out")
+for ((i = 0; i < ${#args[@]}; i++)); do
+  case "${args[i]}" in
+    -o|--output) [ $((i + 1)) -lt ${#args[@]} ] && out="${args[i + 1]}" && output_args=() ;;
+    --output=*) out="${args[i]#--output=}"; output_args=() ;;
+    -o?*) out="${args[i]#-o}"; output_args=() ;;
+  esac
+done
 ringdem_log "running the $demo_name demo ($case_file) on $ranks rank(s), output in $out"
-mpirun -np "$ranks" "$binary" run "$case_file" -o "$out" "$@"
+mpirun -np "$ranks" "$binary" run "$case_file" "${output_args[@]}" "$@"
 if [ "$demo_name" = debris ]; then
   /usr/bin/python3 scripts/plot_debris.py "$out"
   /usr/bin/python3 scripts/check_debris_bounds.py "$out" --case "$case_file" || true
