@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
@@ -99,6 +100,20 @@ void print_datasets(const Hdf5File& f, const std::string& group, std::ostream& o
 }  // namespace
 
 int print_file_info(const std::string& path, std::ostream& out) {
+  // The .xdmf that ParaView opens is the index of the frame file beside it (the same name with
+  // .h5, io/FrameWriter): describe that file rather than call the index "not an HDF5 file".
+  const std::filesystem::path as_given(path);
+  if (as_given.extension() == ".xdmf") {
+    const std::string data = std::filesystem::path(as_given).replace_extension(".h5").string();
+    if (!std::filesystem::is_regular_file(data)) {
+      std::fprintf(stderr,
+                   "ringdem info: %s is ParaView's index of the frame file %s, which is missing\n",
+                   path.c_str(), data.c_str());
+      return 2;
+    }
+    out << fmt::format("{}: ParaView's index of the frame file {}\n", path, data);
+    return print_file_info(data, out);
+  }
   try {
     const Hdf5File f = Hdf5File::open_read(path);
     const std::string format =

@@ -53,6 +53,34 @@ std::vector<std::int64_t> parse_dims(const std::string& text) {
   return d;
 }
 
+TEST(FrameFile, InfoOnTheXdmfIndexDescribesItsFrameFile) {
+  // Users hold the .xdmf that ParaView opens; `info` on it was "not an HDF5 file".
+  const std::string dir = temp_dir("xdmf_info");
+  const Communicator self = testing::self_comm();
+  const CaseConfig c = ring_on_floor();
+  Simulation sim(build_model(c, self), self, settings_from_case(c));
+  {
+    FrameWriter frames(self, dir + "/frames_0003.h5", dir + "/frames_0003.xdmf");
+    for (int f = 0; f < 2; ++f) {
+      sim.refresh_bond_diagnostics();
+      frames.write(sim.model().particles, sim.model().bonds, sim.model().bodies, sim.time(),
+                   sim.steps());
+      sim.run_steps(10);
+    }
+  }
+  std::ostringstream out;
+  EXPECT_EQ(print_file_info(dir + "/frames_0003.xdmf", out), 0);
+  EXPECT_NE(out.str().find(dir + "/frames_0003.xdmf: ParaView's index of the frame file " + dir +
+                           "/frames_0003.h5\n" + dir + "/frames_0003.h5: ringdem frame file"),
+            std::string::npos)
+      << out.str();
+  EXPECT_NE(out.str().find("100 particles, 100 bonds, 2 frames"), std::string::npos) << out.str();
+  fs::remove(dir + "/frames_0003.h5");
+  std::ostringstream missing;
+  EXPECT_EQ(print_file_info(dir + "/frames_0003.xdmf", missing), 2);
+  fs::remove_all(dir);
+}
+
 TEST(FrameFile, XdmfSidecarMatchesTheHdf5File) {
   const std::string dir = temp_dir("xdmf");
   const Communicator self = testing::self_comm();
