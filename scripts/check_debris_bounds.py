@@ -95,6 +95,8 @@ import math
 import os
 import sys
 
+from run_folder import run_folder  # scripts/run_folder.py
+
 RANGES = {  # barrier kind: (alpha_min, alpha_max), (k_min, k_max)
     "flexible": ((0.7, 2.0), (1.0, 1.0)),
     "rigid": ((0.7, 2.5), (1.0, 1.0)),
@@ -125,7 +127,7 @@ def width_from_case(path):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("outdir")
+    ap.add_argument("outdir", type=run_folder)
     ap.add_argument("--width", type=float, help="barrier width w (m)")
     ap.add_argument("--case", help="case file whose scenario.barrier.width is w")
     ap.add_argument("--barrier", choices=sorted(RANGES), default="flexible")

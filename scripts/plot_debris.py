@@ -27,6 +27,7 @@ import json
 import os
 import sys
 
+from run_folder import run_folder  # scripts/run_folder.py
 import matplotlib
 
 matplotlib.use("Agg")
@@ -248,7 +249,7 @@ def deposit_figure(folder, name, out, d, up, origin):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("outdir")
+    ap.add_argument("outdir", type=run_folder)
     ap.add_argument("-o", "--out", default=None, help="folder for the PNGs (default OUTDIR)")
     ap.add_argument("--direction", type=vec, default=vec("1,0,0"), help="flow direction (scenario.barrier.direction)")
     ap.add_argument("--up", type=vec, default=vec("0,0,1"), help="bed normal")

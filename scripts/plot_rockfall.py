@@ -16,6 +16,7 @@ import json
 import os
 import sys
 
+from run_folder import run_folder  # scripts/run_folder.py
 import matplotlib
 
 matplotlib.use("Agg")
@@ -96,7 +97,7 @@ def snapshot(folder, summary, series, out):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("results", nargs="+")
+    ap.add_argument("results", nargs="+", type=run_folder)
     ap.add_argument("-o", "--out", default=None)
     args = ap.parse_args()
     out = args.out or args.results[0]

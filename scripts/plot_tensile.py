@@ -19,6 +19,7 @@ import math
 import os
 import sys
 
+from run_folder import folder_with  # scripts/run_folder.py
 import matplotlib
 
 matplotlib.use("Agg")
@@ -121,7 +122,8 @@ def plot_sweep(sweep_dir, prefix):
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("runs", nargs="*", help="run folders (series.csv, summary.json)")
+    parser.add_argument("runs", nargs="*", type=folder_with("series.csv"),
+                        help="run folders (series.csv, summary.json)")
     parser.add_argument("--sweep", help="output folder of ringdem sweep (sweep.csv)")
     parser.add_argument("--labels", help="comma-separated curve labels (default: folder names)")
     parser.add_argument("-o", "--output", help="PNG file (runs) or prefix (--sweep)")

@@ -16,6 +16,20 @@ py=/usr/bin/python3
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 work=$(mktemp -d)
 trap '[ -n "${KEEP:-}" ] || rm -rf "$work"' EXIT
+# A folder that is not a finished run's is refused by the scripts with a message (exit 2), not a
+# traceback from the first file they open.
+mkdir "$work/not_a_run"
+for script in check_debris_bounds plot_debris; do
+  set +e
+  "$py" "$src/scripts/$script.py" "$work/not_a_run" > "$work/refusal.log" 2>&1
+  rc=$?
+  set -e
+  if [ "$rc" -ne 2 ] || ! grep -q "not_a_run: not a run's output folder, it lacks summary.json and series.csv" "$work/refusal.log" \
+      || grep -q Traceback "$work/refusal.log"; then
+    cat "$work/refusal.log"; echo "FAIL: $script.py on a folder without a run: exit $rc"; exit 1
+  fi
+done
+
 cat > "$work/case.yaml" <<'YAML'
 schema_version: 1
 name: debris_bounds
