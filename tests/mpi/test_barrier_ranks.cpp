@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "SameBits.hpp"
+#include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "app/BarrierMonitor.hpp"
 #include "app/ScenarioDriver.hpp"
@@ -61,8 +62,8 @@ using testing::same_bits;
 
 TEST(BarrierRanks, MeasuresAreTheSameBitsOnAnyRankCount) {
   const CaseConfig c = flow_into_barrier();
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     SimulationSettings s = settings_from_case(c);
@@ -102,7 +103,6 @@ TEST(BarrierRanks, MeasuresAreTheSameBitsOnAnyRankCount) {
     EXPECT_GT(largest_force, 0.0);
     EXPECT_GT(largest_utilisation, 0.0);
   }
-  MPI_Comm_free(&world);
 }
 
 }  // namespace

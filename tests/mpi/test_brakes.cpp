@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "engine/ModelBuilder.hpp"
@@ -83,8 +84,8 @@ TEST(Brakes, BrakedShacklesSlideAlikeOnEveryRankCountAndRestartBitwise) {
        "particles.nets[0].shackles.brake.stiffness=1e5"});
   const SimulationSettings s = settings_from_case(c);
   constexpr std::int64_t kHalf = 4000;
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     long long pid = comm.is_root() ? static_cast<long long>(getpid()) : 0;
@@ -138,7 +139,6 @@ TEST(Brakes, BrakedShacklesSlideAlikeOnEveryRankCountAndRestartBitwise) {
     }
     comm.barrier();
   }
-  MPI_Comm_free(&world);
 }
 
 }  // namespace

@@ -38,8 +38,8 @@ Model sparse_model(int rank, int ranks) {
 }
 
 TEST(CheckpointRows, SparseGidsRoundTripOnAnyRankCount) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const std::string dir = testing::shared_temp_dir(comm, "rows");
@@ -86,7 +86,6 @@ TEST(CheckpointRows, SparseGidsRoundTripOnAnyRankCount) {
     comm.barrier();
     if (comm.is_root()) std::filesystem::remove_all(dir);
   }
-  MPI_Comm_free(&world);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "SharedTempDir.hpp"
 #include "comm/Communicator.hpp"
 
 namespace ringdem {
@@ -17,9 +18,8 @@ namespace {
 
 class CommunicatorTest : public ::testing::Test {
  protected:
-  void SetUp() override { MPI_Comm_dup(MPI_COMM_WORLD, &comm_); }
-  void TearDown() override { MPI_Comm_free(&comm_); }
-  MPI_Comm comm_ = MPI_COMM_NULL;
+  testing::WorldCopy world_;
+  MPI_Comm comm_ = world_.raw();
 };
 
 TEST_F(CommunicatorTest, RankAndSizeFromTheInjectedCommunicator) {

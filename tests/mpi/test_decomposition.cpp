@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "SharedTempDir.hpp"
 #include "comm/DomainDecomposition.hpp"
 #include "domain/PairStore.hpp"
 #include "engine/TimoshenkoBondTerm.hpp"
@@ -21,9 +22,8 @@ constexpr double kBlock = 0.01;
 
 class Decomposition : public ::testing::Test {
  protected:
-  void SetUp() override { MPI_Comm_dup(MPI_COMM_WORLD, &comm_); }
-  void TearDown() override { MPI_Comm_free(&comm_); }
-  MPI_Comm comm_ = MPI_COMM_NULL;
+  testing::WorldCopy world_;
+  MPI_Comm comm_ = world_.raw();
 };
 
 /// A 12 x 12 x 2 lattice of particles, 6 mm apart (several per block); consecutive gids along

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <string>
 
+#include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "engine/DivergenceError.hpp"
 #include "engine/ModelBuilder.hpp"
@@ -57,8 +58,8 @@ Verdict run_until_divergence(const CaseConfig& c, const Communicator& comm, std:
 
 Verdict expect_same_on_every_rank_count(const CaseConfig& c, std::int64_t steps,
                                         const std::string& words, std::int64_t energy_every = 0) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   Verdict parallel;
   {
     const Communicator comm(world);
@@ -72,7 +73,6 @@ Verdict expect_same_on_every_rank_count(const CaseConfig& c, std::int64_t steps,
       EXPECT_EQ(parallel.particle, serial.particle);
     }
   }
-  MPI_Comm_free(&world);
   return parallel;
 }
 
@@ -122,13 +122,12 @@ TEST(Divergence, AStableRunIsNotStopped) {
   // run above (whose only difference is the step).
   CaseConfig c = testing::ring_patch_hit_by_sphere(0.0, 1.0, 0.0);
   c.simulation.skin = kSkin;
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     EXPECT_EQ(run_until_divergence(c, comm, 3000, 10).step, -1);
   }
-  MPI_Comm_free(&world);
 }
 
 }  // namespace

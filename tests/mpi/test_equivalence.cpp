@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "app/TensileTest.hpp"
@@ -167,8 +168,8 @@ void expect_other_path(const EquivalenceResult& r) {
 
 EquivalenceResult run_both(const CaseConfig& c, std::int64_t steps,
                            double imbalance_threshold = 0.1) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   EquivalenceResult r;
   {
     const Communicator comm(world);
@@ -213,7 +214,6 @@ EquivalenceResult run_both(const CaseConfig& c, std::int64_t steps,
     r.reference_energies = serial.energies();
     r.reference_rebuilds = serial.rebuilds();
   }
-  MPI_Comm_free(&world);
   return r;
 }
 
@@ -274,8 +274,8 @@ TEST(Equivalence, TensileDriverToFailure) {
   const CaseConfig c =
       load_case(std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_calibrated.yaml",
                 {"scenario.tensile_test.loading_rate=0.5"});
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   TensileRunOptions quiet;
   quiet.verbose = false;
   CaseConfig compared = c;
@@ -286,7 +286,6 @@ TEST(Equivalence, TensileDriverToFailure) {
     parallel = run_tensile_test(compared, quiet, comm);
     serial = run_tensile_test(c, quiet, Communicator::self());
   }
-  MPI_Comm_free(&world);
   EXPECT_EQ(parallel.stop_reason, TensileStopRule::Reason::kFailure);
   EXPECT_GT(parallel.broken_bonds, 0);
   ASSERT_EQ(parallel.curve.size(), serial.curve.size());
@@ -308,8 +307,8 @@ TEST(Equivalence, TensileDriverUnloading) {
       load_case(std::string(RINGDEM_SOURCE_DIR) + "/inputs/tensile/ring4_plastic.yaml",
                 {"scenario.tensile_test.loading_rate=0.5", "scenario.tensile_test.unload_at=0.008",
                  "bonds[0].plastic.yield_stress=15e6"});
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   TensileRunOptions quiet;
   quiet.verbose = false;
   CaseConfig compared = c;
@@ -320,7 +319,6 @@ TEST(Equivalence, TensileDriverUnloading) {
     parallel = run_tensile_test(compared, quiet, comm);
     serial = run_tensile_test(c, quiet, Communicator::self());
   }
-  MPI_Comm_free(&world);
   EXPECT_EQ(parallel.stop_reason, TensileStopRule::Reason::kUnloaded);
   ASSERT_TRUE(serial.residual_displacement.has_value());
   EXPECT_GT(*serial.residual_displacement, 0.0);

@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "SharedTempDir.hpp"
 #include "comm/Communicator.hpp"
 #include "comm/ExactSumReducer.hpp"
 
@@ -19,9 +20,8 @@ namespace {
 
 class ExactSumReducerTest : public ::testing::Test {
  protected:
-  void SetUp() override { MPI_Comm_dup(MPI_COMM_WORLD, &comm_); }
-  void TearDown() override { MPI_Comm_free(&comm_); }
-  MPI_Comm comm_ = MPI_COMM_NULL;
+  testing::WorldCopy world_;
+  MPI_Comm comm_ = world_.raw();
 };
 
 std::uint64_t bits(double x) {

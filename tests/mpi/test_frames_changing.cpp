@@ -284,8 +284,8 @@ void expect_sidecar_selects_each_frame(const std::string& xdmf_path) {
 }
 
 TEST(FrameFile, ChangingCountsAndSparseGids) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const std::string dir = testing::shared_temp_dir(comm, "changing");
@@ -313,7 +313,6 @@ TEST(FrameFile, ChangingCountsAndSparseGids) {
       std::filesystem::remove_all(dir);
     }
   }
-  MPI_Comm_free(&world);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <set>
 #include <utility>
 
+#include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "app/RunControl.hpp"
 #include "engine/ModelBuilder.hpp"
@@ -93,8 +94,8 @@ Found brute_force(const CaseConfig& c) {
 }
 
 TEST(InitialOverlap, ReportEqualsBruteForceOnAnyRankCount) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const CaseConfig c = overlapping_case();
@@ -114,12 +115,11 @@ TEST(InitialOverlap, ReportEqualsBruteForceOnAnyRankCount) {
       EXPECT_EQ(std::make_pair(e.gid, partner), expected.deepest[k]) << k;
     }
   }
-  MPI_Comm_free(&world);
 }
 
 TEST(InitialOverlap, FreshStartIsRefusedOnEveryRankUnlessAllowed) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     CaseConfig c = overlapping_case();
@@ -144,7 +144,6 @@ TEST(InitialOverlap, FreshStartIsRefusedOnEveryRankUnlessAllowed) {
     RunControl allowed(c, options, comm);
     EXPECT_NO_THROW(allowed.make_simulation(settings_from_case(c)));
   }
-  MPI_Comm_free(&world);
 }
 
 }  // namespace

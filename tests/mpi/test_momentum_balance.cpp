@@ -12,6 +12,7 @@
 #include <cstdio>
 
 #include "SameBits.hpp"
+#include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "engine/Simulation.hpp"
@@ -72,8 +73,8 @@ using testing::same_bits;
 
 TEST(MomentumBalance, ClosesWithInflowOutflowAndHeldParticlesOnAnyRankCount) {
   const CaseConfig c = flow_through_grate();
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     SimulationSettings s = settings_from_case(c);
@@ -118,7 +119,6 @@ TEST(MomentumBalance, ClosesWithInflowOutflowAndHeldParticlesOnAnyRankCount) {
           last.exchange.y, last.exchange.z, norm(last.bodies[1]), norm(last.outflow),
           norm(last.inflow));
   }
-  MPI_Comm_free(&world);
 }
 
 }  // namespace

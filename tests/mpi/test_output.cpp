@@ -78,8 +78,8 @@ int expect_same_datasets(const std::string& a_path, const std::string& b_path,
 }
 
 TEST(FrameFile, SameOnAnyRankCountOrderedByGid) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const std::string dir = testing::shared_temp_dir(comm, "frames");
@@ -135,7 +135,6 @@ TEST(FrameFile, SameOnAnyRankCountOrderedByGid) {
       std::filesystem::remove_all(dir);
     }
   }
-  MPI_Comm_free(&world);
 }
 
 struct SpringKey {
@@ -195,8 +194,8 @@ std::unique_ptr<Simulation> restart(const CaseConfig& c, const std::string& path
 }
 
 TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const std::string dir = testing::shared_temp_dir(comm, "restart");
@@ -263,7 +262,6 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
       std::filesystem::remove_all(dir);
     }
   }
-  MPI_Comm_free(&world);
 }
 
 // Grains entering and leaving: a checkpoint in the middle of the flow restarts on this run's
@@ -273,8 +271,8 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
 // which must re-sort as the run never interrupted does: the bins are compared with the rest of
 // the particles' state (a restart between re-sorts: tests/scripts/debris_ranks_restart.sh).
 TEST(Checkpoint, InflowAndOutflowRestartBitwiseOnAnyRankCount) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const std::string dir = testing::shared_temp_dir(comm, "outflow");
@@ -356,7 +354,6 @@ TEST(Checkpoint, InflowAndOutflowRestartBitwiseOnAnyRankCount) {
       std::filesystem::remove_all(dir);
     }
   }
-  MPI_Comm_free(&world);
 }
 
 // A restart between two neighbour-list rebuilds keeps the reference positions of the last one
@@ -366,8 +363,8 @@ TEST(Checkpoint, InflowAndOutflowRestartBitwiseOnAnyRankCount) {
 // half-way between the first two rebuilds after the start, and both runs end just after the
 // second (issue 15 item 9: a restart used to rebuild at once and count one rebuild less).
 TEST(Checkpoint, RestartKeepsTheNeighbourRebuildSteps) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const std::string dir = testing::shared_temp_dir(comm, "rebuilds");
@@ -417,7 +414,6 @@ TEST(Checkpoint, RestartKeepsTheNeighbourRebuildSteps) {
       std::filesystem::remove_all(dir);
     }
   }
-  MPI_Comm_free(&world);
 }
 
 // A rebuild asked for but not yet done when the checkpoint is written (a driver placed a
@@ -425,8 +421,8 @@ TEST(Checkpoint, RestartKeepsTheNeighbourRebuildSteps) {
 // step after the restart, and is counted once: the same rebuild count and state as the run
 // never interrupted. The slow net would not rebuild at that step by itself (checked).
 TEST(Checkpoint, PendingRebuildSurvivesRestart) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const std::string dir = testing::shared_temp_dir(comm, "pending");
@@ -483,7 +479,6 @@ TEST(Checkpoint, PendingRebuildSurvivesRestart) {
       std::filesystem::remove_all(dir);
     }
   }
-  MPI_Comm_free(&world);
 }
 
 // A bond that broke in the last force evaluation before the checkpoint forces a rebuild at
@@ -491,8 +486,8 @@ TEST(Checkpoint, PendingRebuildSurvivesRestart) {
 // step reports the break (Simulation::bonds_broke_anywhere, which the tensile driver reads).
 // A 4-pin tensile ring with bonds a thousand times too weak breaks within a few hundred steps.
 TEST(Checkpoint, BondBrokenBeforeTheCheckpointRebuildsAfterTheRestart) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const std::string dir = testing::shared_temp_dir(comm, "broke");
@@ -541,7 +536,6 @@ TEST(Checkpoint, BondBrokenBeforeTheCheckpointRebuildsAfterTheRestart) {
       std::filesystem::remove_all(dir);
     }
   }
-  MPI_Comm_free(&world);
 }
 
 // The elastoplastic bond (model timoshenko_plastic) checkpointed while its bonds yield: the
@@ -550,8 +544,8 @@ TEST(Checkpoint, BondBrokenBeforeTheCheckpointRebuildsAfterTheRestart) {
 // byte, the bond columns included). The 4-pin tensile ring with a weak wire (f_y = 15 MPa)
 // yields from the first millimetre; the ring is cut between ranks.
 TEST(Checkpoint, PlasticBondStateRestartsBitwiseMidYield) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const std::string dir = testing::shared_temp_dir(comm, "plastic");
@@ -609,7 +603,6 @@ TEST(Checkpoint, PlasticBondStateRestartsBitwiseMidYield) {
       std::filesystem::remove_all(dir);
     }
   }
-  MPI_Comm_free(&world);
 }
 
 }  // namespace

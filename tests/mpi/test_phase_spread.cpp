@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "app/RunCommand.hpp"
 #include "engine/ModelBuilder.hpp"
@@ -18,8 +19,8 @@ namespace ringdem {
 namespace {
 
 TEST(PhaseSpread, LeastMeanAndMostMatchEveryRanksOwnSeconds) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const CaseConfig c = testing::grains_entering_and_leaving();
@@ -59,7 +60,6 @@ TEST(PhaseSpread, LeastMeanAndMostMatchEveryRanksOwnSeconds) {
     EXPECT_EQ(std::string(Simulation::phase_name(Simulation::kComm)), "comm");
     EXPECT_EQ(std::string(Simulation::phase_name(Simulation::kNeighbour)), "neighbour");
   }
-  MPI_Comm_free(&world);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 
+#include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "app/ScenarioRunner.hpp"
@@ -46,15 +47,14 @@ nlohmann::json expect_same_on_every_rank_count(const CaseConfig& c, const std::s
   ScenarioRunOptions run;
   run.verbose = false;
   run.handle_stop_requests = false;
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     run.output_dir = (dir / "ranks").string();
     std::unique_ptr<ScenarioDriver> driver = make_scenario_driver(compared);
     EXPECT_EQ(run_scenario(*driver, run, comm), 0);
   }
-  MPI_Comm_free(&world);
   nlohmann::json one;
   if (rank == 0) {
     run.output_dir = (dir / "one").string();

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
@@ -32,8 +33,8 @@ CaseConfig bed_and_net() {
 }
 
 TEST(StartUp, LargestPerRankStoreIsAboutNOverRanks) {
-  MPI_Comm world;
-  MPI_Comm_dup(MPI_COMM_WORLD, &world);
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const CaseConfig c = bed_and_net();
@@ -62,7 +63,6 @@ TEST(StartUp, LargestPerRankStoreIsAboutNOverRanks) {
     // Owned plus ghosts: one block-wide layer along the cuts, far below N for more ranks.
     EXPECT_LE(static_cast<double>(most_held), comm.size() == 1 ? n : 1.6 * share);
   }
-  MPI_Comm_free(&world);
 }
 
 }  // namespace
