@@ -37,11 +37,11 @@ class CaseClaims {
   /// Collective: when every rank has asked for its last case, the root rank removes the claims.
   void close(const Communicator& world);
 
+ private:
   /// Whether case k was claimed by this rank now: true for one caller only (throws
   /// std::runtime_error when the folder cannot be written).
   bool claim(std::size_t k);
 
- private:
   std::string folder_;
   std::size_t case_count_ = 0;
   std::size_t own_first_ = 0;  ///< the case of this rank's number, asked for first
