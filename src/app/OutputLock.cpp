@@ -7,7 +7,6 @@
 
 #include <fmt/format.h>
 
-#include <array>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -20,6 +19,7 @@
 #include <system_error>
 #include <utility>
 
+#include "app/StopSignals.hpp"
 #include "io/InputError.hpp"
 
 namespace ringdem {
@@ -27,42 +27,23 @@ namespace ringdem {
 namespace {
 
 // ---- removal of the lock files on SIGINT, SIGTERM, SIGHUP ---------------------------------------
-// The handler may only use async-signal-safe calls: it unlinks the registered paths (fixed
-// buffers, no allocation) and re-raises the signal with its default action. A sweep holds two
-// locks at once (the study's folder and the case's), hence a few slots.
+// What a terminating signal runs before it ends the process (app/StopSignals): async-signal-safe
+// calls only, so it unlinks the registered paths from fixed buffers. A sweep holds two locks at
+// once (the study's folder and the case's), hence a few slots.
 
 constexpr std::size_t kSlots = 8;
 constexpr std::size_t kPathMax = 4096;
 char g_paths[kSlots][kPathMax];
 volatile std::sig_atomic_t g_used[kSlots] = {};
-constexpr std::array<int, 3> kCleanupSignals{SIGINT, SIGTERM, SIGHUP};
 
-extern "C" void remove_locks_and_reraise(int sig) {
+void remove_registered_locks() {
   for (std::size_t k = 0; k < kSlots; ++k)
     if (g_used[k]) ::unlink(g_paths[k]);
-  std::signal(sig, SIG_DFL);
-  std::raise(sig);
-}
-
-void install_cleanup_handlers() {
-  static bool installed = false;
-  if (installed) return;
-  installed = true;
-  for (int sig : kCleanupSignals) {
-    struct sigaction old {};
-    sigaction(sig, nullptr, &old);
-    // Leave alone a handler someone else installed (or an ignored signal).
-    if (old.sa_handler != SIG_DFL) continue;
-    struct sigaction action {};
-    action.sa_handler = remove_locks_and_reraise;
-    sigemptyset(&action.sa_mask);
-    sigaction(sig, &action, nullptr);
-  }
 }
 
 void register_path(const std::string& path) {
   if (path.size() >= kPathMax) return;  // not removed on a signal; the next run finds it stale
-  install_cleanup_handlers();
+  set_termination_cleanup(remove_registered_locks);
   for (std::size_t k = 0; k < kSlots; ++k) {
     if (g_used[k]) continue;
     std::memcpy(g_paths[k], path.c_str(), path.size() + 1);

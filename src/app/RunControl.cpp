@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <system_error>
 
+#include "app/StopSignals.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "io/CaseText.hpp"
 #include "io/Hdf5File.hpp"
@@ -18,37 +18,13 @@
 
 namespace ringdem {
 
-namespace {
-
-volatile std::sig_atomic_t g_stop_signal = 0;
-
-extern "C" void on_stop_signal(int) {
-  g_stop_signal = 1;
-}
-
-}  // namespace
-
-void install_stop_signal_handler() {
-  struct sigaction action {};
-  action.sa_handler = on_stop_signal;
-  sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESTART;
-  sigaction(SIGUSR1, &action, nullptr);
-}
-
-bool stop_signal_received() {
-  return g_stop_signal != 0;
-}
-void reset_stop_signal() {
-  g_stop_signal = 0;
-}
-
 RunControl::RunControl(const CaseConfig& config, RunControlOptions options,
                        const Communicator& comm)
     : config_(config),
       options_(std::move(options)),
       comm_(comm),
-      checkpoints_(options_.output_dir + "/checkpoints", config.output.checkpoints_kept) {
+      checkpoints_(options_.output_dir + "/checkpoints", config.output.checkpoints_kept),
+      terminating_signals_(stops_enabled()) {
   if (stops_enabled()) install_stop_signal_handler();
 }
 
@@ -326,11 +302,14 @@ bool RunControl::after_step(Simulation& sim, const std::function<DriverState()>&
   }
   if (sim.stop_agreed()) {
     const std::string path = write_checkpoint(sim, driver);
-    if (comm_.is_root())
+    if (comm_.is_root()) {
+      const int sig = terminating_signal();
       fmt::print(
-          "stop requested (SIGUSR1 or wall-time limit): checkpoint {} at t = {:.6g} s, "
-          "step {}; continue with --restart auto\n",
-          path, sim.time(), sim.steps());
+          "stop requested ({}): checkpoint {} at t = {:.6g} s, step {}; continue with --restart "
+          "auto\n",
+          sig != 0 ? signal_name(sig) : "SIGUSR1 or wall-time limit", path, sim.time(),
+          sim.steps());
+    }
     std::fflush(stdout);
     return true;
   }

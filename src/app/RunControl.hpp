@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "app/StopSignals.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseConfig.hpp"
 #include "io/Checkpoint.hpp"
@@ -14,17 +15,11 @@
 
 namespace ringdem {
 
-/// Exit code of a run that wrote a checkpoint on request (SIGUSR1, --max-walltime) and stopped.
+/// Exit code of a run that wrote a checkpoint on request (SIGUSR1, --max-walltime) and stopped;
+/// after a terminating signal (SIGINT, SIGTERM, SIGHUP: app/StopSignals) it is 128 + the signal.
 inline constexpr int kExitCheckpointed = 3;
 /// Exit status of a run that diverged (DivergenceError), as of any runtime error.
 inline constexpr int kExitDiverged = 1;
-
-/// Installs the SIGUSR1 handler (what mpirun and SLURM --signal forward); idempotent.
-void install_stop_signal_handler();
-/// Whether this process received SIGUSR1 since the handler was installed.
-bool stop_signal_received();
-/// For tests: forget a received signal.
-void reset_stop_signal();
 
 /// How a run starts and what it writes besides series.csv and summary.json.
 struct RunControlOptions {
@@ -111,6 +106,8 @@ class RunControl {
   double last_frame_time_ = -1.0;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::chrono::steady_clock::time_point last_checkpoint_wall_ = start_;
+  /// Ctrl-C, kill, scancel: a checkpoint first while this run can write one.
+  TerminatingSignalsArmed terminating_signals_;
 };
 
 }  // namespace ringdem

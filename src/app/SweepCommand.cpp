@@ -17,6 +17,7 @@
 #include "app/RunCommand.hpp"
 #include "app/RunControl.hpp"
 #include "app/ScenarioDriver.hpp"
+#include "app/StopSignals.hpp"
 #include "app/SweepCaseRecord.hpp"
 #include "app/TensileTest.hpp"
 #include "io/CaseLoader.hpp"
@@ -495,8 +496,10 @@ NextCase next_case_of_group(CaseClaims& claims, const Communicator& group,
       CaseAction action = CaseAction::kStart;
       if (options.restart && read_case_record(out_dir + "/" + cases[*claimed].folder).finished())
         action = CaseAction::kKept;
-      // The study stops on SIGUSR1 or at its wall-time limit: the case that runs then writes a
-      // checkpoint and stops (a tensile test runs to its end); the cases after it do not start.
+      // The study stops on SIGUSR1 (or the first SIGINT, SIGTERM or SIGHUP during a case that
+      // can checkpoint: app/StopSignals) or at its wall-time limit: the case that runs then
+      // writes a checkpoint and stops (a tensile test runs to its end); the cases after it do
+      // not start.
       else if (stop_signal_received() ||
                (options.max_walltime > 0.0 && seconds >= options.max_walltime))
         action = CaseAction::kNotStarted;

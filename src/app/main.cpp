@@ -17,6 +17,7 @@
 #include "app/LaunchedRank.hpp"
 #include "app/RunCommand.hpp"
 #include "app/RunControl.hpp"
+#include "app/StopSignals.hpp"
 #include "app/SweepCommand.hpp"
 #include "comm/Communicator.hpp"
 #include "core/HugePageAdvice.hpp"
@@ -268,5 +269,10 @@ int main(int argc, char** argv) {
     MPI_Comm_free(&world);
   }
   MPI_Finalize();
+  // A checkpointed stop on Ctrl-C, kill or scancel ends as the signal would have (128 + its
+  // number, as a shell reports it), so that a job script does not take it for the stop before a
+  // time limit (code 3) and resubmit.
+  if (code == ringdem::kExitCheckpointed && ringdem::terminating_signal() != 0)
+    code = 128 + ringdem::terminating_signal();
   return code;
 }
