@@ -187,6 +187,9 @@ int main(int argc, char** argv) {
   if (*sweep && !parse_walltime(sweep_max_walltime, sweep_opts.max_walltime))
     return kExitInputError;
 
+  // `info` and `check` need no MPI: started by mpirun or srun, the first process answers and the
+  // others leave at once, so that the answer is printed once.
+  if ((*info || *check) && !speaks) return 0;
   if (*info) return ringdem::print_file_info(info_path, std::cout);
 
   if (*check) {

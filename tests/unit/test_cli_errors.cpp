@@ -136,6 +136,17 @@ TEST(CliErrors, OnlyTheFirstLaunchedProcessPrintsTheParsersText) {
   EXPECT_EQ(walltime.status, 2) << walltime.output;
   EXPECT_EQ(walltime.output, "");
 
+  // `info` and `check` answer from the first process only.
+  const std::string check = fmt::format("'{}' check '{}'", kBinary, kCase);
+  const testing::CommandResult checked_first =
+      run_command(fmt::format("{} OMPI_COMM_WORLD_RANK=0 {}", clean, check));
+  EXPECT_EQ(checked_first.status, 0) << checked_first.output;
+  EXPECT_NE(checked_first.output.find(": valid ("), std::string::npos) << checked_first.output;
+  const testing::CommandResult checked_other =
+      run_command(fmt::format("{} OMPI_COMM_WORLD_RANK=1 {}", clean, check));
+  EXPECT_EQ(checked_other.status, 0) << checked_other.output;
+  EXPECT_EQ(checked_other.output, "");
+
   // A real job of 2 ranks prints its help once.
   const testing::CommandResult job =
       run_command(fmt::format("{} OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
