@@ -1,5 +1,6 @@
 #include "app/LaunchedRank.hpp"
 
+#include <array>
 #include <cerrno>
 #include <cstdlib>
 
@@ -8,7 +9,9 @@ namespace ringdem {
 int launched_rank() {
   // Open MPI's mpirun, PMIx launchers (Open MPI 5, srun --mpi=pmix), MPICH's Hydra and Intel
   // MPI, SLURM's srun: the first one set names the rank.
-  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"}) {
+  constexpr std::array<const char*, 4> kVariables{"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK",
+                                                  "SLURM_PROCID"};
+  for (const char* name : kVariables) {
     const char* text = std::getenv(name);
     if (text == nullptr || *text == '\0') continue;
     char* end = nullptr;
