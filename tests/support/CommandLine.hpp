@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstddef>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -31,6 +32,15 @@ inline CommandResult run_command(const std::string& command) {
   const int raw = pclose(pipe);
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
   return r;
+}
+
+/// How many times `needle` occurs in a command's `output` (a line printed once per rank, say).
+inline std::size_t occurrences(const std::string& output, const std::string& needle) {
+  std::size_t count = 0;
+  for (std::size_t at = output.find(needle); at != std::string::npos;
+       at = output.find(needle, at + 1))
+    ++count;
+  return count;
 }
 
 /// Starts `argv` (argv[0] the program path) in the background, stdout and stderr to `log`.

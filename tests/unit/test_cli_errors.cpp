@@ -153,11 +153,7 @@ TEST(CliErrors, OnlyTheFirstLaunchedProcessPrintsTheParsersText) {
                               "OMPI_MCA_rmaps_base_oversubscribe=1 mpirun -np 2 '{}' run --help",
                               clean, kBinary));
   EXPECT_EQ(job.status, 0) << job.output;
-  std::size_t usages = 0;
-  for (std::size_t at = job.output.find("Usage:"); at != std::string::npos;
-       at = job.output.find("Usage:", at + 1))
-    ++usages;
-  EXPECT_EQ(usages, 1u) << job.output;
+  EXPECT_EQ(testing::occurrences(job.output, "Usage:"), 1u) << job.output;
 }
 
 }  // namespace

@@ -146,11 +146,7 @@ TEST(SweepCommand, ARestartedSweepKeepsWhatIsDoneAndContinuesTheRest) {
   ASSERT_GT(kept_checkpoints, 0);
   r = testing::run_command(sweep + " --restart");
   ASSERT_EQ(r.status, 0) << r.output;
-  std::size_t kept = 0;
-  for (std::size_t at = r.output.find("done before (exit 0), kept"); at != std::string::npos;
-       at = r.output.find("done before (exit 0), kept", at + 1))
-    ++kept;
-  EXPECT_EQ(kept, 3u) << r.output;
+  EXPECT_EQ(testing::occurrences(r.output, "done before (exit 0), kept"), 3u) << r.output;
   EXPECT_NE(r.output.find("case_003: simulation.end_time=0.02 materials.0.density=1300: exit 0"),
             std::string::npos)
       << r.output;
