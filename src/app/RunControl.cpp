@@ -213,11 +213,11 @@ void RunControl::check_initial_overlaps(const Simulation& sim) const {
 
 void RunControl::before_step(Simulation& sim) const {
   if (!stops_enabled()) return;
-  bool stop = stop_signal_received();
-  if (options_.max_walltime > 0.0)
-    stop =
-        stop || std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() >
-                    options_.max_walltime;
+  int stop = stop_request_code();
+  if (options_.max_walltime > 0.0 &&
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() >
+          options_.max_walltime)
+    stop = std::max(stop, kStopRequested);
   sim.request_stop(stop);
 }
 
@@ -301,6 +301,8 @@ bool RunControl::after_step(Simulation& sim, const std::function<DriverState()>&
     }
   }
   if (sim.stop_agreed()) {
+    // A Ctrl-C or kill that reached one rank stops the job as if sent to all (app/StopSignals).
+    adopt_agreed_stop(sim.stop_reason());
     const std::string path = write_checkpoint(sim, driver);
     if (comm_.is_root()) {
       const int sig = terminating_signal();

@@ -66,6 +66,17 @@ int terminating_signal() {
   return g_terminating_signal;
 }
 
+int stop_request_code() {
+  if (g_terminating_signal != 0) return 1 + g_terminating_signal;
+  return g_stop_requested != 0 ? kStopRequested : 0;
+}
+
+void adopt_agreed_stop(int code) {
+  if (code <= 0) return;
+  g_stop_requested = 1;
+  if (code > kStopRequested && g_terminating_signal == 0) g_terminating_signal = code - 1;
+}
+
 const char* signal_name(int sig) {
   switch (sig) {
     case SIGINT:

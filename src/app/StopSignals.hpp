@@ -16,6 +16,15 @@ void install_stop_signal_handler();
 bool stop_signal_received();
 /// The terminating signal (SIGINT, SIGTERM, SIGHUP) that requested the stop, 0 if none did.
 int terminating_signal();
+/// This process's stop request as a code for the ranks' reduction (Simulation::request_stop):
+/// 0 none, kStopRequested for SIGUSR1 (or a wall-time limit, which the caller adds), 1 + the
+/// signal's number for a terminating signal, so that the largest code is the one to report.
+inline constexpr int kStopRequested = 1;
+int stop_request_code();
+/// After the ranks agreed on the largest code: the stop becomes this process's too, as if the
+/// signal had been sent to all (a sweep starts no further case; a terminating signal that
+/// another rank received sets this one's exit code and message).
+void adopt_agreed_stop(int code);
 /// "SIGINT", "SIGTERM", "SIGHUP", "SIGUSR1", or "a signal".
 const char* signal_name(int sig);
 /// For tests: forget a received signal.

@@ -418,9 +418,9 @@ bool Simulation::needs_rebuild() {
   // The particles moved at most the bound since the outflow noted them, plus this drift.
   const bool leaving = outflow_.any_leaving(
       model_.particles, move_bound_ - move_bound_at_outflow_note_ + drift_.max_speed * dt_);
-  const auto global =
-      comm_.max(std::array<double, 5>{drift_.max_speed, topology_changed ? 1.0 : 0.0,
-                                      stop_local_ ? 1.0 : 0.0, runaway, leaving ? 1.0 : 0.0});
+  const auto global = comm_.max(
+      std::array<double, 5>{drift_.max_speed, topology_changed ? 1.0 : 0.0,
+                            static_cast<double>(stop_local_), runaway, leaving ? 1.0 : 0.0});
   if (global[3] > 1.0) report_divergence();
   outflow_pending_ = global[4] > 0.0;
   // No particle moved farther since the last rebuild than the sum of the largest speed of
@@ -430,7 +430,7 @@ bool Simulation::needs_rebuild() {
   move_bound_ += global[0] * dt_;
   const double particle_move = move_bound_;
   const bool bond_broke = global[1] > 0.0;
-  stop_agreed_ = global[2] > 0.0;
+  stop_agreed_ = static_cast<int>(global[2]);
   bonds_broke_anywhere_ = bond_broke;
   // Two particles close by at most twice the largest move; a particle and a surface by the
   // sum of the two.

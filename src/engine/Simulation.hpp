@@ -187,11 +187,13 @@ class Simulation {
   /// Sets the Cundall coefficient of every particle of a group (physics.md §4).
   void set_group_damping(int group, double coefficient);
 
-  /// A stop request of this rank (signal, wall-time limit). It rides on the step's one
-  /// reduction, so after the next step every rank knows, at the same step, whether any rank
-  /// asked: stop_agreed().
-  void request_stop(bool local) { stop_local_ = local; }
-  bool stop_agreed() const { return stop_agreed_; }
+  /// A stop request of this rank (signal, wall-time limit): a reason code, 0 for none, that
+  /// means nothing to the simulation. It rides on the step's one reduction, so after the next
+  /// step every rank knows, at the same step, whether any rank asked (stop_agreed()) and the
+  /// largest code asked for (stop_reason()).
+  void request_stop(int reason) { stop_local_ = reason; }
+  bool stop_agreed() const { return stop_agreed_ > 0; }
+  int stop_reason() const { return stop_agreed_; }
 
   /// The divergence guard's limits: a particle may move at most max_step_fraction of the
   /// skin and turn at most max_turn radians in one step; beyond that (or with a non-finite
@@ -318,8 +320,8 @@ class Simulation {
   bool bodies_in_reach_ = true;
   /// The bodies' load sums over the ranks, every step: in the few words their magnitudes need.
   ExactSumReducer body_load_reducer_;
-  bool stop_local_ = false;
-  bool stop_agreed_ = false;
+  int stop_local_ = 0;
+  int stop_agreed_ = 0;
   double move_bound_ = 0.0;  ///< no particle moved farther since the last rebuild (all ranks)
   /// move_bound_ when the outflow noted the positions (OutflowSink::note_positions)
   double move_bound_at_outflow_note_ = 0.0;
