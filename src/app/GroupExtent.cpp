@@ -4,7 +4,7 @@
 #include <array>
 #include <vector>
 
-#include "engine/BrakeLoads.hpp"
+#include "engine/FrameRestraints.hpp"
 #include "engine/Simulation.hpp"
 
 namespace ringdem {
@@ -52,8 +52,7 @@ Vec3 group_contact_load(const Simulation& sim, int group, const Vec3& gravity) {
 }
 
 Vec3 frame_load(const Simulation& sim, int group, const Vec3& gravity) {
-  return group_contact_load(sim, group, gravity) +
-         brake_totals(sim.model().brakes, sim.model().bodies).frame_load;
+  return group_contact_load(sim, group, gravity) + restraint_totals(sim.model()).frame_load;
 }
 
 }  // namespace ringdem

@@ -24,8 +24,8 @@ GroupExtent group_extent(const Simulation& sim, int group, double axis_x, double
 Vec3 group_contact_load(const Simulation& sim, int group, const Vec3& gravity);
 
 /// What the frame receives from what it holds: the contact load on the held particles of a
-/// group (group_contact_load) plus the loads of the brake elements on their anchors (braked
-/// shackles, docs/physics.md "Brake elements"). Collective.
+/// group (group_contact_load) plus the loads of the brake elements and the support ropes on
+/// their anchors (docs/physics.md "Brake elements", "Support ropes"). Collective.
 Vec3 frame_load(const Simulation& sim, int group, const Vec3& gravity);
 
 }  // namespace ringdem

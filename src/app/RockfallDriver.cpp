@@ -14,7 +14,7 @@
 #include "app/RunControl.hpp"
 #include "app/WallClock.hpp"
 #include "core/Version.hpp"
-#include "engine/BrakeLoads.hpp"
+#include "engine/FrameRestraints.hpp"
 #include "engine/Simulation.hpp"
 
 namespace ringdem {
@@ -138,7 +138,7 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
   drop_x_ = rf_.drop_point ? rf_.drop_point->x : 0.5 * (e.lo.x + e.hi.x);
   drop_y_ = rf_.drop_point ? rf_.drop_point->y : 0.5 * (e.lo.y + e.hi.y);
   net_top_initial_ = group_extent(sim, net_, drop_x_, drop_y_, radius_).top_near_axis;
-  sim.hold_braked_bodies(true);  // until the release
+  sim.hold_restrained_bodies(true);  // until the release
   ledger_start_ = sim.energies().ledger();
   if (rf_.sag_damping) sim.set_group_damping(net_, *rf_.sag_damping);
   apply_phase_time_step(sim);
@@ -321,7 +321,7 @@ void RockfallDriver::release(Simulation& sim) {
     vz = -std::sqrt(2.0 * g_ * fall);
     free_fall_time_ = -vz / g_;
   }
-  sim.hold_braked_bodies(false);
+  sim.hold_restrained_bodies(false);
   sim.place_body(boulder_, {drop_x_, drop_y_, z_centre}, {0, 0, vz}, Motion::kFree);
   sim.model().bodies[boulder_].active = true;
   energy_added_ += sim.energies().ledger() - before.ledger();
@@ -395,7 +395,7 @@ bool RockfallDriver::close_impact(Simulation& sim) {
   // contact forces drop at the next step. after_steps() books the difference then.
   ledger_before_removal_ = e.ledger();
   sim.place_body(boulder_, config_.rigid_bodies.back().position, {0, 0, 0}, Motion::kPrescribed);
-  sim.hold_braked_bodies(true);
+  sim.hold_restrained_bodies(true);
   sim.model().bodies[boulder_].active = false;
   phase_ = kResettle;
   apply_phase_time_step(sim);
@@ -572,7 +572,7 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
           : 0.0;
   // Collective calls first: never inside rank-0-only code.
   const Energies e = sim.energies();
-  const BrakeTotals brakes = brake_totals(sim.model().brakes, sim.model().bodies);
+  const RestraintTotals restraints = restraint_totals(sim.model());
   const std::int64_t broken = sim.global_broken_bonds();
   const std::int64_t n_bonds = sim.global_bonds();
   const FrameWriter* frames = control_->frames();
@@ -621,8 +621,8 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
                                  e.plastic_work, e.brake_work})
         .set("energy_dissipated_order",
              "contact_damping, friction, global_damping, broken_bonds, plastic_work, brake_work")
-        .set("brake_largest_travel_m", brakes.largest_travel)
-        .set("brakes_used_up", brakes.used_up)
+        .set("brake_largest_travel_m", restraints.largest_travel)
+        .set("brakes_used_up", restraints.used_up)
         .set("ranks", comm.size())
         .set("particles", static_cast<long long>(n_particles))
         .set("bonds", static_cast<long long>(n_bonds))

@@ -8,6 +8,7 @@
 #include "domain/BrakeStore.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
+#include "domain/RopeStore.hpp"
 #include "engine/InflowSpec.hpp"
 #include "engine/OutflowSink.hpp"
 #include "physics/BondTimoshenko.hpp"
@@ -30,6 +31,7 @@ struct Model {
   BondStore bonds;
   std::vector<RigidBody> bodies;
   BrakeStore brakes;  ///< brake elements holding rigid bodies to the frame (braked shackles)
+  RopeStore ropes;    ///< support ropes that rigid bodies (a net's shackles) slide on
   std::vector<OutflowBox> outflow;  ///< boxes that grains may not leave (`outflow[]`)
   std::vector<InflowSpec> inflow;   ///< inlets that add grains during the run (`inflow[]`)
   std::vector<PointLoad> point_loads;

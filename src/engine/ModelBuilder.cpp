@@ -15,6 +15,7 @@
 #include "engine/SphereFileSource.hpp"
 #include "engine/SphereListSource.hpp"
 #include "io/GrainsInput.hpp"
+#include "physics/SlidingRope.hpp"
 
 namespace ringdem {
 
@@ -58,10 +59,50 @@ Quat orientation_for_axis(const Vec3& n) {
   return quat_between({0, 0, 1}, normalized(n));
 }
 
+/// A support rope along each side of a net through the side's shackles (the bodies from
+/// `first_body` on, in layout order), in order along the side, anchored `anchor_offset` beyond
+/// the outermost ones (docs/physics.md "Support ropes"). Its rest length gives the pretension.
+void add_support_ropes(Model& model, const RingNetConfig& net, const RingNetLayout& layout,
+                       std::size_t first_body) {
+  const ShackleRopeConfig& rope = *net.shackles.ropes;
+  const Vec3 y_axis = cross(net.normal, net.x_axis);
+  for (const NetSide side :
+       {NetSide::kMinusX, NetSide::kPlusX, NetSide::kMinusY, NetSide::kPlusY}) {
+    // The sides x = const run along the net's y axis, the sides y = const along its x axis.
+    const bool along_y = side == NetSide::kMinusX || side == NetSide::kPlusX;
+    const Vec3 along = along_y ? y_axis : net.x_axis;
+    std::vector<std::pair<double, std::int32_t>> on_side;  // (place along the side, body)
+    for (std::size_t s = 0; s < layout.shackles.size(); ++s) {
+      if (layout.shackles[s].side != side) continue;
+      on_side.emplace_back(dot(layout.shackles[s].centre, along),
+                           static_cast<std::int32_t>(first_body + s));
+    }
+    if (on_side.empty()) continue;
+    std::sort(on_side.begin(), on_side.end());
+    std::vector<std::int32_t> bodies;
+    std::vector<Vec3> path;
+    for (const auto& [place, body] : on_side) {
+      bodies.push_back(body);
+      path.push_back(model.bodies[static_cast<std::size_t>(body)].position);
+    }
+    const Vec3 first = path.front() - along * rope.anchor_offset;
+    const Vec3 last = path.back() + along * rope.anchor_offset;
+    path.insert(path.begin(), first);
+    path.push_back(last);
+    // T0 = EA / L0 (L - L0) on the initial path L: L0 = L EA / (EA + T0).
+    const double ea = rope.axial_stiffness;
+    const double rest = SlidingRope::length(path) * ea / (ea + rope.pretension);
+    const double force =
+        rope.brake ? rope.brake->activation_force : std::numeric_limits<double>::infinity();
+    model.ropes.append(bodies, first, last, ea / rest, rest, force,
+                       rope.brake ? rope.brake->stroke : 0.0);
+  }
+}
+
 /// A net's shackles as free rigid tori, each held to the frame by a brake element at its
-/// centre (docs/physics.md "Brake elements"): the shackle rings' centreline and tube, the
-/// material's density for their mass.
-void add_braked_shackles(Model& model, const RingNetConfig& net, const RingNetLayout& layout) {
+/// centre (docs/physics.md "Brake elements") or sliding on its side's support rope ("Support
+/// ropes"): the shackle rings' centreline and tube, the material's density for their mass.
+void add_shackle_tori(Model& model, const RingNetConfig& net, const RingNetLayout& layout) {
   const ShackleConfig& s = net.shackles;
   const int material = material_index(model.materials, s.material);
   const double big_r = 0.5 * s.internal_diameter + s.particle_radius, small_r = s.particle_radius;
@@ -69,9 +110,12 @@ void add_braked_shackles(Model& model, const RingNetConfig& net, const RingNetLa
   const double mass = density * 2.0 * M_PI * M_PI * big_r * small_r * small_r;
   const double axial = mass * (big_r * big_r + 0.75 * small_r * small_r);
   const double diametral = mass * (0.5 * big_r * big_r + 0.625 * small_r * small_r);
+  const std::size_t first_body = model.bodies.size();
+  // Numbered on from the tori of earlier nets, so that the names stay unique.
+  const std::size_t earlier = model.brakes.size() + model.ropes.nodes.size();
   for (const ShacklePlacement& placement : layout.shackles) {
     RigidBody b;
-    b.name = s.group + "_" + std::to_string(model.brakes.size());
+    b.name = s.group + "_" + std::to_string(earlier + model.bodies.size() - first_body);
     b.shape = RigidShape::kTorus;
     b.motion = Motion::kFree;
     b.material = material;
@@ -81,10 +125,12 @@ void add_braked_shackles(Model& model, const RingNetConfig& net, const RingNetLa
     b.orientation = orientation_for_axis(placement.normal);
     b.mass = mass;
     b.principal_inertia = {diametral, diametral, axial};
-    model.brakes.append(static_cast<std::int32_t>(model.bodies.size()), b.position,
-                        s.brake->stiffness, s.brake->activation_force, s.brake->stroke);
+    if (s.brake)
+      model.brakes.append(static_cast<std::int32_t>(model.bodies.size()), b.position,
+                          s.brake->stiffness, s.brake->activation_force, s.brake->stroke);
     model.bodies.push_back(b);
   }
+  if (s.ropes) add_support_ropes(model, net, layout, first_body);
 }
 
 RingSpec ring_spec(Model& model, const CaseConfig& c, const RingConfig& ring, int bond_type,
@@ -194,8 +240,8 @@ ModelPlan plan_model(const CaseConfig& c) {
     plan.sources.push_back(std::make_unique<RingSource>("rings", std::move(rings)));
   }
 
-  // Nets: each ring is a `rings` entry; the shackles are fixed rings without bonds, or braked
-  // rigid tori.
+  // Nets: each ring is a `rings` entry; the shackles are fixed rings without bonds, or rigid
+  // tori on brakes or ropes.
   for (const auto& net : c.nets) {
     const RingNetLayout layout = generate_ring_net(net_parameters(net));
     const int bond_type = bond_type_of(net.bond);
@@ -214,9 +260,10 @@ ModelPlan plan_model(const CaseConfig& c) {
       ring.mass = net.mass;
       rings.push_back(ring_spec(model, c, ring, bond_type, seed_of(bond_type)));
     }
-    if (net.shackles.brake) {
-      add_braked_shackles(model, net, layout);
-      // The group stays: the rockfall's frame group, without particles, its load the brakes'.
+    if (net.shackles.rigid_tori()) {
+      add_shackle_tori(model, net, layout);
+      // The group stays: the rockfall's frame group, without particles, its load the
+      // restraints'.
       ensure_group(model, net.shackles.group);
     } else {
       for (const ShacklePlacement& placement : layout.shackles) {

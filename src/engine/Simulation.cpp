@@ -9,8 +9,8 @@
 #include <stdexcept>
 
 #include "domain/SpatialBins.hpp"
-#include "engine/BrakeLoads.hpp"
 #include "engine/DivergenceError.hpp"
+#include "engine/FrameRestraints.hpp"
 #include "engine/ModelTable.hpp"
 #include "engine/PairContactTerm.hpp"
 #include "physics/Integrator.hpp"
@@ -92,12 +92,7 @@ void Simulation::init_limits() {
   limits_.bond_axial = comm_.min(limits_.bond_axial);
   limits_.bond_shear = comm_.min(limits_.bond_shear);
   limits_.bond_rotation = comm_.min(limits_.bond_rotation);
-  const BrakeStore& brakes = model_.brakes;  // replicated: the same on every rank
-  for (std::size_t k = 0; k < brakes.size(); ++k)
-    limits_.brake =
-        std::min(limits_.brake,
-                 spring_time_step(model_.bodies[static_cast<std::size_t>(brakes.body[k])].mass,
-                                  brakes.stiffness[k]));
+  set_restraint_limits(model_, limits_);  // replicated: the same on every rank
 }
 
 Simulation::Simulation(Model model, const Communicator& comm, const SimulationSettings& settings)
@@ -468,7 +463,7 @@ void Simulation::compute_forces(bool loads_started) {
     PhaseTimer t(phase_seconds_[kComm]);
     reduce_body_loads();
   }
-  apply_brakes(model_.brakes, model_.bodies);  // on the reduced loads, alike on every rank
+  apply_restraints(model_);  // on the reduced loads, alike on every rank
   {
     PhaseTimer t(phase_seconds_[kGather]);
     gather_.gather(p, slots_, settings_.gravity);
@@ -656,8 +651,8 @@ void Simulation::place_body(std::size_t index, const Vec3& position, const Vec3&
   energy_guard_.rebase();
 }
 
-void Simulation::hold_braked_bodies(bool held) {
-  ringdem::hold_braked_bodies(model_.brakes, model_.bodies, held);
+void Simulation::hold_restrained_bodies(bool held) {
+  ringdem::hold_restrained_bodies(model_, held);
   energy_guard_.rebase();
 }
 

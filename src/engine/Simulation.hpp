@@ -63,8 +63,8 @@ struct Energies {
   double global_damping = 0.0;   ///< dissipated by Cundall global damping
   double broken_bonds = 0.0;     ///< elastic energy the bonds held when they broke
   double plastic_work = 0.0;     ///< dissipated by plastic flow of the bonds (broken ones too)
-  double brake_work = 0.0;       ///< dissipated by the brake elements' sliding
-  double brake_elastic = 0.0;    ///< held by the brake elements' springs
+  double brake_work = 0.0;       ///< dissipated by the brakes (of shackles and of ropes) sliding
+  double brake_elastic = 0.0;    ///< held by the brake elements' springs and the support ropes
   /// Work done on the particles by driven (prescribed) rigid bodies and particles and by
   /// external forces: energy put in, so it enters the balance with a minus sign.
   double boundary_work = 0.0;
@@ -181,9 +181,10 @@ class Simulation {
   /// motion; the neighbour lists are rebuilt at the next step. The energy it adds is outside
   /// the ledger: the energy guard takes a new reference at the next energies().
   void place_body(std::size_t index, const Vec3& position, const Vec3& velocity, Motion motion);
-  /// Holds the braked bodies (fixed, at rest) or sets them free (hold_braked_bodies(), every
-  /// rank alike); like place_body(), what that moves in the ledger is the caller's to book.
-  void hold_braked_bodies(bool held);
+  /// Holds the bodies of brakes and ropes (fixed, at rest) or sets them free
+  /// (hold_restrained_bodies(), every rank alike); like place_body(), what that moves in the
+  /// ledger is the caller's to book.
+  void hold_restrained_bodies(bool held);
   /// Sets the Cundall coefficient of every particle of a group (physics.md §4).
   void set_group_damping(int group, double coefficient);
 

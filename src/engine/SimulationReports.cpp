@@ -7,8 +7,8 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/BrakeLoads.hpp"
 #include "engine/DivergenceError.hpp"
+#include "engine/FrameRestraints.hpp"
 #include "engine/Simulation.hpp"
 #include "physics/Integrator.hpp"
 
@@ -291,9 +291,9 @@ Energies Simulation::energies() {
     if (b.gravity) e.potential += -b.mass * dot(settings_.gravity, b.position);
   }
   // Replicated like the bodies they hold: the same on every rank without a reduction.
-  const BrakeTotals brakes = brake_totals(model_.brakes, model_.bodies);
-  e.brake_elastic = brakes.elastic_energy;
-  e.brake_work = brakes.work;
+  const RestraintTotals restraints = restraint_totals(model_);
+  e.brake_elastic = restraints.elastic_energy;
+  e.brake_work = restraints.work;
   // The sums are the same on every rank, so every rank decides alike. Without the ledger
   // the guard has no balance to check: work put in by driven bodies would look like energy
   // from nowhere.

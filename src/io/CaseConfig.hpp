@@ -96,8 +96,24 @@ struct ShackleBrakeConfig {
   double stiffness = 1.0e7;       ///< k [N/m]
 };
 
+/// The brakes at a support rope's two ends (docs/physics.md "Support ropes"): they pay out rope
+/// at the activation force until `stroke` of it has run through them in all.
+struct RopeBrakeConfig {
+  double activation_force = 0.0;  ///< F_b [N]
+  double stroke = 1.0;            ///< [m]
+};
+
+/// Support ropes along the sides of a net, one per side, that its shackles slide on (docs/
+/// physics.md "Support ropes"); the shackles are then free rigid tori.
+struct ShackleRopeConfig {
+  double axial_stiffness = 0.0;  ///< EA [N]
+  double anchor_offset = 0.2;    ///< [m]: the ends' anchors beyond the side's outer shackles
+  double pretension = 0.0;       ///< [N]: the tension at creation
+  std::optional<RopeBrakeConfig> brake;
+};
+
 /// Rigid shackles holding the outer rings of a net (domain/RingNet.hpp): fixed rings of
-/// unbonded spheres, one per boundary ring and side, or braked rigid tori.
+/// unbonded spheres, one per boundary ring and side, or rigid tori held by brakes or ropes.
 struct ShackleConfig {
   bool enabled = true;
   std::string group = "shackles";
@@ -106,6 +122,9 @@ struct ShackleConfig {
   double particle_radius = 0.008;
   std::string material = "steel";
   std::optional<ShackleBrakeConfig> brake;
+  std::optional<ShackleRopeConfig> ropes;
+  /// With brakes or ropes the shackles are free rigid tori, not fixed rings of spheres.
+  bool rigid_tori() const { return brake.has_value() || ropes.has_value(); }
 };
 
 /// A horizontal chain-mail net of rings (domain/RingNet.hpp); the defaults are the paper's

@@ -4,6 +4,7 @@
 #include "io/CaseSchema.hpp"
 
 #include "io/DebrisSchema.hpp"
+#include "io/ShackleSchema.hpp"
 
 #include "engine/ModelTable.hpp"
 
@@ -268,53 +269,6 @@ const Table<RingConfig>& ring_table() {
                               "free: integrated; fixed: never moves; prescribed: moves at "
                               "`velocity`"),
           schema::vec3("velocity", &R::velocity, "m/s", "Initial or prescribed velocity"),
-      }};
-  return table;
-}
-
-const Table<ShackleBrakeConfig>& shackle_brake_table() {
-  using K = ShackleBrakeConfig;
-  static const Table<K> table{
-      "particles.nets[].shackles.brake",
-      "A brake element holding each shackle to the frame at its centre (docs/physics.md \"Brake "
-      "elements\"): a spring of `stiffness` in series with a slider that moves along the load "
-      "at `activation_force` until it has slid `stroke`, then holds elastically. With it the "
-      "shackles are free rigid tori (centreline and tube of the shackle spheres, mass from the "
-      "material's density) instead of fixed spheres; the brakes' work is the ledger's "
-      "brake_work, and the frame receives their loads.",
-      {
-          schema::number("activation_force", &K::activation_force, above(0), "N",
-                         "Load F_b at which a brake slides")
-              .required(),
-          schema::number("stroke", &K::stroke, above(0), "m",
-                         "Path a brake can slide before it locks"),
-          schema::number("stiffness", &K::stiffness, above(0), "N/m",
-                         "Spring stiffness k of a brake and its rope"),
-      }};
-  return table;
-}
-
-const Table<ShackleConfig>& shackle_table() {
-  using S = ShackleConfig;
-  static const Table<S> table{
-      "particles.nets[].shackles",
-      "Rigid shackles holding the net's outer rings: one per boundary ring and side it is on "
-      "(two on a corner ring), centred on the ring's outermost wire with the wire through its "
-      "middle, so the ring can rotate and slide in it. Shackle particles are fixed and not "
-      "bonded (they never move); neighbouring particles must not overlap, and must be close "
-      "enough that no net particle (contact_radius) slips between them. With `brake`, each "
-      "shackle is instead a free rigid torus held to the frame by a brake element.",
-      {
-          schema::boolean("enabled", &S::enabled, "Create the shackles"),
-          schema::text("group", &S::group, Type::kName, "Particle group (damping, output)"),
-          schema::number("internal_diameter", &S::internal_diameter, above(0), "m",
-                         "Clear inside diameter of a shackle"),
-          schema::integer("n_particles", &S::n_particles, at_least(3), "Spheres per shackle"),
-          schema::number("particle_radius", &S::particle_radius, above(0), "m",
-                         "Radius of the shackle spheres (also their contact radius)"),
-          schema::text("material", &S::material, Type::kName, "Material (from `materials`)"),
-          schema::optional_section("brake", &S::brake, shackle_brake_table(),
-                                   "Hold each shackle by a brake element instead of fixing it"),
       }};
   return table;
 }

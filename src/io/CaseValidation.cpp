@@ -147,6 +147,14 @@ long long validate_net(RingNetConfig& n, const std::string& p,
   if (n.shackles.enabled)
     check_reference(n.shackles.material, materials, materials_ok, sp + ".material",
                     ctx.given(sp) ? sp : p, "material", "materials", ctx);
+  if (n.shackles.brake && n.shackles.ropes)
+    ctx.error(ctx.where(sp + ".ropes"), sp + ".ropes",
+              "give either brake or ropes, not both (a braked shackle is held at its place, a "
+              "roped one slides on its rope)");
+  if (!n.shackles.enabled && n.shackles.rigid_tori())
+    ctx.error(ctx.where(sp + ".enabled"), sp + ".enabled",
+              fmt::format("must be true with {} (they hold the shackles)",
+                          n.shackles.brake ? "brake" : "ropes"));
   if (!ctx.given(p + ".contact_radius")) {
     n.contact_radius = std::max(0.008, n.particle_radius);
   } else if (!ctx.failed(p + ".contact_radius") && !ctx.failed(p + ".particle_radius") &&

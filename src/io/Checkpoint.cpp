@@ -200,6 +200,40 @@ void read_pair_rows(const Hdf5File& f, const Communicator& comm, Store& store,
   });
 }
 
+/// A replicated store's state (brake elements, support ropes: the same on every rank), through
+/// its registry as `<group>/<field>`; rank 0's rows land in the file. Only a model that has
+/// some writes the group.
+template <class Store>
+void write_replicated_state(Hdf5File& f, const Communicator& comm, const std::string& group,
+                            const Store& store) {
+  if (store.empty()) return;
+  f.create_group(group);
+  store.for_each_field([&](const FieldInfo& field, const auto& rows) {
+    if (!field.has(field_flag::kCheckpoint)) return;
+    auto mine = rows;
+    if (!comm.is_root()) mine.clear();
+    write_concatenated(f, comm, group + "/" + std::string(field.name), mine);
+  });
+}
+
+/// Reads what write_replicated_state() wrote, on every rank, into a store the case built;
+/// `what` names the store's rows for the error when the checkpoint lacks them.
+template <class Store>
+void read_replicated_state(const Hdf5File& f, const Communicator& comm, const std::string& path,
+                           const std::string& group, const std::string& what, Store& store) {
+  if (store.empty()) return;
+  if (!f.exists(group))
+    throw Hdf5Error(path + ": the case has " + what + ", the checkpoint has no state for them " +
+                    "(written by a case without them)");
+  const auto n = static_cast<std::int64_t>(store.size());
+  store.for_each_field([&](const FieldInfo& field, auto& v) {
+    if (!field.has(field_flag::kCheckpoint)) return;
+    using T = typename std::remove_cvref_t<decltype(v)>::value_type;
+    v = read_verified_block<T>(f, comm, group + "/" + std::string(field.name), n, 0, n,
+                               ReadBy::kEveryRank);
+  });
+}
+
 std::string join(const std::vector<std::string>& names) {
   std::string s;
   for (const auto& n : names)
@@ -366,16 +400,9 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
       if (!comm.is_root()) mine.clear();
       write_concatenated(f, comm, std::string("/bodies/") + name, mine);
     });
-    // Brake elements: replicated like the bodies they hold; only a model with brakes has them.
-    if (!model.brakes.empty()) {
-      f.create_group("/brakes");
-      model.brakes.for_each_field([&](const FieldInfo& field, const auto& rows) {
-        if (!field.has(field_flag::kCheckpoint)) return;
-        auto mine = rows;
-        if (!comm.is_root()) mine.clear();
-        write_concatenated(f, comm, std::string("/brakes/") + std::string(field.name), mine);
-      });
-    }
+    // Brake elements and support ropes: replicated like the bodies they hold.
+    write_replicated_state(f, comm, "/brakes", model.brakes);
+    write_replicated_state(f, comm, "/ropes", model.ropes);
     f.set_attribute("/", "outflow_pending", std::int64_t{state.outflow_pending});
     f.create_group("/outflow");
     std::vector<std::int64_t> outflow = state.outflow_totals;  // the same on every rank
@@ -599,19 +626,8 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
       throw Hdf5Error(path + ": invalid rigid-body motion");
     body.motion = rows.motion[b];
   }
-  if (!model.brakes.empty()) {
-    if (!f.exists("/brakes"))
-      throw Hdf5Error(path +
-                      ": the case holds its shackles with brake elements, the checkpoint "
-                      "has no brake state (written by a case without brakes)");
-    const auto n_brakes = static_cast<std::int64_t>(model.brakes.size());
-    model.brakes.for_each_field([&](const FieldInfo& field, auto& v) {
-      if (!field.has(field_flag::kCheckpoint)) return;
-      using T = typename std::remove_cvref_t<decltype(v)>::value_type;
-      v = read_verified_block<T>(f, comm, "/brakes/" + std::string(field.name), n_brakes, 0,
-                                 n_brakes, ReadBy::kEveryRank);
-    });
-  }
+  read_replicated_state(f, comm, path, "/brakes", "brake elements on its shackles", model.brakes);
+  read_replicated_state(f, comm, path, "/ropes", "support ropes on its nets", model.ropes);
   driver.names = split(f.attribute_string("/driver", "names"));
   const auto n_values = static_cast<std::int64_t>(driver.names.size());
   driver.values = read_verified_block<double>(f, comm, "/driver/values", n_values, 0, n_values,
@@ -624,8 +640,8 @@ std::vector<std::string> verify_checkpoint(const std::string& path) {
   read_checkpoint_info(path);
   const Hdf5File f = Hdf5File::open_read(path);
   std::vector<std::string> checked;
-  for (const char* group : {"/particles", "/bonds", "/history", "/bodies", "/brakes", "/outflow",
-                            "/inflow", "/momentum", "/ledger", "/driver", "/case"}) {
+  for (const char* group : {"/particles", "/bonds", "/history", "/bodies", "/brakes", "/ropes",
+                            "/outflow", "/inflow", "/momentum", "/ledger", "/driver", "/case"}) {
     for (const std::string& name : f.list(group)) {
       const std::string full = std::string(group) + "/" + name;
       std::size_t row_bytes = 0;

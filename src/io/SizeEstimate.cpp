@@ -40,7 +40,7 @@ SizeEstimate estimate_size(const CaseConfig& c) {
     const std::int64_t rings = rows * columns / 2;
     e.particles += rings * n.n_particles;
     e.bonds += rings * n.n_particles;
-    if (n.shackles.enabled && !n.shackles.brake) {  // braked shackles are rigid bodies
+    if (n.shackles.enabled && !n.shackles.rigid_tori()) {  // tori are rigid bodies
       const std::int64_t shackles = odd_sites(0, rows) + odd_sites(columns - 1, rows) +
                                     odd_sites(0, columns) + odd_sites(rows - 1, columns);
       e.particles += shackles * n.shackles.n_particles;

@@ -7,21 +7,18 @@
 namespace ringdem {
 
 double StabilityLimits::min() const {
-  return std::min({rayleigh, bond_axial, bond_shear, bond_rotation, brake});
+  return std::min({rayleigh, bond_axial, bond_shear, bond_rotation, brake, rope});
 }
 
 std::vector<std::pair<std::string, double>> StabilityLimits::named() const {
-  return {{"Rayleigh", rayleigh},
-          {"bond axial", bond_axial},
-          {"bond shear", bond_shear},
-          {"bond rotation", bond_rotation},
-          {"brake", brake}};
+  return {{"Rayleigh", rayleigh},           {"bond axial", bond_axial}, {"bond shear", bond_shear},
+          {"bond rotation", bond_rotation}, {"brake", brake},           {"rope", rope}};
 }
 
 StabilityLimits stability_limits(const ParticleStore& p, const BondStore& bonds,
                                  const MaterialTable& materials) {
   constexpr double inf = std::numeric_limits<double>::infinity();
-  StabilityLimits s{inf, inf, inf, inf, inf};
+  StabilityLimits s{inf, inf, inf, inf, inf, inf};
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     const Material& m = materials[static_cast<std::size_t>(p.material[k])];
     s.rayleigh = std::min(

@@ -1,8 +1,9 @@
-// Braked shackles (docs/physics.md "Brake elements"): a small net falls into shackles held by
-// brakes that slide under its weight. The brakes are replicated like the bodies they hold, so a
+// Braked shackles (docs/physics.md "Brake elements") and support ropes ("Support ropes"): a
+// small net falls into shackles held by brakes, or sliding on ropes whose brakes pay out rope,
+// that slide under its weight. Brakes and ropes are replicated like the bodies they hold, so a
 // run on this run's ranks must give the same bits as on one rank, a checkpoint taken while they
 // slide must restart (here and on one rank) into the run never interrupted, and the ledger,
-// with the brakes' work and springs in it, must close.
+// with the brakes' work and the springs and ropes in it, must close.
 #include <gtest/gtest.h>
 #include <mpi.h>
 #include <unistd.h>
@@ -31,12 +32,21 @@ struct ParticleRow {
   Vec3 position, velocity;
 };
 
-/// What the comparison reads: every particle by gid, the bodies, the brakes, the ledger.
+/// What the comparison reads: every particle by gid, the bodies, the brakes, the ropes, the
+/// ledger.
 struct BrakedRun {
   std::vector<ParticleRow> particles;
   std::vector<Vec3> body_position, body_velocity, slip;
-  std::vector<double> travel, work;
+  std::vector<double> travel, work, rope_slip, rope_work;
   Energies energies;
+  /// How far the brakes (of shackles or ropes) have slid: the largest travel.
+  double largest_travel() const {
+    double t = 0.0;
+    for (const auto* v : {&travel, &rope_slip})
+      for (const double x : *v)
+        t = std::max(t, x);
+    return t;
+  }
 };
 
 BrakedRun snapshot(Simulation& sim) {
@@ -55,6 +65,8 @@ BrakedRun snapshot(Simulation& sim) {
   r.slip = sim.model().brakes.slip;
   r.travel = sim.model().brakes.travel;
   r.work = sim.model().brakes.work;
+  r.rope_slip = sim.model().ropes.slip;
+  r.rope_work = sim.model().ropes.work;
   r.energies = sim.energies();
   return r;
 }
@@ -71,17 +83,15 @@ void expect_same(const BrakedRun& a, const BrakedRun& b, const char* what) {
   EXPECT_EQ(a.slip, b.slip) << what;
   EXPECT_EQ(a.travel, b.travel) << what;
   EXPECT_EQ(a.work, b.work) << what;
+  EXPECT_EQ(a.rope_slip, b.rope_slip) << what;
+  EXPECT_EQ(a.rope_work, b.rope_work) << what;
   EXPECT_EQ(a.energies.ledger(), b.energies.ledger()) << what;
 }
 
-TEST(Brakes, BrakedShacklesSlideAlikeOnEveryRankCountAndRestartBitwise) {
-  // Under 400 m/s^2 a shackle (0.375 kg) weighs 150 N: its brake (140 N) slides from the first
-  // step, and the net falling freely catches up with the shackles (relative 373 m/s^2) and
-  // presses its outer wires into them from about 5900 steps on.
-  const CaseConfig c = load_case_from_string(
-      testing::kTinyRockfall, "tiny.yaml",
-      {"simulation.gravity=[0, 0, -400]", "particles.nets[0].shackles.brake.activation_force=140",
-       "particles.nets[0].shackles.brake.stiffness=1e5"});
+/// Runs `c` on this run's ranks with a checkpoint halfway, restarts it here and on one rank,
+/// and runs it on one rank from the start: every run must end in the same bits, the brakes
+/// must slide in both halves, and the ledger must close.
+void expect_rank_independent_restartable_and_balanced(const CaseConfig& c, const char* name) {
   const SimulationSettings s = settings_from_case(c);
   constexpr std::int64_t kHalf = 4000;
   const testing::WorldCopy world_copy;
@@ -90,13 +100,14 @@ TEST(Brakes, BrakedShacklesSlideAlikeOnEveryRankCountAndRestartBitwise) {
     const Communicator comm(world);
     long long pid = comm.is_root() ? static_cast<long long>(getpid()) : 0;
     MPI_Bcast(&pid, 1, MPI_LONG_LONG, 0, world);
-    const fs::path dir = fs::temp_directory_path() / ("ringdem_brakes_" + std::to_string(pid));
+    const fs::path dir =
+        fs::temp_directory_path() / ("ringdem_" + std::string(name) + "_" + std::to_string(pid));
     DriverState driver;
     BrakedRun straight, initial;
     std::string middle;
     {
       Simulation sim(build_scenario_model(c, comm), comm, s);
-      ASSERT_FALSE(sim.model().brakes.empty());
+      ASSERT_FALSE(sim.model().brakes.empty() && sim.model().ropes.empty());
       initial = snapshot(sim);
       sim.run_steps(kHalf);
       middle = CheckpointStore((dir / "middle").string())
@@ -106,8 +117,8 @@ TEST(Brakes, BrakedShacklesSlideAlikeOnEveryRankCountAndRestartBitwise) {
       straight = snapshot(sim);
       // The brakes slide in both halves, so the checkpoint holds a sliding state, and the net
       // presses on the shackles by the end (friction and contact damping at work).
-      const double travel_half = *std::max_element(half.travel.begin(), half.travel.end());
-      const double travel_end = *std::max_element(straight.travel.begin(), straight.travel.end());
+      const double travel_half = half.largest_travel();
+      const double travel_end = straight.largest_travel();
       EXPECT_GT(travel_half, 0.0);
       EXPECT_GT(travel_end, 1.2 * travel_half);
       EXPECT_GT(straight.energies.contact_damping, 0.0);
@@ -139,6 +150,30 @@ TEST(Brakes, BrakedShacklesSlideAlikeOnEveryRankCountAndRestartBitwise) {
     }
     comm.barrier();
   }
+}
+
+TEST(Brakes, BrakedShacklesSlideAlikeOnEveryRankCountAndRestartBitwise) {
+  // Under 400 m/s^2 a shackle (0.375 kg) weighs 150 N: its brake (140 N) slides from the first
+  // step, and the net falling freely catches up with the shackles (relative 373 m/s^2) and
+  // presses its outer wires into them from about 5900 steps on.
+  expect_rank_independent_restartable_and_balanced(
+      load_case_from_string(testing::kTinyRockfall, "tiny.yaml",
+                            {"simulation.gravity=[0, 0, -400]",
+                             "particles.nets[0].shackles.brake.activation_force=140",
+                             "particles.nets[0].shackles.brake.stiffness=1e5"}),
+      "brakes");
+}
+
+TEST(Brakes, ShacklesOnRopesSlideAlikeOnEveryRankCountAndRestartBitwise) {
+  // Under 400 m/s^2 the shackles (0.375 kg, 150 N each) and the net pull the ropes down and
+  // in: the ropes' brakes pay out rope at 1.5 kN in both halves (0.4 mm of the most paid out
+  // by step 4000, 5 mm by 8000), and the net presses on the shackles.
+  expect_rank_independent_restartable_and_balanced(
+      load_case_from_string(testing::kTinyRockfall, "tiny.yaml",
+                            {"simulation.gravity=[0, 0, -400]",
+                             "particles.nets[0].shackles.ropes.axial_stiffness=2e6",
+                             "particles.nets[0].shackles.ropes.brake.activation_force=1500"}),
+      "ropes");
 }
 
 }  // namespace

@@ -1,0 +1,129 @@
+#include "engine/FrameRestraints.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "physics/BrakeElement.hpp"
+#include "physics/SlidingRope.hpp"
+
+namespace ringdem {
+
+namespace {
+
+BrakeElement::Params brake_params(const BrakeStore& s, std::size_t k) {
+  return {s.stiffness[k], s.activation_force[k], s.stroke[k]};
+}
+
+Vec3 displacement_of(const BrakeStore& s, std::size_t k, const std::vector<RigidBody>& bodies) {
+  return bodies[static_cast<std::size_t>(s.body[k])].position - s.anchor[k];
+}
+
+SlidingRope::Params rope_params(const RopeStore& s, std::size_t r) {
+  return {s.stiffness[r], s.rest_length[r], s.activation_force[r], s.stroke[r]};
+}
+
+/// The rope's path: its first anchor, the centres of the bodies it runs through, its last anchor.
+std::vector<Vec3> rope_path(const RopeStore& s, std::size_t r,
+                            const std::vector<RigidBody>& bodies) {
+  std::vector<Vec3> path{s.first_anchor[r]};
+  for (const std::int32_t b : s.bodies_of(r))
+    path.push_back(bodies[static_cast<std::size_t>(b)].position);
+  path.push_back(s.last_anchor[r]);
+  return path;
+}
+
+/// Every body a brake or a rope holds.
+std::vector<std::int32_t> restrained_bodies(const Model& model) {
+  std::vector<std::int32_t> held = model.brakes.body;
+  held.insert(held.end(), model.ropes.nodes.begin(), model.ropes.nodes.end());
+  return held;
+}
+
+}  // namespace
+
+void apply_restraints(Model& model) {
+  BrakeStore& brakes = model.brakes;
+  std::vector<RigidBody>& bodies = model.bodies;
+  for (std::size_t k = 0; k < brakes.size(); ++k) {
+    BrakeElement::State state{brakes.slip[k], brakes.travel[k], brakes.work[k]};
+    // At the body's centre: a load without torque.
+    bodies[static_cast<std::size_t>(brakes.body[k])].force +=
+        BrakeElement::compute(brake_params(brakes, k), displacement_of(brakes, k, bodies), state);
+    brakes.slip[k] = state.slip;
+    brakes.travel[k] = state.travel;
+    brakes.work[k] = state.work;
+  }
+  RopeStore& ropes = model.ropes;
+  std::vector<Vec3> loads;
+  for (std::size_t r = 0; r < ropes.size(); ++r) {
+    const std::vector<Vec3> path = rope_path(ropes, r, bodies);
+    loads.resize(path.size());
+    SlidingRope::State state{ropes.slip[r], ropes.work[r]};
+    SlidingRope::compute(rope_params(ropes, r), path, state, loads);
+    ropes.slip[r] = state.slip;
+    ropes.work[r] = state.work;
+    // At each body's centre, as a pulley's (no torque); the anchors' loads go to the frame.
+    const auto carried = ropes.bodies_of(r);
+    for (std::size_t i = 0; i < carried.size(); ++i)
+      bodies[static_cast<std::size_t>(carried[i])].force += loads[i + 1];
+  }
+}
+
+void set_restraint_limits(const Model& model, StabilityLimits& limits) {
+  const BrakeStore& brakes = model.brakes;
+  for (std::size_t k = 0; k < brakes.size(); ++k)
+    limits.brake = std::min(
+        limits.brake, spring_time_step(model.bodies[static_cast<std::size_t>(brakes.body[k])].mass,
+                                       brakes.stiffness[k]));
+  const RopeStore& ropes = model.ropes;
+  for (std::size_t r = 0; r < ropes.size(); ++r)
+    for (const std::int32_t b : ropes.bodies_of(r))
+      limits.rope =
+          std::min(limits.rope, spring_time_step(model.bodies[static_cast<std::size_t>(b)].mass,
+                                                 4.0 * ropes.stiffness[r]));
+}
+
+void hold_restrained_bodies(Model& model, bool held) {
+  for (const std::int32_t b : restrained_bodies(model)) {
+    RigidBody& body = model.bodies[static_cast<std::size_t>(b)];
+    body.motion = held ? Motion::kFixed : Motion::kFree;
+    if (held) body.velocity = body.omega = {};
+  }
+}
+
+RestraintTotals restraint_totals(const Model& model) {
+  RestraintTotals t;
+  const BrakeStore& brakes = model.brakes;
+  for (std::size_t k = 0; k < brakes.size(); ++k) {
+    const BrakeElement::Params p = brake_params(brakes, k);
+    const Vec3 d = displacement_of(brakes, k, model.bodies);
+    const BrakeElement::State state{brakes.slip[k], brakes.travel[k], brakes.work[k]};
+    t.elastic_energy += BrakeElement::elastic_energy(p, d, state);
+    t.work += state.work;
+    // The load on the body is k (s - d) (BrakeElement::compute after its return mapping).
+    t.frame_load += (d - state.slip) * p.stiffness;
+    t.largest_travel = std::max(t.largest_travel, state.travel);
+    t.used_up += state.travel >= p.stroke ? 1 : 0;
+  }
+  const RopeStore& ropes = model.ropes;
+  std::vector<Vec3> loads;
+  for (std::size_t r = 0; r < ropes.size(); ++r) {
+    const SlidingRope::Params p = rope_params(ropes, r);
+    const std::vector<Vec3> path = rope_path(ropes, r, model.bodies);
+    SlidingRope::State state{ropes.slip[r], ropes.work[r]};
+    t.elastic_energy += SlidingRope::elastic_energy(p, SlidingRope::length(path), state);
+    t.work += state.work;
+    // The loads on a copy of the state: where the bodies moved since the step, the return
+    // mapping caps the tension at F_b as the next step will.
+    loads.resize(path.size());
+    t.largest_tension = std::max(t.largest_tension, SlidingRope::compute(p, path, state, loads));
+    t.frame_load += loads.front() + loads.back();
+    t.largest_travel = std::max(t.largest_travel, state.slip);
+    const bool braked = std::isfinite(p.activation_force);
+    t.used_up += braked && ropes.slip[r] >= p.stroke ? 1 : 0;
+  }
+  return t;
+}
+
+}  // namespace ringdem

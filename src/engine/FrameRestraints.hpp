@@ -1,0 +1,41 @@
+#pragma once
+
+#include "core/Vec3.hpp"
+#include "engine/Model.hpp"
+#include "physics/TimeStep.hpp"
+
+namespace ringdem {
+
+/// The restraints that hold rigid bodies (a net's shackles) to the frame: brake elements
+/// (BrakeElement, docs/physics.md "Brake elements") and support ropes with their end brakes
+/// (SlidingRope, "Support ropes"). They are replicated like the bodies they hold, and every rank
+/// runs these functions on the same bodies and restraints, so they stay the same bits.
+
+/// After the bodies' contact loads are reduced: adds each brake's and each rope's loads to the
+/// forces of the bodies they hold and takes the step's slip.
+void apply_restraints(Model& model);
+
+/// Sets the restraints' stability limits in `limits`: `brake`, sqrt(M / k) of a body on its
+/// brake's spring, and `rope`, sqrt(M / 4k) of a body on a rope (a body's move changes the
+/// rope's length by at most twice its size; the tension's transverse stiffness T (1/l_1 + 1/l_2)
+/// is left out, small beside 4 EA / L0 while T << 4 EA l / L0).
+void set_restraint_limits(const Model& model, StabilityLimits& limits);
+
+/// Holds the restrained bodies where they are (fixed, at rest) or sets them free. A settling
+/// aid: the rockfall holds them while the net sags under its own weight, far below the brakes'
+/// activation forces, so that their free turning does not keep the net from coming to rest.
+/// Held, a body's kinetic and potential energy are out of the ledger (the caller books that).
+void hold_restrained_bodies(Model& model, bool held);
+
+/// What the restraints hold and have done, from their state (the same on every rank).
+struct RestraintTotals {
+  double elastic_energy = 0.0;   ///< the brake springs' k |d - s|^2 / 2 and the ropes' k e^2 / 2
+  double work = 0.0;             ///< dissipated by the brakes (of shackles and ropes), F_b ds [J]
+  Vec3 frame_load;               ///< what the anchors receive: minus the loads on the bodies [N]
+  double largest_travel = 0.0;   ///< the largest path slid by a brake, or paid out by a rope [m]
+  int used_up = 0;               ///< brakes and ropes whose brakes have used their whole stroke
+  double largest_tension = 0.0;  ///< the largest rope tension now [N] (0 without ropes)
+};
+RestraintTotals restraint_totals(const Model& model);
+
+}  // namespace ringdem
