@@ -149,8 +149,9 @@ def main():
              ("broken_bonds_J", "broken bonds", True)]
     if "plastic_work_J" in ser:  # series of runs before the plastic bond lack it
         parts.append(("plastic_work_J", "plastic work", True))
-    if "brake_work_J" in ser and ser["brake_work_J"].max() > 0.0:  # braked shackles
-        parts += [("brake_elastic_J", "brake springs", False), ("brake_work_J", "brakes", True)]
+    if "brake_work_J" in ser and max(ser["brake_work_J"].max(), ser["brake_elastic_J"].max()) > 0.0:
+        # braked shackles, support ropes
+        parts += [("brake_elastic_J", "brake springs, ropes", False), ("brake_work_J", "brakes", True)]
     ax.stackplot(t, *[ser[k] - (ser[k][0] if since else 0.0) for k, _, since in parts],
                  labels=[n + (" (dissipated)" if since else "") for _, n, since in parts])
     supplied = sum(ser[k][0] for k, _, since in parts if not since) \

@@ -23,6 +23,7 @@ void for_each_field(Record& r, F&& f) {
   f("stopping_time", r.stopping_time);
   f("rebound_speed", r.rebound_speed);
   f("max_frame_force", r.max_frame_force);
+  f("max_rope_tension", r.max_rope_tension);
   f("broken_bonds", r.broken_bonds);
   f("plastic_work", r.plastic_work);
   f("friction", r.friction);
@@ -62,6 +63,7 @@ JsonObject ImpactRecord::json(int number, double g, double impact_energy) const 
       .set("stopping_time_s", stopping_time)
       .set("rebound_speed_m_s", rebound_speed)
       .set("max_frame_force_N", max_frame_force)
+      .set("max_rope_tension_N", max_rope_tension)
       .set("broken_bonds", static_cast<long long>(broken_bonds))
       .set("plastic_work_share", plastic_work / impact_energy)
       .set("friction_share", friction / impact_energy)

@@ -24,6 +24,7 @@ struct ImpactRecord {
   double stopping_time = kNone;    ///< first upward boulder velocity after the contact (s)
   double rebound_speed = 0.0;      ///< largest upward boulder speed after the contact (m/s)
   double max_frame_force = 0.0;    ///< largest frame load (N)
+  double max_rope_tension = 0.0;   ///< largest tension of a support rope (N; 0 without ropes)
   double broken_bonds = 0.0;       ///< bonds broken between the release and the removal
   /// Energy dissipated between the release and the end of the impact (J).
   double plastic_work = 0.0, friction = 0.0, contact_damping = 0.0, global_damping = 0.0;

@@ -112,7 +112,8 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
                                                 "plastic_work_J",
                                                 "impact",
                                                 "brake_work_J",
-                                                "brake_elastic_J"};
+                                                "brake_elastic_J",
+                                                "rope_tension_N"};
   if (comm.is_root() && !output_dir_.empty()) {
     const double until = control_->restarted() ? control_->restart_time() : -1.0;
     series_ = SeriesWriter::resume(output_dir_ + "/series.csv", columns, until);
@@ -174,6 +175,7 @@ void RockfallDriver::for_each_saved(Self& s, F&& f) {
   f("lowest_z", s.lowest_z_, inf);
   f("stopping_time", s.stopping_time_, -1.0);
   f("max_frame_force", s.max_frame_force_, 0.0);
+  f("max_rope_tension", s.max_rope_tension_, 0.0);
   f("max_balance_error", s.max_balance_error_, 0.0);
   f("free_fall_time", s.free_fall_time_, 0.0);
   f("peak_sag_kinetic", s.peak_sag_kinetic_, 0.0);
@@ -299,7 +301,7 @@ void RockfallDriver::release(Simulation& sim) {
   peak_acceleration_ = time_of_peak_ = peak_instant_ = 0.0;
   lowest_z_ = std::numeric_limits<double>::infinity();
   stopping_time_ = -1.0;
-  max_frame_force_ = 0.0;
+  max_frame_force_ = max_rope_tension_ = 0.0;
   rebound_speed_ = 0.0;
   release_time_ = sim.time();
   release_top_ = top;
@@ -368,6 +370,7 @@ ImpactRecord RockfallDriver::impact_record(const Energies& e, std::int64_t broke
   r.stopping_time = stopping_time_ >= 0.0 ? stopping_time_ : ImpactRecord::kNone;
   r.rebound_speed = rebound_speed_;
   r.max_frame_force = max_frame_force_;
+  r.max_rope_tension = max_rope_tension_;
   r.broken_bonds = static_cast<double>(broken) - release_broken_;
   r.plastic_work = e.plastic_work - release_dissipated_[0];
   r.friction = e.friction - release_dissipated_[1];
@@ -501,6 +504,7 @@ void RockfallDriver::record(Simulation& sim) {
   const double accel = norm(mean_force) / rf_.boulder_mass;
   const double az = mean_force.z / rf_.boulder_mass - g_;
   const Vec3 frame = frame_load(sim, frame_, sim.settings().gravity);
+  const double rope_tension = restraint_totals(sim.model()).largest_tension;  // replicated
   const std::int64_t broken = sim.global_broken_bonds();
   const double balance = e.ledger() - (ledger_start_ + energy_added_);
   max_balance_error_ = std::max(max_balance_error_, std::abs(balance));
@@ -510,6 +514,7 @@ void RockfallDriver::record(Simulation& sim) {
       time_of_peak_ = sim.time() - contact_time_;
     }
     max_frame_force_ = std::max(max_frame_force_, norm(frame));
+    max_rope_tension_ = std::max(max_rope_tension_, rope_tension);
   }
   if (!sim.comm().is_root() || output_dir_.empty()) return;
   series_.row({sim.time(),
@@ -538,7 +543,8 @@ void RockfallDriver::record(Simulation& sim) {
                e.plastic_work,
                static_cast<double>(impact_),
                e.brake_work,
-               e.brake_elastic});
+               e.brake_elastic,
+               rope_tension});
 }
 
 std::string RockfallDriver::progress(const Simulation& sim, double rate) const {
@@ -602,6 +608,7 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("stopping_time_s", first.stopping_time)
         .set("broken_bonds", static_cast<long long>(broken))  // the whole run
         .set("max_frame_force_N", first.max_frame_force)
+        .set("max_rope_tension_N", first.max_rope_tension)
         .set("energy_balance_error", max_balance_error_ / impact_energy_)
         .set("energy_balance_error_final",
              std::abs(e.ledger() - ledger_start_ - energy_added_) / impact_energy_)

@@ -111,6 +111,7 @@ class RockfallDriver : public ScenarioDriver {
   double stopping_time_ = -1.0;
   bool reached_end_time_ = false;  ///< simulation.end_time stopped the run (it is a cap)
   double max_frame_force_ = 0.0;
+  double max_rope_tension_ = 0.0;
   double max_balance_error_ = 0.0;
   double free_fall_time_ = 0.0;
   double peak_sag_kinetic_ = 0.0;

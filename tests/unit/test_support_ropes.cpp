@@ -1,13 +1,23 @@
 // Support ropes (particles.nets[].shackles.ropes, docs/physics.md "Support ropes"): the loader's
-// checks, and the ropes the builder threads through each side's shackles, against the layout
-// of the same net: their order, anchors, pretension and the time-step limit they set.
+// checks, the ropes the builder threads through each side's shackles, against the layout of the
+// same net (their order, anchors, pretension and the time-step limit they set), and the rope
+// tension a rockfall reports, against the pretension and the brakes' activation force.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <stdlib.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "CaseLoaderFixtures.hpp"
+#include "CommandLine.hpp"
+#include "FileText.hpp"
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "engine/FrameRestraints.hpp"
@@ -106,6 +116,47 @@ TEST(SupportRopes, EachSideHasOneTautRopeThroughItsShacklesInOrder) {
   for (std::size_t r = 0; r < m.ropes.size(); ++r)
     energy += 0.5 * 500.0 * 500.0 / m.ropes.stiffness[r];
   EXPECT_NEAR(totals.elastic_energy, energy, 1e-9 * energy);
+}
+
+/// The values of one column of a CSV file with a header line.
+std::vector<double> csv_column_values(const std::string& path, const std::string& name) {
+  std::ifstream in(path);
+  std::string line, cell;
+  std::getline(in, line);
+  std::stringstream header(line);
+  std::size_t index = 0;
+  for (; std::getline(header, cell, ','); ++index)
+    if (cell == name) break;
+  std::vector<double> values;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    for (std::size_t c = 0; std::getline(row, cell, ','); ++c)
+      if (c == index) values.push_back(std::stod(cell));
+  }
+  return values;
+}
+
+TEST(SupportRopes, ARockfallReportsTheRopeTensionFromPretensionToTheBrakesForce) {
+  // The tiny net's shackles are held still until the release, so the ropes start the series
+  // at their pretension (200 N); the net's weight and the 5 kg boulder then load them until
+  // their brakes pay out rope at 205 N (without brakes the tension reaches 216 N), which caps the
+  // tension.
+  std::string dir = (std::filesystem::temp_directory_path() / "ringdem_ropes_XXXXXX").string();
+  ASSERT_NE(mkdtemp(dir.data()), nullptr);
+  std::ofstream(dir + "/tiny.yaml")
+      << roped("ropes: {axial_stiffness: 2e6, pretension: 200, brake: {activation_force: 205}}");
+  const testing::CommandResult r = testing::run_command(
+      fmt::format("'{}' run '{}/tiny.yaml' -o '{}/out'", RINGDEM_BINARY, dir, dir));
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::vector<double> tension = csv_column_values(dir + "/out/series.csv", "rope_tension_N");
+  ASSERT_GT(tension.size(), 2u);
+  EXPECT_NEAR(tension.front(), 200.0, 1e-9 * 200.0);
+  const nlohmann::json summary =
+      nlohmann::json::parse(testing::file_text(dir + "/out/summary.json"));
+  EXPECT_NEAR(summary["max_rope_tension_N"].get<double>(), 205.0, 1e-9 * 205.0);
+  EXPECT_GT(summary["brake_largest_travel_m"].get<double>(), 0.0);
+  EXPECT_LE(*std::max_element(tension.begin(), tension.end()), 205.0 * (1.0 + 1e-9));
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
