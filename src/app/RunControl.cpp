@@ -234,7 +234,7 @@ void RunControl::write_frame(Simulation& sim, bool for_inspection) {
   }
   sim.refresh_bond_diagnostics();
   frames_->write(sim.model().particles, sim.model().bonds, sim.model().bodies, sim.time(),
-                 sim.steps());
+                 sim.steps(), sim.model().ropes);
   last_frame_time_ = sim.time();
 }
 

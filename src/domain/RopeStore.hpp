@@ -6,6 +6,7 @@
 
 #include "core/Vec3.hpp"
 #include "domain/ParticleStore.hpp"
+#include "domain/RigidBody.hpp"
 
 namespace ringdem {
 
@@ -29,6 +30,17 @@ struct RopeStore {
         static_cast<std::size_t>(node_begin[rope]),
         static_cast<std::size_t>(node_begin[rope + 1] - node_begin[rope]));
   }
+
+  /// Rope r's path: its first anchor, the centres of the bodies it runs through, its last anchor.
+  std::vector<Vec3> path_of(std::size_t rope, const std::vector<RigidBody>& bodies) const {
+    std::vector<Vec3> path{first_anchor[rope]};
+    for (const std::int32_t b : bodies_of(rope))
+      path.push_back(bodies[static_cast<std::size_t>(b)].position);
+    path.push_back(last_anchor[rope]);
+    return path;
+  }
+  /// The points of all the ropes' paths together: every body on a rope and two anchors a rope.
+  std::size_t path_points() const { return nodes.size() + 2 * size(); }
 
   /// Appends a rope from `first` through `bodies` to `last`, with zero state.
   void append(std::span<const std::int32_t> bodies, const Vec3& first, const Vec3& last, double k,

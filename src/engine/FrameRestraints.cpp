@@ -23,16 +23,6 @@ SlidingRope::Params rope_params(const RopeStore& s, std::size_t r) {
   return {s.stiffness[r], s.rest_length[r], s.activation_force[r], s.stroke[r]};
 }
 
-/// The rope's path: its first anchor, the centres of the bodies it runs through, its last anchor.
-std::vector<Vec3> rope_path(const RopeStore& s, std::size_t r,
-                            const std::vector<RigidBody>& bodies) {
-  std::vector<Vec3> path{s.first_anchor[r]};
-  for (const std::int32_t b : s.bodies_of(r))
-    path.push_back(bodies[static_cast<std::size_t>(b)].position);
-  path.push_back(s.last_anchor[r]);
-  return path;
-}
-
 /// Every body a brake or a rope holds.
 std::vector<std::int32_t> restrained_bodies(const Model& model) {
   std::vector<std::int32_t> held = model.brakes.body;
@@ -57,7 +47,7 @@ void apply_restraints(Model& model) {
   RopeStore& ropes = model.ropes;
   std::vector<Vec3> loads;
   for (std::size_t r = 0; r < ropes.size(); ++r) {
-    const std::vector<Vec3> path = rope_path(ropes, r, bodies);
+    const std::vector<Vec3> path = ropes.path_of(r, bodies);
     loads.resize(path.size());
     SlidingRope::State state{ropes.slip[r], ropes.work[r]};
     SlidingRope::compute(rope_params(ropes, r), path, state, loads);
@@ -110,7 +100,7 @@ RestraintTotals restraint_totals(const Model& model) {
   std::vector<Vec3> loads;
   for (std::size_t r = 0; r < ropes.size(); ++r) {
     const SlidingRope::Params p = rope_params(ropes, r);
-    const std::vector<Vec3> path = rope_path(ropes, r, model.bodies);
+    const std::vector<Vec3> path = ropes.path_of(r, model.bodies);
     SlidingRope::State state{ropes.slip[r], ropes.work[r]};
     t.elastic_energy += SlidingRope::elastic_energy(p, SlidingRope::length(path), state);
     t.work += state.work;

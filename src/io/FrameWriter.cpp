@@ -142,17 +142,40 @@ std::string xdmf_header() {
 }
 
 const char* grid_name(FrameGrid g) {
-  return g == FrameGrid::kParticles ? "particles" : g == FrameGrid::kBonds ? "bonds" : "bodies";
+  switch (g) {
+    case FrameGrid::kParticles:
+      return "particles";
+    case FrameGrid::kBonds:
+      return "bonds";
+    case FrameGrid::kBodies:
+      return "bodies";
+    case FrameGrid::kRopes:
+      return "ropes";
+  }
+  return "?";
 }
 
 std::int64_t rows_of(FrameGrid g, const FrameSizes& n) {
   return g == FrameGrid::kParticles ? n.particles : g == FrameGrid::kBonds ? n.bonds : n.bodies;
 }
 
+/// The ropes' grid of frame `frame`: their segments as a Polyline over the frame's rope points.
+std::string xdmf_ropes(const std::string& h5_name, const FrameRopes& ropes, std::int64_t frame,
+                       std::size_t n_frames) {
+  FrameDataset points = topology_dataset("points", FrameGrid::kRopes, 3);
+  points.number_type = "Float";
+  return "    <Grid Name=\"ropes\" GridType=\"Uniform\">\n" +
+         topology(h5_name, "Polyline", 2, topology_dataset("connectivity", FrameGrid::kRopes, 2), 0,
+                  ropes.segments, ropes.segments) +
+         "     <Geometry GeometryType=\"XYZ\">\n" +
+         hyperslab(h5_name, points, frame, n_frames, 0, ropes.points, ropes.points, "      ") +
+         "     </Geometry>\n    </Grid>\n";
+}
+
 std::string xdmf_frame(const std::string& h5_name, const FrameSizes& capacity,
                        std::int64_t connectivity_rows, const FrameRecord& record, std::size_t frame,
                        std::size_t n_frames, const std::vector<FrameDataset>& datasets,
-                       const FrameBodies& bodies) {
+                       const FrameBodies& bodies, const FrameRopes& ropes) {
   const FrameDataset* position = nullptr;
   for (const auto& d : datasets)
     if (d.name == "position" && d.grid == FrameGrid::kParticles) position = &d;
@@ -218,6 +241,7 @@ std::string xdmf_frame(const std::string& h5_name, const FrameSizes& capacity,
     }
     x += "    </Grid>\n";
   }
+  if (ropes.points > 0) x += xdmf_ropes(h5_name, ropes, f, n_frames);
   x += "   </Grid>\n";
   return x;
 }
@@ -230,11 +254,12 @@ std::string FrameDataset::path() const {
 
 std::string frame_xdmf(const std::string& h5_name, const FrameSizes& capacity,
                        std::int64_t connectivity_rows, const std::vector<FrameRecord>& frames,
-                       const std::vector<FrameDataset>& datasets, const FrameBodies& bodies) {
+                       const std::vector<FrameDataset>& datasets, const FrameBodies& bodies,
+                       const FrameRopes& ropes) {
   std::string x = xdmf_header();
   for (std::size_t f = 0; f < frames.size(); ++f)
     x += xdmf_frame(h5_name, capacity, connectivity_rows, frames[f], f, frames.size(), datasets,
-                    bodies);
+                    bodies, ropes);
   return x + kXdmfTrailer;
 }
 
@@ -246,7 +271,7 @@ FrameWriter::FrameWriter(const Communicator& comm, std::string h5_path, std::str
       compression_(compression) {}
 
 void FrameWriter::create_file(ParticleStore& p, BondStore& bonds,
-                              const std::vector<RigidBody>& bodies) {
+                              const std::vector<RigidBody>& bodies, const RopeStore& ropes) {
   Hdf5File f = Hdf5File::create(h5_path_, comm_);
   f.set_attribute("/", "format", std::string("ringdem-frames"));
   f.set_attribute("/", "ringdem_version", std::string(kVersion));
@@ -291,6 +316,29 @@ void FrameWriter::create_file(ParticleStore& p, BondStore& bonds,
   f.create_frames("/bodies/radius", H5T_NATIVE_DOUBLE, 1, capacity_.bodies, 0);
   f.create_frames("/bodies/active", H5T_NATIVE_UINT8, 1, capacity_.bodies, 0);
   create_body_surfaces(f, p, bodies);
+  create_ropes(f, ropes);
+}
+
+void FrameWriter::create_ropes(Hdf5File& f, const RopeStore& ropes) {
+  ropes_ = FrameRopes{};
+  if (ropes.empty()) return;
+  // Rope r's path has n_r + 2 points and n_r + 1 segments, each joining a point to the next.
+  std::vector<std::array<std::int64_t, 2>> segments;
+  std::int64_t first = 0;
+  for (std::size_t r = 0; r < ropes.size(); ++r) {
+    const auto n = static_cast<std::int64_t>(ropes.bodies_of(r).size()) + 2;
+    for (std::int64_t i = 0; i + 1 < n; ++i)
+      segments.push_back({first + i, first + i + 1});
+    first += n;
+  }
+  ropes_ = {first, static_cast<std::int64_t>(segments.size())};
+  f.create_group("/ropes");
+  f.create_frames("/ropes/points", H5T_NATIVE_DOUBLE, 3, ropes_.points, 0);
+  f.create_rows("/ropes/connectivity", H5T_NATIVE_INT64, 2, ropes_.segments);
+  // Ropes are the same on every rank: rank 0 writes them.
+  if (!comm_.is_root()) segments.clear();
+  f.write_rows("/ropes/connectivity", -1, 0, static_cast<std::int64_t>(segments.size()),
+               segments.data(), H5T_NATIVE_INT64);
 }
 
 void FrameWriter::create_body_surfaces(Hdf5File& f, const ParticleStore& p,
@@ -365,7 +413,7 @@ std::int64_t FrameWriter::write_topology(Hdf5File& f, const std::vector<RowPair>
 }
 
 void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<RigidBody>& bodies,
-                        double time, std::int64_t step) {
+                        double time, std::int64_t step, const RopeStore& ropes) {
   const auto start = std::chrono::steady_clock::now();
   const std::size_t n_local = p.n_local();
   // Bonds go out once, from the rank that owns end a.
@@ -399,9 +447,11 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
   const bool first = records_.empty();
   if (first) {
     capacity_ = sizes;
-    create_file(p, bonds, bodies);
+    create_file(p, bonds, bodies, ropes);
   } else if (sizes.bodies != capacity_.bodies) {
     throw std::runtime_error(h5_path_ + ": the rigid body count changed between frames");
+  } else if (static_cast<std::int64_t>(ropes.path_points()) != ropes_.points) {
+    throw std::runtime_error(h5_path_ + ": the support ropes changed between frames");
   }
   const std::int64_t frame = frames();
   FrameRecord record{time, sizes.particles, sizes.bonds, 0, {}};
@@ -448,6 +498,14 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
     f.write_rows("/bodies/radius", frame, 0, radius);
     f.write_rows("/bodies/active", frame, 0, active);
     f.write_rows("/bodies/surface/points", frame, 0, points);
+    if (ropes_.points > 0) {
+      std::vector<Vec3> rope_points;
+      for (std::size_t r = 0; comm_.is_root() && r < ropes.size(); ++r) {
+        const std::vector<Vec3> path = ropes.path_of(r, bodies);
+        rope_points.insert(rope_points.end(), path.begin(), path.end());
+      }
+      f.write_rows("/ropes/points", frame, 0, rope_points);
+    }
     f.write_series("/frames/time", frame, &time, H5T_NATIVE_DOUBLE);
     f.write_series("/frames/step", frame, &step, H5T_NATIVE_INT64);
     f.write_series("/frames/particles", frame, &record.particles, H5T_NATIVE_INT64);
@@ -481,7 +539,7 @@ void FrameWriter::write_xdmf() {
   {
     std::ofstream out(tmp);
     out << frame_xdmf(file_name(h5_path_), capacity_, connectivity_rows_, records_, datasets_,
-                      body_meshes_);
+                      body_meshes_, ropes_);
     if (!out) throw std::runtime_error("cannot write " + tmp);
   }
   std::filesystem::rename(tmp, xdmf_path_);

@@ -8,6 +8,7 @@
 #include "domain/BondStore.hpp"
 #include "domain/ParticleStore.hpp"
 #include "domain/RigidBody.hpp"
+#include "domain/RopeStore.hpp"
 
 namespace ringdem {
 
@@ -15,8 +16,8 @@ class Hdf5File;
 
 /// What a frame dataset belongs to: particles (Polyvertex), bonds (Polyline between particles),
 /// rigid bodies (one row per body; each body in play is a Triangle grid of its surface, these
-/// rows its field data).
-enum class FrameGrid { kParticles, kBonds, kBodies };
+/// rows its field data), support ropes (one Polyline grid of their paths).
+enum class FrameGrid { kParticles, kBonds, kBodies, kRopes };
 
 /// One per-frame dataset of a frame file, as the XDMF sidecar describes it.
 struct FrameDataset {
@@ -40,6 +41,14 @@ struct FrameRecord {
   std::int64_t particles = 0, bonds = 0;
   std::int64_t connectivity = 0;     ///< first row of the frame's topology
   std::vector<std::uint8_t> active;  ///< per rigid body: in play (RigidBody::active)
+};
+
+/// The support ropes as the frame file holds them: /ropes/points [frame, point, 3] the points of
+/// every rope's path (anchor, the centres of the bodies on it, anchor; rope after rope),
+/// /ropes/connectivity the `segments` pairs of points that each segment joins. Empty without
+/// ropes.
+struct FrameRopes {
+  std::int64_t points = 0, segments = 0;
 };
 
 /// The rigid bodies' surface meshes as the frame file holds them: body b's vertices are rows
@@ -83,9 +92,10 @@ class FrameWriter {
   FrameWriter(const FrameWriter&) = delete;
   FrameWriter& operator=(const FrameWriter&) = delete;
 
-  /// Collective. Bond diagnostics (axial force, moment, utilisation) must be current.
+  /// Collective. Bond diagnostics (axial force, moment, utilisation) must be current. `ropes`
+  /// run through `bodies`; their count must not change between frames.
   void write(ParticleStore& p, BondStore& bonds, const std::vector<RigidBody>& bodies, double time,
-             std::int64_t step);
+             std::int64_t step, const RopeStore& ropes = RopeStore{});
 
   std::int64_t frames() const { return static_cast<std::int64_t>(records_.size()); }
   const std::string& h5_path() const { return h5_path_; }
@@ -101,7 +111,10 @@ class FrameWriter {
     bool operator==(const RowPair&) const = default;
   };
 
-  void create_file(ParticleStore& p, BondStore& bonds, const std::vector<RigidBody>& bodies);
+  void create_file(ParticleStore& p, BondStore& bonds, const std::vector<RigidBody>& bodies,
+                   const RopeStore& ropes);
+  /// The ropes' datasets (/ropes) and their fixed segments: collective, at file creation.
+  void create_ropes(Hdf5File& f, const RopeStore& ropes);
   /// The bodies' surface meshes (/bodies/surface): collective, at file creation.
   void create_body_surfaces(Hdf5File& f, const ParticleStore& p,
                             const std::vector<RigidBody>& bodies);
@@ -117,6 +130,7 @@ class FrameWriter {
   std::vector<FrameDataset> datasets_;
   std::vector<FrameRecord> records_;
   FrameBodies body_meshes_;              ///< the layout of /bodies/surface
+  FrameRopes ropes_;                     ///< the layout of /ropes
   std::vector<Vec3> local_vertices_;     ///< every body's mesh vertices, in its body frame
   std::int64_t connectivity_rows_ = 0;   ///< rows of /bonds/connectivity
   std::int64_t topology_first_ = 0;      ///< first row of the newest topology block
@@ -128,11 +142,12 @@ class FrameWriter {
 };
 
 /// XDMF 2 text of a frame file: a Temporal collection whose members are Spatial collections of
-/// the particle, bond and rigid-body grids of one frame, each attribute a hyperslab (one frame,
-/// its rows) of its dataset. `capacity`: the datasets' row dimensions; `connectivity_rows`:
-/// the rows of /bonds/connectivity.
+/// the particle, bond, rigid-body and rope grids of one frame, each attribute a hyperslab (one
+/// frame, its rows) of its dataset. `capacity`: the datasets' row dimensions;
+/// `connectivity_rows`: the rows of /bonds/connectivity.
 std::string frame_xdmf(const std::string& h5_name, const FrameSizes& capacity,
                        std::int64_t connectivity_rows, const std::vector<FrameRecord>& frames,
-                       const std::vector<FrameDataset>& datasets);
+                       const std::vector<FrameDataset>& datasets, const FrameBodies& bodies,
+                       const FrameRopes& ropes);
 
 }  // namespace ringdem

@@ -15,7 +15,7 @@ import os
 import sys
 
 # Surface meshes of docs/output.md ("Rigid bodies in ParaView"): vertices, triangles.
-MESH_SIZES = {"sphere": (482, 960), "cylinder": (66, 128), "plane": (4, 2)}
+MESH_SIZES = {"sphere": (482, 960), "cylinder": (66, 128), "plane": (4, 2), "torus": (128, 256)}
 
 
 def expect(run_dir, case_json):
@@ -51,6 +51,10 @@ def expect(run_dir, case_json):
             "first_frame_particle_box": [h5["particles/position"][0, :int(counts[0])].min(axis=0).tolist(),
                                          h5["particles/position"][0, :int(counts[0])].max(axis=0).tolist()],
         }
+        # Support ropes: their paths' points of the last frame and their segments.
+        if "ropes" in h5:
+            e["ropes"] = {"points_last": h5["ropes/points"][last].tolist(),
+                          "segments": int(h5["ropes/connectivity"].shape[0])}
     # The boulder is out of play (not shown) before its release at the end of the sag; from
     # then on it is where the series puts it at the times the two share.
     e["release_time"] = float(summary["sag_time_s"])
@@ -58,7 +62,9 @@ def expect(run_dir, case_json):
     e["boulder_at"] = [[float(r["time_s"]), float(r["boulder_x_m"]), float(r["boulder_y_m"]),
                         float(r["boulder_z_m"])] for r in series]
     e["dt"] = float(summary["dt_s"])
-    e["bodies"] = case["bodies"]
+    # The net's shackles on ropes are rigid tori, named by the net (not listed in the case).
+    listed = {b["name"] for b in case["bodies"]}
+    e["bodies"] = case["bodies"] + [{"name": n, "shape": "torus"} for n in body_names if n not in listed]
     e["mesh_sizes"] = MESH_SIZES
     assert e["frames"] == len(e["times"]), "summary.json and the frame file disagree on frames"
     assert summary["particles"] == max(e["particles"]) and summary["bonds"] == max(e["bonds"])
@@ -125,6 +131,14 @@ def check(run_dir, expect_path, png):
                  f"frame {i}: body {name} has cells other than triangles")
             want(arrays(blk.GetFieldData()) == e["body_arrays"],
                  f"frame {i}: body {name} field arrays {arrays(blk.GetFieldData())}, expected {e['body_arrays']}")
+        if "ropes" in e:
+            ropes = b.get("ropes")
+            n_points = len(e["ropes"]["points_last"])
+            want(ropes is not None and ropes.GetNumberOfPoints() == n_points
+                 and ropes.GetNumberOfCells() == e["ropes"]["segments"],
+                 f"frame {i}: ropes grid is not {e['ropes']['segments']} lines on {n_points} points")
+        else:
+            want("ropes" not in b, f"frame {i}: a ropes grid without ropes")
         for blk in b.values():
             z_top = max(z_top, blk.GetBounds()[5])
         if i == 0:
@@ -176,6 +190,10 @@ def check(run_dir, expect_path, png):
         got = dsa.WrapDataObject(b["bonds"]).CellData["utilisation"]
         want(np.array_equal(np.asarray(got), np.array(last["bond_utilisation"])),
              "bond utilisation of the last frame differs from the HDF5 file")
+    if "ropes" in e:
+        got = np.asarray(dsa.WrapDataObject(b["ropes"]).Points)
+        want(np.array_equal(got, np.array(e["ropes"]["points_last"])),
+             "rope points of the last frame differ from the HDF5 file")
     for name, v in last["body_velocity"].items():
         blk = b.get("body_" + name)
         if blk is not None:

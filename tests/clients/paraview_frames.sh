@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # ParaView as a client of the frame files (issue 15, ctest label "clients"): a short rockfall
-# run (a 2 x 3 net, a 5 kg boulder, a floor plane and a post) is opened by Debian's ParaView
+# run (a 2 x 3 net whose shackles slide on support ropes, a 5 kg boulder, a floor plane and a
+# post) is opened by Debian's ParaView
 # (pvpython on a private Xvfb, its own XDMF reader), which must see the time steps, counts, arrays and
 # body surfaces that the run's summary.json, series.csv and HDF5 file (h5py) say, print no ERR|
 # line, and render a PNG (kept in $PNG_DIR when set).
@@ -37,7 +38,7 @@ bonds:
 particles:
   nets:
     - {group: net, rows: 2, columns: 3, bond: ring, material: steel, mass: 0.647, n_particles: 40,
-       shackles: {n_particles: 12}}
+       shackles: {n_particles: 12, ropes: {axial_stiffness: 2.0e6, pretension: 200}}}
 rigid_bodies:
   - {name: floor, shape: plane, position: [0, 0, $floor_z], normal: [0, 0, 1], material: rock}
   - {name: post, shape: cylinder, ${post//\"/}, axis: [0, 0, 1], material: steel, motion: fixed}
