@@ -5,6 +5,7 @@
 
 #include "app/GroupExtent.hpp"
 #include "comm/ExactSum.hpp"
+#include "engine/FrameRestraints.hpp"
 #include "engine/Simulation.hpp"
 
 namespace ringdem {
@@ -35,6 +36,7 @@ BarrierMonitor::BarrierMonitor(const BarrierConfig& config, const Simulation& si
   if (!config_.frame_group.empty()) frame_group_ = group_or_throw(model, config_.frame_group);
   for (const std::string& name : config_.posts)
     posts_.push_back(body_or_throw(model, name));
+  shackle_bodies_ = restrained_bodies(model);
   bed_ = body_or_throw(model, config_.bed);
   if (model.bodies[bed_].shape != RigidShape::kPlane)
     throw std::invalid_argument("barrier: the bed '" + config_.bed + "' is not a plane");
@@ -50,6 +52,8 @@ BarrierMonitor::Impulse BarrierMonitor::impulse(const MomentumBalance& balance) 
   // The ledger books what the particles received: the barrier's share is the opposite.
   Impulse out;
   out.net = -dot(balance.held, config_.direction);
+  for (const std::int32_t b : shackle_bodies_)  // what the net passes to its shackle tori
+    out.net -= dot(balance.bodies.at(static_cast<std::size_t>(b)), config_.direction);
   for (const std::size_t b : posts_)
     out.posts -= dot(balance.bodies.at(b), config_.direction);
   return out;

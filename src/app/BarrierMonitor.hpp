@@ -66,6 +66,9 @@ class BarrierMonitor {
   std::vector<int> grain_groups_;  ///< empty: every free particle in no ring
   int net_group_ = -1, frame_group_ = -1;
   std::vector<std::size_t> posts_;
+  /// Bodies held by brakes or ropes (a net's shackles as rigid tori): the net's load goes
+  /// through them to the frame.
+  std::vector<std::int32_t> shackle_bodies_;
   std::size_t bed_ = 0;
 };
 

@@ -23,14 +23,13 @@ SlidingRope::Params rope_params(const RopeStore& s, std::size_t r) {
   return {s.stiffness[r], s.rest_length[r], s.activation_force[r], s.stroke[r]};
 }
 
-/// Every body a brake or a rope holds.
+}  // namespace
+
 std::vector<std::int32_t> restrained_bodies(const Model& model) {
   std::vector<std::int32_t> held = model.brakes.body;
   held.insert(held.end(), model.ropes.nodes.begin(), model.ropes.nodes.end());
   return held;
 }
-
-}  // namespace
 
 void apply_restraints(Model& model) {
   BrakeStore& brakes = model.brakes;

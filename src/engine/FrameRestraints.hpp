@@ -21,6 +21,9 @@ void apply_restraints(Model& model);
 /// is left out, small beside 4 EA / L0 while T << 4 EA l / L0).
 void set_restraint_limits(const Model& model, StabilityLimits& limits);
 
+/// Every body a brake or a rope holds (body indices; a body on a brake before those on ropes).
+std::vector<std::int32_t> restrained_bodies(const Model& model);
+
 /// Holds the restrained bodies where they are (fixed, at rest) or sets them free. A settling
 /// aid: the rockfall holds them while the net sags under its own weight, far below the brakes'
 /// activation forces, so that their free turning does not keep the net from coming to rest.

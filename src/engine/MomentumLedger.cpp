@@ -21,7 +21,8 @@ void MomentumLedger::rebuild(const ParticleStore& p, double free_mass) {
   free_mass_ = free_mass;
 }
 
-void MomentumLedger::book_evaluation(const ParticleStore& p, const std::vector<RigidBody>& bodies,
+void MomentumLedger::book_evaluation(const ParticleStore& p,
+                                     const std::vector<Vec3>& body_contact_loads,
                                      const std::vector<PointLoad>& point_loads, const Vec3& gravity,
                                      double half_dt, bool root, bool initial) {
   if (!enabled_) return;
@@ -30,8 +31,8 @@ void MomentumLedger::book_evaluation(const ParticleStore& p, const std::vector<R
   if (root) {
     add(pending_, kGravity, gravity * (free_mass_ * half_dt));
     // Bodies are replicated: their reduced loads are the same bits on every rank.
-    for (std::size_t b = 0; b < bodies.size() && b < n_bodies_; ++b)
-      add(pending_, kFixedSources + b, bodies[b].force * -half_dt);
+    for (std::size_t b = 0; b < body_contact_loads.size() && b < n_bodies_; ++b)
+      add(pending_, kFixedSources + b, body_contact_loads[b] * -half_dt);
   }
   // Point loads are few (a list by gid): the loads on held particles come off their sums.
   for (const PointLoad& load : point_loads) {

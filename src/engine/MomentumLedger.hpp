@@ -74,7 +74,9 @@ class MomentumLedger {
   /// The external loads of one force evaluation (bodies reduced, before global damping),
   /// weighted by dt/2: kept for the next first half kick, and booked now for this step's second
   /// half kick unless `initial` (the evaluation of the initial state kicks only forward).
-  void book_evaluation(const ParticleStore& p, const std::vector<RigidBody>& bodies,
+  /// `body_contact_loads`: each rigid body's reduced contact load (without the loads of brakes
+  /// and ropes, which act on the body, not on the particles).
+  void book_evaluation(const ParticleStore& p, const std::vector<Vec3>& body_contact_loads,
                        const std::vector<PointLoad>& point_loads, const Vec3& gravity,
                        double half_dt, bool root, bool initial);
   /// Owned particle k leaves the model before the next first half kick: its load will not kick.

@@ -381,8 +381,8 @@ Integrator::Turning Simulation::turning() const {
 }
 
 void Simulation::book_momentum(bool initial) {
-  momentum_.book_evaluation(model_.particles, model_.bodies, model_.point_loads, settings_.gravity,
-                            0.5 * dt_, comm_.is_root(), initial);
+  momentum_.book_evaluation(model_.particles, body_contact_loads_, model_.point_loads,
+                            settings_.gravity, 0.5 * dt_, comm_.is_root(), initial);
 }
 
 bool Simulation::needs_rebuild() {
@@ -463,6 +463,10 @@ void Simulation::compute_forces(bool loads_started) {
     PhaseTimer t(phase_seconds_[kComm]);
     reduce_body_loads();
   }
+  // The contact loads, for the momentum balance: the restraints' loads act on the bodies alone.
+  body_contact_loads_.resize(model_.bodies.size());
+  for (std::size_t b = 0; b < model_.bodies.size(); ++b)
+    body_contact_loads_[b] = model_.bodies[b].force;
   apply_restraints(model_);  // on the reduced loads, alike on every rank
   {
     PhaseTimer t(phase_seconds_[kGather]);

@@ -338,6 +338,8 @@ class Simulation {
   /// Every owned particle is flagged: turning() passes no flags.
   bool all_turning_ = false;
   std::vector<Vec3> body_position_at_rebuild_;
+  /// Each rigid body's reduced contact load of the last evaluation, before brakes and ropes.
+  std::vector<Vec3> body_contact_loads_;
   std::vector<Quat> body_orientation_at_rebuild_;
   std::array<double, kPhaseCount> phase_seconds_{};
 };
