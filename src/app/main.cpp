@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -23,6 +24,7 @@
 #include "core/HugePageAdvice.hpp"
 #include "core/Version.hpp"
 #include "io/CaseLoader.hpp"
+#include "io/CaseMagnitudes.hpp"
 #include "io/SizeEstimate.hpp"
 
 namespace {
@@ -220,6 +222,16 @@ int main(int argc, char** argv) {
           have > 0.0 && size.bytes_per_rank(1) > have
               ? fmt::format(" (more than the {:.0f} MiB available here)", have / (1024.0 * 1024.0))
               : std::string());
+      // What sizes a job besides memory: the step and how many of them the run may take.
+      if (const auto plan = ringdem::plan_time_steps(config))
+        fmt::print(
+            "time step: {:.4g} s ({}, {:.3f} of the smallest stability limit, {:.4g} s: {}); "
+            "at most {:.0f} steps in the {:.4g} s the run may last ({})\n",
+            plan->dt, plan->fixed ? "fixed" : "auto", plan->dt / plan->limit, plan->limit,
+            plan->limit_what, std::ceil(plan->steps), plan->duration,
+            plan->duration_key.rfind("scenario.rockfall.", 0) == 0
+                ? std::string("the rockfall's phases at their longest")
+                : plan->duration_key);
       return 0;
     } catch (const ringdem::InputError& e) {
       std::cerr << e.format();

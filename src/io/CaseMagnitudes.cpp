@@ -438,24 +438,57 @@ std::pair<double, std::string> run_duration(const CaseConfig& c) {
   return {c.simulation.end_time, "simulation.end_time"};
 }
 
+namespace {
+
+/// The smallest stability limit over the particle kinds (check_kind reports what is out of
+/// range); `ok` is false where a kind could not be checked.
+struct KindLimits {
+  Limit limit;
+  double largest_radius = 0.0;
+  bool ok = true;
+};
+KindLimits kind_limits(const CaseConfig& c, const std::vector<Kind>& kinds,
+                       const std::set<std::string>& bad_materials, Context& ctx) {
+  KindLimits out;
+  std::set<std::size_t> bad_bonds;
+  for (const Kind& k : kinds) {
+    if (bad_materials.count(k.material->name) != 0) {
+      out.ok = false;
+      continue;
+    }
+    out.ok = check_kind(c, k, bad_bonds, out.limit, ctx) && out.ok;
+    out.largest_radius = std::max(out.largest_radius, k.radius);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::optional<TimeStepPlan> plan_time_steps(const CaseConfig& c) {
+  Context ctx(c.name);  // a loaded case: nothing to report
+  const std::set<std::string> bad_materials = check_materials(c, ctx);
+  const std::vector<Kind> kinds = particle_kinds(c, ctx);
+  const KindLimits k = kind_limits(c, kinds, bad_materials, ctx);
+  if (!k.ok || kinds.empty() || !std::isfinite(k.limit.value)) return std::nullopt;
+  TimeStepPlan plan;
+  plan.fixed = c.simulation.dt.has_value();
+  plan.dt = plan.fixed ? *c.simulation.dt : c.simulation.dt_safety * k.limit.value;
+  plan.limit = k.limit.value;
+  plan.limit_what = k.limit.what;
+  std::tie(plan.duration, plan.duration_key) = run_duration(c);
+  plan.steps = plan.duration / plan.dt;
+  return plan;
+}
+
 void check_case_magnitudes(const CaseConfig& c, Context& ctx) {
   const std::set<std::string> bad_materials = check_materials(c, ctx);
   check_bodies(c, bad_materials, ctx);
   std::vector<Kind> kinds = particle_kinds(c, ctx);
   check_speeds(c, kinds, ctx);
-  std::set<std::size_t> bad_bonds;
-  Limit limit;
-  bool all_ok = true;
-  double largest_radius = 0.0;
-  for (const Kind& k : kinds) {
-    if (bad_materials.count(k.material->name) != 0) {
-      all_ok = false;
-      continue;
-    }
-    all_ok = check_kind(c, k, bad_bonds, limit, ctx) && all_ok;
-    largest_radius = std::max(largest_radius, k.radius);
-  }
-  if (!all_ok || kinds.empty()) return;
+  const KindLimits kind = kind_limits(c, kinds, bad_materials, ctx);
+  if (!kind.ok || kinds.empty()) return;
+  const Limit& limit = kind.limit;
+  const double largest_radius = kind.largest_radius;
 
   // Steps: a run needs duration / dt of them, with dt the fixed one (at most the smallest
   // stability limit, or the run is unstable) or dt_safety times that limit.

@@ -10,6 +10,7 @@
 /// the extent of the model against the block grid of the domain decomposition) and report a
 /// value out of range at the key that sets it, with file:line:col.
 
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -32,6 +33,22 @@ inline constexpr double kMaxCellsFromOrigin = 524288.0;
 /// How long a run of the case's scenario may go on (simulated seconds; for a rockfall the most
 /// its phases may take), and the key that sets it.
 std::pair<double, std::string> run_duration(const CaseConfig& config);
+
+/// The time step and step count a run of the case will have, as far as the case tells before
+/// a model is built: the smallest stability limit of its particles and bonds (the pre-flight
+/// report at the start of a run adds those of brakes and ropes, and takes the minimum over the
+/// particles actually created), the fixed dt or dt_safety times that limit, and the longest the
+/// scenario may run. None where the case's magnitudes are out of range.
+struct TimeStepPlan {
+  double dt = 0.0;
+  bool fixed = false;        ///< simulation.dt given (else dt_safety x the limit)
+  double limit = 0.0;        ///< the smallest stability limit [s]
+  std::string limit_what;    ///< which limit, and of what
+  double duration = 0.0;     ///< the longest the run may go on [simulated s]
+  std::string duration_key;  ///< the key that sets it
+  double steps = 0.0;        ///< duration / dt
+};
+std::optional<TimeStepPlan> plan_time_steps(const CaseConfig& config);
 
 /// Reports derived quantities out of range to `ctx`. Runs after the other cross-key checks
 /// (cross_validate_case calls it last); entries with errors already are skipped.

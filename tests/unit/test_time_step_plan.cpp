@@ -1,0 +1,66 @@
+// The time step and step count that `ringdem check` prints (io/CaseMagnitudes plan_time_steps,
+// from the case alone) against the stability limits of the model a run builds (Simulation,
+// physics/TimeStep: another code path, over the particles actually created).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "CommandLine.hpp"
+#include "TestCases.hpp"
+#include "app/ScenarioDriver.hpp"
+#include "engine/Simulation.hpp"
+#include "io/CaseLoader.hpp"
+#include "io/CaseMagnitudes.hpp"
+
+namespace ringdem {
+namespace {
+
+void expect_plan_of_the_built_model(const CaseConfig& c) {
+  const std::optional<TimeStepPlan> plan = plan_time_steps(c);
+  ASSERT_TRUE(plan.has_value());
+  const Communicator comm = testing::self_comm();
+  const Simulation sim(build_scenario_model(c, comm), comm, settings_from_case(c));
+  EXPECT_NEAR(plan->limit, sim.limits().min(), 1e-12 * plan->limit) << plan->limit_what;
+  EXPECT_NEAR(plan->dt, sim.dt(), 1e-12 * plan->dt);
+  EXPECT_EQ(plan->fixed, c.simulation.dt.has_value());
+  EXPECT_NEAR(plan->steps, plan->duration / sim.dt(), 1e-9 * plan->steps);
+}
+
+TEST(TimeStepPlan, AFixedStepAndItsLimitAreThoseOfTheBuiltNet) {
+  // The tiny rockfall: a fixed 2 us against the net's bonds; a rockfall runs at most its sag,
+  // its fall and its duration.
+  const CaseConfig c = load_case_from_string(testing::kTinyRockfall, "tiny.yaml");
+  expect_plan_of_the_built_model(c);
+  const TimeStepPlan plan = *plan_time_steps(c);
+  EXPECT_EQ(plan.dt, 2.0e-6);
+  EXPECT_FALSE(plan.limit_what.empty());
+  EXPECT_EQ(plan.duration_key.rfind("scenario.rockfall.", 0), 0u) << plan.duration_key;
+}
+
+TEST(TimeStepPlan, AnAutomaticStepIsTheSafetyTimesTheBuiltModelsLimit) {
+  const CaseConfig c =
+      load_case_from_string(testing::kTinyRockfall, "tiny.yaml", {"simulation.dt=auto"});
+  ASSERT_FALSE(c.simulation.dt.has_value());
+  expect_plan_of_the_built_model(c);
+}
+
+TEST(TimeStepPlan, CheckPrintsIt) {
+  const testing::CommandResult r =
+      testing::run_command(std::string("'") + RINGDEM_BINARY + "' check '" + RINGDEM_SOURCE_DIR +
+                           "/inputs/rockfall/r12.yaml'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  // Table 1's step against the axial limit of the r12 bond (4.302e-6 s, as the run's
+  // pre-flight report prints it); the sag at most 2 s, the fall from 3 m sqrt(2 (3 + 1) / g)
+  // + 1 s (the driver's wait for a contact), the impact 0.6 s: 4.503 s, 5 721 789 steps.
+  EXPECT_NE(r.output.find(
+                "time step: 7.87e-07 s (fixed, 0.183 of the smallest stability "
+                "limit, 4.302e-06 s: the bond axial limit of bond 'ring' on particles.nets[0]); "
+                "at most 5721789 steps in the 4.503 s the run may last (the rockfall's "
+                "phases at their longest)"),
+            std::string::npos)
+      << r.output;
+}
+
+}  // namespace
+}  // namespace ringdem
