@@ -12,8 +12,8 @@ using schema::Table;
 using schema::Type;
 
 const Table<ShackleBrakeConfig>& shackle_brake_table() {
-  using K = ShackleBrakeConfig;
-  static const Table<K> table{
+  using Brake = ShackleBrakeConfig;
+  static const Table<Brake> table{
       "particles.nets[].shackles.brake",
       "A brake element holding each shackle to the frame at its centre (docs/physics.md \"Brake "
       "elements\"): a spring of `stiffness` in series with a slider that moves along the load "
@@ -22,36 +22,36 @@ const Table<ShackleBrakeConfig>& shackle_brake_table() {
       "material's density) instead of fixed spheres; the brakes' work is the ledger's "
       "brake_work, and the frame receives their loads.",
       {
-          schema::number("activation_force", &K::activation_force, above(0), "N",
+          schema::number("activation_force", &Brake::activation_force, above(0), "N",
                          "Load F_b at which a brake slides")
               .required(),
-          schema::number("stroke", &K::stroke, above(0), "m",
+          schema::number("stroke", &Brake::stroke, above(0), "m",
                          "Path a brake can slide before it locks"),
-          schema::number("stiffness", &K::stiffness, above(0), "N/m",
+          schema::number("stiffness", &Brake::stiffness, above(0), "N/m",
                          "Spring stiffness k of a brake and its rope"),
       }};
   return table;
 }
 
 const Table<RopeBrakeConfig>& rope_brake_table() {
-  using K = RopeBrakeConfig;
-  static const Table<K> table{
+  using RopeBrake = RopeBrakeConfig;
+  static const Table<RopeBrake> table{
       "particles.nets[].shackles.ropes.brake",
       "The brakes at each rope's two ends: they pay out rope once its tension reaches "
       "`activation_force`, until `stroke` of rope has run through them in all, then hold.",
       {
-          schema::number("activation_force", &K::activation_force, above(0), "N",
+          schema::number("activation_force", &RopeBrake::activation_force, above(0), "N",
                          "Rope tension F_b at which the brakes pay out rope")
               .required(),
-          schema::number("stroke", &K::stroke, above(0), "m",
+          schema::number("stroke", &RopeBrake::stroke, above(0), "m",
                          "Rope the brakes of one rope can pay out before they lock"),
       }};
   return table;
 }
 
 const Table<ShackleRopeConfig>& shackle_rope_table() {
-  using K = ShackleRopeConfig;
-  static const Table<K> table{
+  using Rope = ShackleRopeConfig;
+  static const Table<Rope> table{
       "particles.nets[].shackles.ropes",
       "A support rope along each side of the net that the side's shackles slide on (docs/"
       "physics.md \"Support ropes\"): it runs from an anchor `anchor_offset` beyond the side's "
@@ -60,14 +60,14 @@ const Table<ShackleRopeConfig>& shackle_rope_table() {
       "free rigid tori; the frame receives the anchors' loads, the ledger's brake_elastic holds "
       "the ropes' elastic energy and brake_work their brakes' work.",
       {
-          schema::number("axial_stiffness", &K::axial_stiffness, above(0), "N",
+          schema::number("axial_stiffness", &Rope::axial_stiffness, above(0), "N",
                          "Axial rigidity EA of the rope (its metallic area times its modulus)")
               .required(),
-          schema::number("anchor_offset", &K::anchor_offset, above(0), "m",
+          schema::number("anchor_offset", &Rope::anchor_offset, above(0), "m",
                          "Distance of each end's anchor beyond the side's outermost shackle"),
-          schema::number("pretension", &K::pretension, at_least(0), "N",
+          schema::number("pretension", &Rope::pretension, at_least(0), "N",
                          "Tension of the rope at creation"),
-          schema::optional_section("brake", &K::brake, rope_brake_table(),
+          schema::optional_section("brake", &Rope::brake, rope_brake_table(),
                                    "Brakes at the rope's ends"),
       }};
   return table;
@@ -76,8 +76,8 @@ const Table<ShackleRopeConfig>& shackle_rope_table() {
 }  // namespace
 
 const Table<ShackleConfig>& shackle_table() {
-  using S = ShackleConfig;
-  static const Table<S> table{
+  using Shackle = ShackleConfig;
+  static const Table<Shackle> table{
       "particles.nets[].shackles",
       "Rigid shackles holding the net's outer rings: one per boundary ring and side it is on "
       "(two on a corner ring), centred on the ring's outermost wire with the wire through its "
@@ -87,17 +87,17 @@ const Table<ShackleConfig>& shackle_table() {
       "shackle is instead a free rigid torus held to the frame by a brake element; with "
       "`ropes`, a free rigid torus that slides on its side's support rope.",
       {
-          schema::boolean("enabled", &S::enabled, "Create the shackles"),
-          schema::text("group", &S::group, Type::kName, "Particle group (damping, output)"),
-          schema::number("internal_diameter", &S::internal_diameter, above(0), "m",
+          schema::boolean("enabled", &Shackle::enabled, "Create the shackles"),
+          schema::text("group", &Shackle::group, Type::kName, "Particle group (damping, output)"),
+          schema::number("internal_diameter", &Shackle::internal_diameter, above(0), "m",
                          "Clear inside diameter of a shackle"),
-          schema::integer("n_particles", &S::n_particles, at_least(3), "Spheres per shackle"),
-          schema::number("particle_radius", &S::particle_radius, above(0), "m",
+          schema::integer("n_particles", &Shackle::n_particles, at_least(3), "Spheres per shackle"),
+          schema::number("particle_radius", &Shackle::particle_radius, above(0), "m",
                          "Radius of the shackle spheres (also their contact radius)"),
-          schema::text("material", &S::material, Type::kName, "Material (from `materials`)"),
-          schema::optional_section("brake", &S::brake, shackle_brake_table(),
+          schema::text("material", &Shackle::material, Type::kName, "Material (from `materials`)"),
+          schema::optional_section("brake", &Shackle::brake, shackle_brake_table(),
                                    "Hold each shackle by a brake element instead of fixing it"),
-          schema::optional_section("ropes", &S::ropes, shackle_rope_table(),
+          schema::optional_section("ropes", &Shackle::ropes, shackle_rope_table(),
                                    "Let the shackles slide on a support rope along each side"),
       }};
   return table;
