@@ -108,7 +108,7 @@ RestraintTotals restraint_totals(const Model& model) {
     loads.resize(path.size());
     t.largest_tension = std::max(t.largest_tension, SlidingRope::compute(p, path, state, loads));
     t.frame_load += loads.front() + loads.back();
-    t.largest_travel = std::max(t.largest_travel, state.slip);
+    t.largest_travel = std::max(t.largest_travel, ropes.slip[r]);  // the state, not the copy's
     const bool braked = std::isfinite(p.activation_force);
     t.used_up += braked && ropes.slip[r] >= p.stroke ? 1 : 0;
   }
