@@ -22,6 +22,9 @@ struct RopeStore {
   std::vector<Vec3> first_anchor, last_anchor;
   std::vector<double> stiffness, rest_length, activation_force, stroke;  ///< SlidingRope::Params
   std::vector<double> slip, work;                                        ///< SlidingRope::State
+  /// The tension of the last force evaluation [N]: derived (apply_restraints sets it every
+  /// step), for output; not checkpointed, a restart's first evaluation sets it again.
+  std::vector<double> tension;
 
   std::size_t size() const { return stiffness.size(); }
   bool empty() const { return stiffness.empty(); }
@@ -55,6 +58,7 @@ struct RopeStore {
     stroke.push_back(travel_max);
     slip.push_back(0.0);
     work.push_back(0.0);
+    tension.push_back(0.0);
   }
 
   template <class F>
@@ -80,6 +84,7 @@ struct RopeStore {
     f(FieldInfo{"stroke", 0}, s.stroke);
     f(FieldInfo{"slip", kCheckpoint}, s.slip);
     f(FieldInfo{"work", kCheckpoint}, s.work);
+    f(FieldInfo{"tension", 0}, s.tension);
   }
 };
 

@@ -49,7 +49,7 @@ void apply_restraints(Model& model) {
     const std::vector<Vec3> path = ropes.path_of(r, bodies);
     loads.resize(path.size());
     SlidingRope::State state{ropes.slip[r], ropes.work[r]};
-    SlidingRope::compute(rope_params(ropes, r), path, state, loads);
+    ropes.tension[r] = SlidingRope::compute(rope_params(ropes, r), path, state, loads);
     ropes.slip[r] = state.slip;
     ropes.work[r] = state.work;
     // At each body's centre, as a pulley's (no torque); the anchors' loads go to the frame.
@@ -106,7 +106,8 @@ RestraintTotals restraint_totals(const Model& model) {
     // The loads on a copy of the state: where the bodies moved since the step, the return
     // mapping caps the tension at F_b as the next step will.
     loads.resize(path.size());
-    t.largest_tension = std::max(t.largest_tension, SlidingRope::compute(p, path, state, loads));
+    SlidingRope::compute(p, path, state, loads);
+    t.largest_tension = std::max(t.largest_tension, ropes.tension[r]);  // the step's own
     t.frame_load += loads.front() + loads.back();
     t.largest_travel = std::max(t.largest_travel, ropes.slip[r]);  // the state, not the copy's
     const bool braked = std::isfinite(p.activation_force);

@@ -37,7 +37,7 @@ struct RestraintTotals {
   Vec3 frame_load;               ///< what the anchors receive: minus the loads on the bodies [N]
   double largest_travel = 0.0;   ///< the largest path slid by a brake, or paid out by a rope [m]
   int used_up = 0;               ///< brakes and ropes whose brakes have used their whole stroke
-  double largest_tension = 0.0;  ///< the largest rope tension now [N] (0 without ropes)
+  double largest_tension = 0.0;  ///< the largest rope tension of the last step [N] (0 without)
 };
 RestraintTotals restraint_totals(const Model& model);
 

@@ -96,6 +96,7 @@ void add_support_ropes(Model& model, const RingNetConfig& net, const RingNetLayo
         rope.brake ? rope.brake->activation_force : std::numeric_limits<double>::infinity();
     model.ropes.append(bodies, first, last, ea / rest, rest, force,
                        rope.brake ? rope.brake->stroke : 0.0);
+    model.ropes.tension.back() = rope.pretension;  // straight, at creation
   }
 }
 

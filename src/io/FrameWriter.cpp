@@ -159,17 +159,22 @@ std::int64_t rows_of(FrameGrid g, const FrameSizes& n) {
   return g == FrameGrid::kParticles ? n.particles : g == FrameGrid::kBonds ? n.bonds : n.bodies;
 }
 
-/// The ropes' grid of frame `frame`: their segments as a Polyline over the frame's rope points.
+/// The ropes' grid of frame `frame`: their segments as a Polyline over the frame's rope points,
+/// each segment with its rope's tension.
 std::string xdmf_ropes(const std::string& h5_name, const FrameRopes& ropes, std::int64_t frame,
                        std::size_t n_frames) {
   FrameDataset points = topology_dataset("points", FrameGrid::kRopes, 3);
   points.number_type = "Float";
+  const FrameDataset tension = describe<double>("tension", FrameGrid::kRopes);
   return "    <Grid Name=\"ropes\" GridType=\"Uniform\">\n" +
          topology(h5_name, "Polyline", 2, topology_dataset("connectivity", FrameGrid::kRopes, 2), 0,
                   ropes.segments, ropes.segments) +
          "     <Geometry GeometryType=\"XYZ\">\n" +
          hyperslab(h5_name, points, frame, n_frames, 0, ropes.points, ropes.points, "      ") +
-         "     </Geometry>\n    </Grid>\n";
+         "     </Geometry>\n" +
+         "     <Attribute Name=\"tension\" AttributeType=\"Scalar\" Center=\"Cell\">\n" +
+         hyperslab(h5_name, tension, frame, n_frames, 0, ropes.segments, ropes.segments, "      ") +
+         "     </Attribute>\n    </Grid>\n";
 }
 
 std::string xdmf_frame(const std::string& h5_name, const FrameSizes& capacity,
@@ -334,6 +339,7 @@ void FrameWriter::create_ropes(Hdf5File& f, const RopeStore& ropes) {
   ropes_ = {first, static_cast<std::int64_t>(segments.size())};
   f.create_group("/ropes");
   f.create_frames("/ropes/points", H5T_NATIVE_DOUBLE, 3, ropes_.points, 0);
+  f.create_frames("/ropes/tension", H5T_NATIVE_DOUBLE, 1, ropes_.segments, 0);
   f.create_rows("/ropes/connectivity", H5T_NATIVE_INT64, 2, ropes_.segments);
   // Ropes are the same on every rank: rank 0 writes them.
   if (!comm_.is_root()) segments.clear();
@@ -500,11 +506,14 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
     f.write_rows("/bodies/surface/points", frame, 0, points);
     if (ropes_.points > 0) {
       std::vector<Vec3> rope_points;
+      std::vector<double> segment_tension;  // each segment its rope's
       for (std::size_t r = 0; comm_.is_root() && r < ropes.size(); ++r) {
         const std::vector<Vec3> path = ropes.path_of(r, bodies);
         rope_points.insert(rope_points.end(), path.begin(), path.end());
+        segment_tension.insert(segment_tension.end(), path.size() - 1, ropes.tension[r]);
       }
       f.write_rows("/ropes/points", frame, 0, rope_points);
+      f.write_rows("/ropes/tension", frame, 0, segment_tension);
     }
     f.write_series("/frames/time", frame, &time, H5T_NATIVE_DOUBLE);
     f.write_series("/frames/step", frame, &step, H5T_NATIVE_INT64);

@@ -54,6 +54,7 @@ def expect(run_dir, case_json):
         # Support ropes: their paths' points of the last frame and their segments.
         if "ropes" in h5:
             e["ropes"] = {"points_last": h5["ropes/points"][last].tolist(),
+                          "tension_last": h5["ropes/tension"][last].tolist(),
                           "segments": int(h5["ropes/connectivity"].shape[0])}
     # The boulder is out of play (not shown) before its release at the end of the sag; from
     # then on it is where the series puts it at the times the two share.
@@ -194,6 +195,9 @@ def check(run_dir, expect_path, png):
         got = np.asarray(dsa.WrapDataObject(b["ropes"]).Points)
         want(np.array_equal(got, np.array(e["ropes"]["points_last"])),
              "rope points of the last frame differ from the HDF5 file")
+        got = np.asarray(dsa.WrapDataObject(b["ropes"]).CellData["tension"])
+        want(np.array_equal(got, np.array(e["ropes"]["tension_last"])) and got.min() > 0.0,
+             "rope tension of the last frame differs from the HDF5 file or is not positive")
     for name, v in last["body_velocity"].items():
         blk = b.get("body_" + name)
         if blk is not None:
