@@ -23,8 +23,8 @@
 #include "comm/Communicator.hpp"
 #include "core/HugePageAdvice.hpp"
 #include "core/Version.hpp"
+#include "engine/FrameRestraints.hpp"
 #include "io/CaseLoader.hpp"
-#include "io/CaseMagnitudes.hpp"
 #include "io/SizeEstimate.hpp"
 
 namespace {
@@ -223,7 +223,7 @@ int main(int argc, char** argv) {
               ? fmt::format(" (more than the {:.0f} MiB available here)", have / (1024.0 * 1024.0))
               : std::string());
       // What sizes a job besides memory: the step and how many of them the run may take.
-      if (const auto plan = ringdem::plan_time_steps(config))
+      if (const auto plan = ringdem::plan_time_steps_with_restraints(config))
         fmt::print(
             "time step: {:.4g} s ({}, {:.3f} of the smallest stability limit, {:.4g} s: {}); "
             "at most {:.0f} steps in the {:.4g} s the run may last ({})\n",

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/ModelBuilder.hpp"
 #include "physics/BrakeElement.hpp"
 #include "physics/SlidingRope.hpp"
 
@@ -71,6 +72,21 @@ void set_restraint_limits(const Model& model, StabilityLimits& limits) {
       limits.rope =
           std::min(limits.rope, spring_time_step(model.bodies[static_cast<std::size_t>(b)].mass,
                                                  4.0 * ropes.stiffness[r]));
+}
+
+std::optional<TimeStepPlan> plan_time_steps_with_restraints(const CaseConfig& config) {
+  std::optional<TimeStepPlan> plan = plan_time_steps(config);
+  const bool restrained = std::any_of(config.nets.begin(), config.nets.end(), [](const auto& n) {
+    return n.shackles.brake.has_value() || n.shackles.ropes.has_value();
+  });
+  if (!plan || !restrained) return plan;
+  StabilityLimits limits{};
+  set_restraint_limits(build_model_without_particles(config), limits);
+  plan->tighten(limits.brake, "the brake limit sqrt(M/k) of a shackle torus on its brake",
+                config.simulation.dt_safety);
+  plan->tighten(limits.rope, "the rope limit sqrt(M/4k) of a shackle torus on its rope",
+                config.simulation.dt_safety);
+  return plan;
 }
 
 void hold_restrained_bodies(Model& model, bool held) {

@@ -1,7 +1,10 @@
 #pragma once
 
+#include <optional>
 #include "core/Vec3.hpp"
+
 #include "engine/Model.hpp"
+#include "io/CaseMagnitudes.hpp"
 #include "physics/TimeStep.hpp"
 
 namespace ringdem {
@@ -20,6 +23,11 @@ void apply_restraints(Model& model);
 /// rope's length by at most twice its size; the tension's transverse stiffness T (1/l_1 + 1/l_2)
 /// is left out, small beside 4 EA / L0 while T << 4 EA l / L0).
 void set_restraint_limits(const Model& model, StabilityLimits& limits);
+
+/// plan_time_steps (what `ringdem check` prints) with the limits of the case's brakes and ropes,
+/// from its restraints as a run builds them (the model without its particles), so that the plan
+/// has the step a run will take where a brake or a rope sets it.
+std::optional<TimeStepPlan> plan_time_steps_with_restraints(const CaseConfig& config);
 
 /// Every body a brake or a rope holds (body indices; a body on a brake before those on ropes).
 std::vector<std::int32_t> restrained_bodies(const Model& model);

@@ -464,6 +464,14 @@ KindLimits kind_limits(const CaseConfig& c, const std::vector<Kind>& kinds,
 
 }  // namespace
 
+void TimeStepPlan::tighten(double smaller, const std::string& what, double dt_safety) {
+  if (!(smaller < limit)) return;
+  limit = smaller;
+  limit_what = what;
+  if (!fixed) dt = dt_safety * limit;
+  steps = duration / dt;
+}
+
 std::optional<TimeStepPlan> plan_time_steps(const CaseConfig& c) {
   Context ctx(c.name);  // a loaded case: nothing to report
   const std::set<std::string> bad_materials = check_materials(c, ctx);

@@ -36,9 +36,10 @@ std::pair<double, std::string> run_duration(const CaseConfig& config);
 
 /// The time step and step count a run of the case will have, as far as the case tells before
 /// a model is built: the smallest stability limit of its particles and bonds (the pre-flight
-/// report at the start of a run adds those of brakes and ropes, and takes the minimum over the
-/// particles actually created), the fixed dt or dt_safety times that limit, and the longest the
-/// scenario may run. None where the case's magnitudes are out of range.
+/// report at the start of a run takes the minimum over the particles actually created), the
+/// fixed dt or dt_safety times that limit, and the longest the scenario may run. None where the
+/// case's magnitudes are out of range. The brakes' and ropes' limits need the built restraints:
+/// plan_time_steps_with_restraints (engine/FrameRestraints) adds them through tighten().
 struct TimeStepPlan {
   double dt = 0.0;
   bool fixed = false;        ///< simulation.dt given (else dt_safety x the limit)
@@ -47,6 +48,10 @@ struct TimeStepPlan {
   double duration = 0.0;     ///< the longest the run may go on [simulated s]
   std::string duration_key;  ///< the key that sets it
   double steps = 0.0;        ///< duration / dt
+
+  /// Takes `limit` (described by `what`) where it is below the plan's, with the automatic dt
+  /// (dt_safety x the limit) and the step count that follow; a fixed dt stays.
+  void tighten(double limit, const std::string& what, double dt_safety);
 };
 std::optional<TimeStepPlan> plan_time_steps(const CaseConfig& config);
 

@@ -1,6 +1,7 @@
 // The time step and step count that `ringdem check` prints (io/CaseMagnitudes plan_time_steps,
 // from the case alone) against the stability limits of the model a run builds (Simulation,
 // physics/TimeStep: another code path, over the particles actually created).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include "CommandLine.hpp"
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
+#include "engine/FrameRestraints.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
 #include "io/CaseMagnitudes.hpp"
@@ -17,7 +19,7 @@ namespace ringdem {
 namespace {
 
 void expect_plan_of_the_built_model(const CaseConfig& c) {
-  const std::optional<TimeStepPlan> plan = plan_time_steps(c);
+  const std::optional<TimeStepPlan> plan = plan_time_steps_with_restraints(c);
   ASSERT_TRUE(plan.has_value());
   const Communicator comm = testing::self_comm();
   const Simulation sim(build_scenario_model(c, comm), comm, settings_from_case(c));
@@ -43,6 +45,37 @@ TEST(TimeStepPlan, AnAutomaticStepIsTheSafetyTimesTheBuiltModelsLimit) {
       load_case_from_string(testing::kTinyRockfall, "tiny.yaml", {"simulation.dt=auto"});
   ASSERT_FALSE(c.simulation.dt.has_value());
   expect_plan_of_the_built_model(c);
+}
+
+std::string with_shackles(const char* holding) {
+  const std::string plain = "shackles: {n_particles: 12}";
+  std::string yaml = testing::kTinyRockfall;
+  const std::size_t at = yaml.find(plain);
+  EXPECT_NE(at, std::string::npos);
+  return yaml.replace(at, plain.size(), fmt::format("shackles: {{n_particles: 12, {}}}", holding));
+}
+
+// A stiff brake, or a stiff rope, on the light shackle tori sets a smaller limit than any of the
+// net's particles and bonds: the plan takes it, as the run does (its pre-flight limits), and the
+// automatic step follows it.
+TEST(TimeStepPlan, AStiffBrakeOrRopeSetsTheStepAsInTheRun) {
+  for (const char* holding :
+       {"brake: {stiffness: 1e13, activation_force: 2000}", "ropes: {axial_stiffness: 1e14}"}) {
+    const CaseConfig c =
+        load_case_from_string(with_shackles(holding), "tiny.yaml", {"simulation.dt=auto"});
+    expect_plan_of_the_built_model(c);
+    const TimeStepPlan plan = *plan_time_steps_with_restraints(c);
+    const TimeStepPlan particles_only = *plan_time_steps(c);
+    EXPECT_LT(plan.limit, 0.5 * particles_only.limit) << holding;
+    const bool brake = std::string(holding).rfind("brake", 0) == 0;
+    EXPECT_NE(plan.limit_what.find(brake ? "brake limit" : "rope limit"), std::string::npos)
+        << plan.limit_what;
+  }
+  // Soft restraints leave the particles' limit.
+  const CaseConfig soft = load_case_from_string(with_shackles("ropes: {axial_stiffness: 1e5}"),
+                                                "tiny.yaml", {"simulation.dt=auto"});
+  EXPECT_EQ(plan_time_steps_with_restraints(soft)->limit, plan_time_steps(soft)->limit);
+  expect_plan_of_the_built_model(soft);
 }
 
 TEST(TimeStepPlan, CheckPrintsIt) {
