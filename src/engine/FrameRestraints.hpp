@@ -1,8 +1,8 @@
 #pragma once
 
 #include <optional>
-#include "core/Vec3.hpp"
 
+#include "core/Vec3.hpp"
 #include "engine/Model.hpp"
 #include "io/CaseMagnitudes.hpp"
 #include "physics/TimeStep.hpp"
