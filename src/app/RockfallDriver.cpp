@@ -138,7 +138,7 @@ bool RockfallDriver::start(Simulation& sim, const ScenarioContext& context) {
   const GroupExtent e = group_extent(sim, net_, 0, 0, 0);
   drop_x_ = rf_.drop_point ? rf_.drop_point->x : 0.5 * (e.lo.x + e.hi.x);
   drop_y_ = rf_.drop_point ? rf_.drop_point->y : 0.5 * (e.lo.y + e.hi.y);
-  net_top_initial_ = group_extent(sim, net_, drop_x_, drop_y_, radius_).top_near_axis;
+  net_top_initial_ = net_top_under_drop_axis(sim, "at the start");
   sim.hold_restrained_bodies(true);  // until the release
   ledger_start_ = sim.energies().ledger();
   if (rf_.sag_damping) sim.set_group_damping(net_, *rf_.sag_damping);
@@ -285,11 +285,25 @@ void RockfallDriver::apply_phase_time_step(Simulation& sim) const {
   if (sim.dt() != dt) sim.change_time_step(dt);
 }
 
+double RockfallDriver::net_top_under_drop_axis(const Simulation& sim, const char* when) const {
+  const GroupExtent e = group_extent(sim, net_, drop_x_, drop_y_, radius_);
+  // The boulder is released above the net's top near the drop axis: with no net particle there
+  // (a drop point off the net, or over a ring's opening wider than the boulder) there is none.
+  if (!std::isfinite(e.top_near_axis))
+    throw std::runtime_error(fmt::format(
+        "scenario.rockfall.{}: no particle of the net group '{}' lies within the boulder's "
+        "radius {:.4g} m of the drop axis at ({:.4g}, {:.4g}) {} (the net spans x {:.4g} to "
+        "{:.4g}, y {:.4g} to {:.4g}): the boulder would miss the net or pass through a ring; move "
+        "the drop point onto the net's wires or make the boulder larger",
+        rf_.drop_point ? "drop_point" : "net_group", rf_.net_group, radius_, drop_x_, drop_y_, when,
+        e.lo.x, e.hi.x, e.lo.y, e.hi.y));
+  return e.top_near_axis;
+}
+
 void RockfallDriver::release(Simulation& sim) {
   const int previous = phase_;
   if (previous == kSag) sag_wall_ += seconds_since(segment_start_);
-  const GroupExtent e = group_extent(sim, net_, drop_x_, drop_y_, radius_);
-  const double top = e.top_near_axis;
+  const double top = net_top_under_drop_axis(sim, "at the release");
   if (previous == kSag) {
     sag_end_time_ = sim.time();
     net_top_sagged_ = top;

@@ -57,6 +57,9 @@ class RockfallDriver : public ScenarioDriver {
   bool between_steps(Simulation& sim);
   /// The rest check of the sag or re-settle phase when due; true once the net is at rest.
   bool net_at_rest(Simulation& sim);
+  /// The net's top within the boulder's radius of the drop axis (collective); an error where no
+  /// net particle is there (`when`: at the start, at the release).
+  double net_top_under_drop_axis(const Simulation& sim, const char* when) const;
   /// Places the boulder above the sagged (or re-settled) net and starts the next impact.
   void release(Simulation& sim);
   /// The results of the impact in progress (energies and broken bonds from `now`).

@@ -415,6 +415,31 @@ TEST(Rockfall, SagTimeoutSaysWhichHalfOfTheRestTestFailed) {
   EXPECT_NE(falling.find("the net is still falling"), std::string::npos) << falling;
 }
 
+// A drop point over a ring's opening (the tiny net's ring at (0.25, 0.1) is wider than the 5 kg
+// boulder) has no net top to release the boulder above: a clear error before the sag, where the
+// boulder had been placed at minus infinity and the run reported non-finite energies.
+TEST(Rockfall, ADropPointOffTheWiresIsRefusedBeforeTheSag) {
+  ScenarioRunOptions run;
+  run.verbose = false;
+  run.output_dir =
+      (fs::temp_directory_path() / ("ringdem_drop_point_" + std::to_string(getpid()))).string();
+  for (const char* point : {"[0.25, 0.1, 0]", "[2.0, 0, 0]"}) {
+    std::unique_ptr<ScenarioDriver> driver = make_scenario_driver(load_case_from_string(
+        kTinyRockfall, "tiny.yaml", {std::string("scenario.rockfall.drop_point=") + point}));
+    std::string what;
+    try {
+      run_scenario(*driver, run, testing::self_comm());
+    } catch (const std::exception& e) {
+      what = e.what();
+    }
+    EXPECT_NE(what.find("scenario.rockfall.drop_point: no particle of the net group 'net' lies "
+                        "within the boulder's radius 0.07714 m"),
+              std::string::npos)
+        << point << ": " << what;
+  }
+  fs::remove_all(run.output_dir);
+}
+
 // The driver advances in batches up to its next row, rest check or end of an impact, and sees
 // the boulder every step through observe_step(): the same files, bit for bit, as stepping one
 // step at a time (max_batch 1), through two impacts, the removal of the first boulder and the
