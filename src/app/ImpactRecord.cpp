@@ -30,6 +30,7 @@ void for_each_field(Record& r, F&& f) {
   f("contact_damping", r.contact_damping);
   f("global_damping", r.global_damping);
   f("brake_work", r.brake_work);
+  f("rope_friction", r.rope_friction);
   f("residual_height", r.residual_height);
 }
 
@@ -70,7 +71,8 @@ JsonObject ImpactRecord::json(int number, double g, double impact_energy) const 
       .set("contact_damping_share", contact_damping / impact_energy)
       .set("global_damping_share", global_damping / impact_energy)
       .set("brake_work_share", brake_work / impact_energy)
-      .set("residual_height_m", residual_height);  // null: not re-settled
+      .set("rope_friction_share", rope_friction / impact_energy)  // part of friction_share
+      .set("residual_height_m", residual_height);                 // null: not re-settled
   return o;
 }
 
@@ -86,11 +88,14 @@ std::string ImpactRecord::log_line(int number, double g, double impact_energy) c
   return fmt::format(
       "rockfall impact {}: peak acceleration {:.4g} m/s^2 ({:.3g} g), deflection {:.4f} m, "
       "rebound {:.4g} m/s, {} bonds broken, frame force up to {:.4g} kN, plastic work "
-      "{:.3g} %, friction {:.3g} %, contact damping {:.3g} %, global damping {:.3g} %, brakes "
+      "{:.3g} %, friction {:.3g} %{}, contact damping {:.3g} %, global damping {:.3g} %, brakes "
       "{:.3g} % of the impact energy, residual height {}",
       number, peak_acceleration, peak_acceleration / g, deflection, rebound_speed,
       static_cast<long long>(broken_bonds), 1e-3 * max_frame_force,
       100.0 * plastic_work / impact_energy, 100.0 * friction / impact_energy,
+      rope_friction > 0.0
+          ? fmt::format(" ({:.3g} % on the ropes)", 100.0 * rope_friction / impact_energy)
+          : std::string(),
       100.0 * contact_damping / impact_energy, 100.0 * global_damping / impact_energy,
       100.0 * brake_work / impact_energy,
       std::isnan(residual_height) ? std::string("not measured")

@@ -28,7 +28,8 @@ struct ImpactRecord {
   double broken_bonds = 0.0;       ///< bonds broken between the release and the removal
   /// Energy dissipated between the release and the end of the impact (J).
   double plastic_work = 0.0, friction = 0.0, contact_damping = 0.0, global_damping = 0.0;
-  double brake_work = 0.0;  ///< by the brake elements of braked shackles
+  double brake_work = 0.0;     ///< by the brakes of braked shackles and of support ropes
+  double rope_friction = 0.0;  ///< the part of `friction` the ropes took sliding through shackles
   /// Net top under the drop axis once at rest after the boulder was removed, minus its initial
   /// top (m, negative below); NaN where the net was not re-settled (a single impact).
   double residual_height = kNone;

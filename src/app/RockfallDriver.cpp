@@ -320,8 +320,9 @@ void RockfallDriver::release(Simulation& sim) {
   release_time_ = sim.time();
   release_top_ = top;
   const Energies before = sim.energies();
-  release_dissipated_ = {before.plastic_work, before.friction, before.contact_damping,
-                         before.global_damping, before.brake_work};
+  release_dissipated_ = {before.plastic_work,    before.friction,
+                         before.contact_damping, before.global_damping,
+                         before.brake_work,      restraint_totals(sim.model()).friction_work};
   release_broken_ = static_cast<double>(sim.global_broken_bonds());
   if (rf_.impact_damping) sim.set_group_damping(net_, *rf_.impact_damping);
   const double bottom_at_rest = top + rf_.drop_height;
@@ -372,7 +373,8 @@ bool RockfallDriver::impact_over(const Simulation& sim) const {
   return contact_time_ >= 0.0 && sim.time() >= contact_time_ + rf_.duration - 0.5 * sim.dt();
 }
 
-ImpactRecord RockfallDriver::impact_record(const Energies& e, std::int64_t broken) const {
+ImpactRecord RockfallDriver::impact_record(const Energies& e, double rope_friction_work,
+                                           std::int64_t broken) const {
   ImpactRecord r;
   r.release_time = release_time_;
   r.release_net_top = release_top_;
@@ -391,12 +393,14 @@ ImpactRecord RockfallDriver::impact_record(const Energies& e, std::int64_t broke
   r.contact_damping = e.contact_damping - release_dissipated_[2];
   r.global_damping = e.global_damping - release_dissipated_[3];
   r.brake_work = e.brake_work - release_dissipated_[4];
+  r.rope_friction = rope_friction_work - release_dissipated_[5];
   return r;
 }
 
 bool RockfallDriver::close_impact(Simulation& sim) {
   const Energies e = sim.energies();
-  ImpactRecord r = impact_record(e, sim.global_broken_bonds());
+  ImpactRecord r =
+      impact_record(e, restraint_totals(sim.model()).friction_work, sim.global_broken_bonds());
   impacts_.push_back(r);
   if (rf_.impacts == 1) return true;  // a single impact ends with the boulder in the net
   if (print_)
@@ -601,9 +605,9 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
   // Every impact, the one cut off by simulation.end_time included.
   std::vector<ImpactRecord> impacts = impacts_;
   if (phase_ == kImpact && impacts.size() < static_cast<std::size_t>(impact_))
-    impacts.push_back(impact_record(e, broken));
+    impacts.push_back(impact_record(e, restraints.friction_work, broken));
   // The keys of one impact describe the first (with a single impact, as they always have).
-  ImpactRecord first = impact_record(e, broken);
+  ImpactRecord first = impact_record(e, restraints.friction_work, broken);
   first.deflection = contact_z_ - lowest_z_;
   first.stopping_time = stopping_time_ >= 0.0 ? stopping_time_ : std::nan("");
   first.contact_time = contact_time_;

@@ -62,8 +62,10 @@ class RockfallDriver : public ScenarioDriver {
   double net_top_under_drop_axis(const Simulation& sim, const char* when) const;
   /// Places the boulder above the sagged (or re-settled) net and starts the next impact.
   void release(Simulation& sim);
-  /// The results of the impact in progress (energies and broken bonds from `now`).
-  ImpactRecord impact_record(const Energies& now, std::int64_t broken) const;
+  /// The results of the impact in progress (energies, the ropes' friction work and broken bonds
+  /// from now).
+  ImpactRecord impact_record(const Energies& now, double rope_friction_work,
+                             std::int64_t broken) const;
   /// End of an impact: its record; with more than one impact, the boulder is removed and the
   /// net re-settles. Returns true when the run is over.
   bool close_impact(Simulation& sim);
@@ -131,7 +133,7 @@ class RockfallDriver : public ScenarioDriver {
   double release_broken_ = 0.0;                    ///< broken bonds at the release
   /// Dissipated energies at the release: plastic, friction, contact damping, global damping,
   /// brakes.
-  std::array<double, 5> release_dissipated_{};
+  std::array<double, 6> release_dissipated_{};
   std::vector<ImpactRecord> impacts_;  ///< impacts that have ended
   /// Ledger before the boulder was removed, until the step after (-inf: none pending).
   double ledger_before_removal_ = -std::numeric_limits<double>::infinity();

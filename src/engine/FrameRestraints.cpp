@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <vector>
 
 #include "engine/ModelBuilder.hpp"
@@ -21,8 +22,25 @@ Vec3 displacement_of(const BrakeStore& s, std::size_t k, const std::vector<Rigid
 }
 
 SlidingRope::Params rope_params(const RopeStore& s, std::size_t r) {
-  return {s.stiffness[r], s.rest_length[r], s.activation_force[r], s.stroke[r]};
+  return {s.axial_rigidity[r], s.friction[r], s.activation_force[r], s.stroke[r]};
 }
+
+/// A rope's per-call buffers, kept between steps so that a step allocates nothing once they
+/// hold the longest rope.
+struct RopeBuffers {
+  std::vector<Vec3> path, loads;
+  std::vector<double> length, capstan;
+
+  SlidingRope::Segments segments_for(const RopeStore& ropes, std::size_t r,
+                                     const std::vector<RigidBody>& bodies,
+                                     std::span<double> tension) {
+    ropes.path_of(r, bodies, path);
+    loads.resize(path.size());
+    length.resize(path.size() - 1);
+    capstan.resize(path.size());
+    return {length, tension, capstan, loads};
+  }
+};
 
 }  // namespace
 
@@ -45,18 +63,20 @@ void apply_restraints(Model& model) {
     brakes.work[k] = state.work;
   }
   RopeStore& ropes = model.ropes;
-  std::vector<Vec3> loads;
+  static thread_local RopeBuffers buffers;
   for (std::size_t r = 0; r < ropes.size(); ++r) {
-    const std::vector<Vec3> path = ropes.path_of(r, bodies);
-    loads.resize(path.size());
-    SlidingRope::State state{ropes.slip[r], ropes.work[r]};
-    ropes.tension[r] = SlidingRope::compute(rope_params(ropes, r), path, state, loads);
+    const std::span<double> tension = std::span<double>(ropes.segment_tension)
+                                          .subspan(ropes.segment_begin(r), ropes.segments_of(r));
+    const SlidingRope::Segments out = buffers.segments_for(ropes, r, bodies, tension);
+    SlidingRope::State state{ropes.slip[r], ropes.brake_work[r], ropes.friction_work[r]};
+    SlidingRope::compute(rope_params(ropes, r), buffers.path, ropes.rest_of(r), state, out);
     ropes.slip[r] = state.slip;
-    ropes.work[r] = state.work;
+    ropes.brake_work[r] = state.brake_work;
+    ropes.friction_work[r] = state.friction_work;
     // At each body's centre, as a pulley's (no torque); the anchors' loads go to the frame.
     const auto carried = ropes.bodies_of(r);
     for (std::size_t i = 0; i < carried.size(); ++i)
-      bodies[static_cast<std::size_t>(carried[i])].force += loads[i + 1];
+      bodies[static_cast<std::size_t>(carried[i])].force += out.loads[i + 1];
   }
 }
 
@@ -67,11 +87,20 @@ void set_restraint_limits(const Model& model, StabilityLimits& limits) {
         limits.brake, spring_time_step(model.bodies[static_cast<std::size_t>(brakes.body[k])].mass,
                                        brakes.stiffness[k]));
   const RopeStore& ropes = model.ropes;
-  for (std::size_t r = 0; r < ropes.size(); ++r)
-    for (const std::int32_t b : ropes.bodies_of(r))
-      limits.rope =
-          std::min(limits.rope, spring_time_step(model.bodies[static_cast<std::size_t>(b)].mass,
-                                                 4.0 * ropes.stiffness[r]));
+  for (std::size_t r = 0; r < ropes.size(); ++r) {
+    const std::span<const std::int32_t> carried = ropes.bodies_of(r);
+    const std::span<const double> rest = ropes.rest_of(r);
+    const double ea = ropes.axial_rigidity[r];
+    for (std::size_t i = 0; i < carried.size(); ++i) {
+      // Sliding freely, a body's move lengthens the rope by at most twice the move: 4 EA / L0.
+      // Held by friction, it stretches the two segments beside it: EA (1 / l_a + 1 / l_b).
+      const double stiffness = ropes.friction[r] > 0.0 ? ea * (1.0 / rest[i] + 1.0 / rest[i + 1])
+                                                       : 4.0 * ea / ropes.rest_length[r];
+      limits.rope = std::min(
+          limits.rope,
+          spring_time_step(model.bodies[static_cast<std::size_t>(carried[i])].mass, stiffness));
+    }
+  }
 }
 
 std::optional<TimeStepPlan> plan_time_steps_with_restraints(const CaseConfig& config) {
@@ -112,19 +141,27 @@ RestraintTotals restraint_totals(const Model& model) {
     t.used_up += state.travel >= p.stroke ? 1 : 0;
   }
   const RopeStore& ropes = model.ropes;
-  std::vector<Vec3> loads;
+  RopeBuffers buffers;
+  std::vector<double> rest, tension;
   for (std::size_t r = 0; r < ropes.size(); ++r) {
     const SlidingRope::Params p = rope_params(ropes, r);
-    const std::vector<Vec3> path = ropes.path_of(r, model.bodies);
-    SlidingRope::State state{ropes.slip[r], ropes.work[r]};
-    t.elastic_energy += SlidingRope::elastic_energy(p, SlidingRope::length(path), state);
-    t.work += state.work;
-    // The loads on a copy of the state: where the bodies moved since the step, the return
-    // mapping caps the tension at F_b as the next step will.
-    loads.resize(path.size());
-    SlidingRope::compute(p, path, state, loads);
-    t.largest_tension = std::max(t.largest_tension, ropes.tension[r]);  // the step's own
-    t.frame_load += loads.front() + loads.back();
+    const auto last_tension =
+        ropes.segment_tension.begin() + static_cast<std::ptrdiff_t>(ropes.segment_begin(r));
+    tension.assign(last_tension, last_tension + static_cast<std::ptrdiff_t>(ropes.segments_of(r)));
+    const SlidingRope::Segments out = buffers.segments_for(ropes, r, model.bodies, tension);
+    t.elastic_energy += SlidingRope::elastic_energy(p, buffers.path, ropes.rest_of(r));
+    t.work += ropes.brake_work[r];
+    t.friction_work += ropes.friction_work[r];
+    // The loads on a copy of the state: where the bodies moved since the step, the sliders
+    // slide as the next step will.
+    const std::span<const double> segment_rest = ropes.rest_of(r);
+    rest.assign(segment_rest.begin(), segment_rest.end());
+    SlidingRope::State state{ropes.slip[r], ropes.brake_work[r], ropes.friction_work[r]};
+    SlidingRope::compute(p, buffers.path, rest, state, out);
+    t.frame_load += out.loads.front() + out.loads.back();
+    for (std::size_t j = 0; j < ropes.segments_of(r); ++j)  // the step's own
+      t.largest_tension =
+          std::max(t.largest_tension, ropes.segment_tension[ropes.segment_begin(r) + j]);
     t.largest_travel = std::max(t.largest_travel, ropes.slip[r]);  // the state, not the copy's
     const bool braked = std::isfinite(p.activation_force);
     t.used_up += braked && ropes.slip[r] >= p.stroke ? 1 : 0;

@@ -19,9 +19,10 @@ namespace ringdem {
 void apply_restraints(Model& model);
 
 /// Sets the restraints' stability limits in `limits`: `brake`, sqrt(M / k) of a body on its
-/// brake's spring, and `rope`, sqrt(M / 4k) of a body on a rope (a body's move changes the
-/// rope's length by at most twice its size; the tension's transverse stiffness T (1/l_1 + 1/l_2)
-/// is left out, small beside 4 EA / L0 while T << 4 EA l / L0).
+/// brake's spring, and `rope`, sqrt(M / k) of a body on a rope: k = 4 EA / L0 where it slides
+/// freely (a body's move changes the rope's length by at most twice its size), EA (1 / lambda_a +
+/// 1 / lambda_b) where friction can hold it (the segments beside it, as laid). The tension's
+/// transverse stiffness T (1/l_a + 1/l_b) is left out, small beside those while T << EA.
 void set_restraint_limits(const Model& model, StabilityLimits& limits);
 
 /// plan_time_steps (what `ringdem check` prints) with the limits of the case's brakes and ropes,
@@ -41,7 +42,8 @@ void hold_restrained_bodies(Model& model, bool held);
 /// What the restraints hold and have done, from their state (the same on every rank).
 struct RestraintTotals {
   double elastic_energy = 0.0;   ///< the brake springs' k |d - s|^2 / 2 and the ropes' k e^2 / 2
-  double work = 0.0;             ///< dissipated by the brakes (of shackles and ropes), F_b ds [J]
+  double work = 0.0;             ///< dissipated by the brakes (of shackles and ropes) [J]
+  double friction_work = 0.0;    ///< dissipated by the ropes sliding through the bodies [J]
   Vec3 frame_load;               ///< what the anchors receive: minus the loads on the bodies [N]
   double largest_travel = 0.0;   ///< the largest path slid by a brake, or paid out by a rope [m]
   int used_up = 0;               ///< brakes and ropes whose brakes have used their whole stroke

@@ -89,14 +89,14 @@ void add_support_ropes(Model& model, const RingNetConfig& net, const RingNetLayo
     const Vec3 last = path.back() + along * rope.anchor_offset;
     path.insert(path.begin(), first);
     path.push_back(last);
-    // T0 = EA / L0 (L - L0) on the initial path L: L0 = L EA / (EA + T0).
+    // T0 = EA (l_j - lambda_j) / lambda_j in every segment: lambda_j = l_j EA / (EA + T0).
     const double ea = rope.axial_stiffness;
-    const double rest = SlidingRope::length(path) * ea / (ea + rope.pretension);
+    std::vector<double> rest(path.size() - 1);
+    SlidingRope::lay(ea, rope.pretension, path, rest);
     const double force =
         rope.brake ? rope.brake->activation_force : std::numeric_limits<double>::infinity();
-    model.ropes.append(bodies, first, last, ea / rest, rest, force,
+    model.ropes.append(bodies, first, last, rest, rope.pretension, ea, rope.friction, force,
                        rope.brake ? rope.brake->stroke : 0.0);
-    model.ropes.tension.back() = rope.pretension;  // straight, at creation
   }
 }
 

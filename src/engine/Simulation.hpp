@@ -59,12 +59,14 @@ struct Energies {
   // Energy ledger (docs/physics.md "Energy ledger"): totals since the start of the run, each
   // the trapezoidal time integral of a load's power at the synchronised velocities.
   double contact_damping = 0.0;  ///< dissipated by viscous contact damping (Eq. 7, 9)
-  double friction = 0.0;         ///< dissipated by Coulomb slip and rolling friction
-  double global_damping = 0.0;   ///< dissipated by Cundall global damping
-  double broken_bonds = 0.0;     ///< elastic energy the bonds held when they broke
-  double plastic_work = 0.0;     ///< dissipated by plastic flow of the bonds (broken ones too)
-  double brake_work = 0.0;       ///< dissipated by the brakes (of shackles and of ropes) sliding
-  double brake_elastic = 0.0;    ///< held by the brake elements' springs and the support ropes
+  /// dissipated by Coulomb slip and rolling friction, and by support ropes sliding through the
+  /// shackles
+  double friction = 0.0;
+  double global_damping = 0.0;  ///< dissipated by Cundall global damping
+  double broken_bonds = 0.0;    ///< elastic energy the bonds held when they broke
+  double plastic_work = 0.0;    ///< dissipated by plastic flow of the bonds (broken ones too)
+  double brake_work = 0.0;      ///< dissipated by the brakes (of shackles and of ropes) sliding
+  double brake_elastic = 0.0;   ///< held by the brake elements' springs and the support ropes
   /// Work done on the particles by driven (prescribed) rigid bodies and particles and by
   /// external forces: energy put in, so it enters the balance with a minus sign.
   double boundary_work = 0.0;

@@ -294,6 +294,7 @@ Energies Simulation::energies() {
   const RestraintTotals restraints = restraint_totals(model_);
   e.brake_elastic = restraints.elastic_energy;
   e.brake_work = restraints.work;
+  e.friction += restraints.friction_work;  // the ropes' sliding through the shackles
   // The sums are the same on every rank, so every rank decides alike. Without the ledger
   // the guard has no balance to check: work put in by driven bodies would look like energy
   // from nowhere.

@@ -109,6 +109,7 @@ struct ShackleRopeConfig {
   double axial_stiffness = 0.0;  ///< EA [N]
   double anchor_offset = 0.2;    ///< [m]: the ends' anchors beyond the side's outer shackles
   double pretension = 0.0;       ///< [N]: the tension at creation
+  double friction = 0.0;         ///< mu between the rope and the shackles it runs through
   std::optional<RopeBrakeConfig> brake;
 };
 

@@ -38,11 +38,13 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // six particle columns (dissipated_damping, dissipated_friction, boundary_work and their last
 // powers); 11: the energy the contacts hold as the ranks' exact sums in /ledger/state (held and
 // held by leaving grains) instead of two particle columns (tangential_energy, contact_energy);
-// 12: the particles' sort bins (/particles/sort_bin, the spatial order of the last re-sort).
-// This version and 11 are read: a file of 11 restarts every particle at bin 0, the gid order
-// that format's writer kept, and so goes on as its run did until the next re-sort. Older
-// files lack what this one needs to go on bit for bit.
-constexpr std::int64_t kFormatVersion = 12;
+// 12: the particles' sort bins (/particles/sort_bin, the spatial order of the last re-sort);
+// 13: the support ropes' state per segment (/ropes/segment_rest, segment_tension,
+// friction_work; work is brake_work). This version, 12 and 11 are read: a file of 11 restarts every
+// particle at bin 0, the gid order that format's writer kept, and so goes on as its run did until
+// the next re-sort; one of 11 or 12 with support ropes is refused (read_checkpoint). Older files
+// lack what this one needs to go on bit for bit.
+constexpr std::int64_t kFormatVersion = 13;
 constexpr std::int64_t kOldestReadFormatVersion = 11;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
@@ -225,10 +227,11 @@ void read_replicated_state(const Hdf5File& f, const Communicator& comm, const st
   if (!f.exists(group))
     throw Hdf5Error(path + ": the case has " + what + ", the checkpoint has no state for them " +
                     "(written by a case without them)");
-  const auto n = static_cast<std::int64_t>(store.size());
   store.for_each_field([&](const FieldInfo& field, auto& v) {
     if (!field.has(field_flag::kCheckpoint)) return;
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
+    // As many rows as the case built (a row per element, or per rope segment).
+    const auto n = static_cast<std::int64_t>(v.size());
     v = read_verified_block<T>(f, comm, group + "/" + std::string(field.name), n, 0, n,
                                ReadBy::kEveryRank);
   });
@@ -627,6 +630,12 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
     body.motion = rows.motion[b];
   }
   read_replicated_state(f, comm, path, "/brakes", "brake elements on its shackles", model.brakes);
+  if (!model.ropes.empty() && info.format_version < 13)
+    throw Hdf5Error(fmt::format(
+        "{}: checkpoint format version {} holds each support rope's state as one tension, this "
+        "ringdem's ropes have one per segment (format 13); continue it with the ringdem that "
+        "wrote it or start afresh",
+        path, info.format_version));
   read_replicated_state(f, comm, path, "/ropes", "support ropes on its nets", model.ropes);
   driver.names = split(f.attribute_string("/driver", "names"));
   const auto n_values = static_cast<std::int64_t>(driver.names.size());

@@ -506,12 +506,12 @@ void FrameWriter::write(ParticleStore& p, BondStore& bonds, const std::vector<Ri
     f.write_rows("/bodies/surface/points", frame, 0, points);
     if (ropes_.points > 0) {
       std::vector<Vec3> rope_points;
-      std::vector<double> segment_tension;  // each segment its rope's
+      std::vector<double> segment_tension;  // the ropes' segments in order, as the connectivity
       for (std::size_t r = 0; comm_.is_root() && r < ropes.size(); ++r) {
         const std::vector<Vec3> path = ropes.path_of(r, bodies);
         rope_points.insert(rope_points.end(), path.begin(), path.end());
-        segment_tension.insert(segment_tension.end(), path.size() - 1, ropes.tension[r]);
       }
+      if (comm_.is_root()) segment_tension = ropes.segment_tension;
       f.write_rows("/ropes/points", frame, 0, rope_points);
       f.write_rows("/ropes/tension", frame, 0, segment_tension);
     }

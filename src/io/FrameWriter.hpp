@@ -46,7 +46,7 @@ struct FrameRecord {
 /// The support ropes as the frame file holds them: /ropes/points [frame, point, 3] the points of
 /// every rope's path (anchor, the centres of the bodies on it, anchor; rope after rope),
 /// /ropes/connectivity the `segments` pairs of points that each segment joins, /ropes/tension
-/// [frame, segment] each segment's rope's tension. Empty without ropes.
+/// [frame, segment] each segment's tension. Empty without ropes.
 struct FrameRopes {
   std::int64_t points = 0, segments = 0;
 };

@@ -55,10 +55,14 @@ const Table<ShackleRopeConfig>& shackle_rope_table() {
       "particles.nets[].shackles.ropes",
       "A support rope along each side of the net that the side's shackles slide on (docs/"
       "physics.md \"Support ropes\"): it runs from an anchor `anchor_offset` beyond the side's "
-      "first shackle through the shackles' centres to one beyond its last, with one tension T "
-      "= EA/L0 (L - L0) over its path length L (slack at L <= L0). With it the shackles are "
-      "free rigid tori; the frame receives the anchors' loads, the ledger's brake_elastic holds "
-      "the ropes' elastic energy and brake_work their brakes' work.",
+      "first shackle through the shackles' centres to one beyond its last. Each segment between "
+      "two of these points has the tension T = EA (l - lambda) / lambda of its length l and its "
+      "share lambda of the unstretched rope (slack at l <= lambda); rope slides through a shackle "
+      "where the tensions on its two sides differ by more than the capstan factor exp(friction "
+      "x turn) allows, and without friction the tension is the same along the rope. With it the "
+      "shackles are free rigid tori; the frame receives the anchors' loads, the ledger's "
+      "brake_elastic holds the ropes' elastic energy, brake_work their brakes' work and friction "
+      "their sliding's.",
       {
           schema::number("axial_stiffness", &Rope::axial_stiffness, above(0), "N",
                          "Axial rigidity EA of the rope (its metallic area times its modulus)")
@@ -67,6 +71,8 @@ const Table<ShackleRopeConfig>& shackle_rope_table() {
                          "Distance of each end's anchor beyond the side's outermost shackle"),
           schema::number("pretension", &Rope::pretension, at_least(0), "N",
                          "Tension of the rope at creation"),
+          schema::number("friction", &Rope::friction, at_least(0), "",
+                         "Coulomb friction coefficient mu between the rope and the shackles"),
           schema::optional_section("brake", &Rope::brake, rope_brake_table(),
                                    "Brakes at the rope's ends"),
       }};

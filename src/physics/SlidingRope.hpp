@@ -11,38 +11,61 @@
 namespace ringdem {
 
 /// A rope that a net's shackles slide on (docs/physics.md "Support ropes"): a wire rope from one
-/// anchor to another through a sequence of points (the shackles' centres) that it does not hold
-/// along its length, only across it, as a frictionless pulley holds a cable. The tension T is
-/// then the same in every segment, and the rope's energy depends only on its path length
-/// L = sum |x_{i+1} - x_i| over the path: anchor, shackles, anchor.
+/// anchor to another through a sequence of points (the shackles' centres) that hold it across its
+/// length and let it slide through them, as a pulley or a slip ring holds a cable. The path
+/// anchor, points, anchor has segments j = 0 .. n-1 of length l_j; each holds a share lambda_j of
+/// the unstretched rope (the rope's material between two points), so that
 ///
-///   stretch e = L - L0 - s      L0: the unstretched length, s: rope paid out by the brakes
-///   T = k e for e > 0,  0 for e <= 0 (a rope carries no compression; it goes slack)
-///   the load on point i: T (u_{i,i-1} + u_{i,i+1}), u_{i,j} the unit vector from i towards j
-///   (one term at an anchor), which is -dE/dx_i of E = k e^2 / 2
+///   T_j = EA (l_j - lambda_j) / lambda_j  for l_j > lambda_j,  0 otherwise (slack)
+///   E   = sum_j EA (l_j - lambda_j)^2 / (2 lambda_j)  over the taut segments
 ///
-/// k = EA / L0 (the rope's axial rigidity over its length). A shackle that moves along a straight
-/// rope does not change L: it slides freely; one that pulls the rope sideways lengthens it.
-/// Brakes at the rope's ends pay out rope once the tension reaches their activation force F_b,
-/// the 1-D form of BrakeElement's Coulomb slider (one backward-Euler step per call, Simo &
-/// Hughes 1998, ch. 1): with the trial tension k e above F_b, s grows by
-/// ds = min(e - F_b / k, stroke - s), the tension is F_b again and the brakes dissipate F_b ds.
-/// After `stroke` m the brakes are used up and the rope holds elastically at any load. The
-/// stiffness stays EA / L0 while s grows (an error of s / L0 in it). The result depends only on
-/// the arguments: the same bits on every rank.
+/// and segment j pulls its two ends towards each other with T_j: the loads are -dE/dx at fixed
+/// lambda. Rope slides through a point when the tensions on its two sides differ more than the
+/// capstan equation allows (Euler–Eytelwein): with the rope's turn theta_i at point i and the
+/// friction coefficient mu, T_high <= T_low exp(mu theta_i). Past it, rope passes from the low to
+/// the high side (lambda moves between the two segments) until T_high = T_low exp(mu theta_i);
+/// without friction the tension is then the same in every segment (equal strain), and a point
+/// on a straight rope slides freely. Brakes at the two ends pay out rope into the end segments
+/// once their tension reaches the activation force F_b (lambda_end grows until T_end = F_b),
+/// the 1-D form of BrakeElement's Coulomb slider, until the two ends together have paid out
+/// `stroke` m; after that the rope holds elastically at any load.
+///
+/// Each call is one backward-Euler step of these sliders at the call's geometry (Simo & Hughes
+/// 1998, ch. 1): without friction in closed form, with it by Gauss–Seidel sweeps over the points
+/// and ends, each a closed-form local slide. A slide of d lambda dissipates its driving force
+/// times d lambda, with -dE/d lambda_j = T_j + T_j^2 / (2 EA) =: g(T_j): a brake g(T_end) d lambda
+/// and a point (g(T_high) - g(T_low)) d lambda, each force the mean of the last step's (the
+/// tensions the call finds in `out`) and the slide's end state, the trapezoid that the energy
+/// ledger takes of the loads' work, so that the balance closes to second order in the step.
+/// The result depends only on the arguments: the same bits on every rank.
 struct SlidingRope {
   struct Params {
-    double stiffness = 0.0;    ///< k = EA / L0 [N/m]
-    double rest_length = 0.0;  ///< L0 [m]
+    double axial_rigidity = 0.0;  ///< EA [N]
+    double friction = 0.0;        ///< mu between the rope and the points it runs through
     /// F_b [N]: the tension at which the end brakes pay out rope; infinite without brakes.
     double activation_force = std::numeric_limits<double>::infinity();
-    double stroke = 0.0;  ///< [m] of rope the brakes can pay out in all, then they lock
+    double stroke = 0.0;  ///< [m] of rope the two end brakes can pay out in all, then they lock
   };
-  /// Per rope: zero at creation, checkpointed.
+  /// Per rope, besides the segments' lambda_j: zero at creation, checkpointed.
   struct State {
-    double slip = 0.0;  ///< s [m]: rope paid out by the brakes (grows only, <= stroke)
-    double work = 0.0;  ///< dissipated by the brakes: the sum of F_b ds [J]
+    double slip = 0.0;           ///< rope paid out by the brakes, both ends [m] (<= stroke)
+    double brake_work = 0.0;     ///< dissipated by the brakes [J]
+    double friction_work = 0.0;  ///< dissipated by the rope sliding through its points [J]
   };
+  /// What one call leaves besides the state: per segment, and per path point.
+  struct Segments {
+    std::span<double> length;   ///< l_j [m]
+    std::span<double> tension;  ///< T_j [N]: in, the last call's (or the laid rope's); out, this
+    std::span<double> capstan;  ///< exp(mu theta_i) at each point (scratch; path-sized)
+    std::span<Vec3> loads;      ///< the rope's load on each path point [N] (at the anchors: the
+                                ///< frame's)
+  };
+
+  /// The largest number of Gauss–Seidel sweeps in one call; what is left to slide slides at the
+  /// next call.
+  static constexpr int kMaxSweeps = 200;
+  /// Relative excess of a tension ratio over the capstan factor below which nothing slides.
+  static constexpr double kSlideTolerance = 1e-10;
 
   /// L: the length of the path through `path` in order.
   static double length(std::span<const Vec3> path) {
@@ -51,39 +74,170 @@ struct SlidingRope {
       l += norm(path[i] - path[i - 1]);
     return l;
   }
+  static double tension(double ea, double l, double rest) {
+    return l > rest ? ea * (l - rest) / rest : 0.0;
+  }
+  static double energy(double ea, double l, double rest) {
+    return l > rest ? 0.5 * ea * (l - rest) * (l - rest) / rest : 0.0;
+  }
+  /// g(T) = -dE/d lambda of a segment at tension T: what a slide of its lambda works against.
+  static double driving_force(double ea, double t) { return t + 0.5 * t * t / ea; }
 
-  /// The tension for the path `path` (anchor, points, anchor); `state` takes the step's slip
-  /// and `loads[i]` receives the rope's load on `path[i]` (at the anchors: what the frame
-  /// receives). `loads` has the size of `path`.
-  static double compute(const Params& p, std::span<const Vec3> path, State& state,
-                        std::span<Vec3> loads) {
-    double stretch = length(path) - p.rest_length - state.slip;
-    const double left = p.stroke - state.slip;
-    if (stretch * p.stiffness > p.activation_force && left > 0.0) {
-      const double paid_out = std::min(stretch - p.activation_force / p.stiffness, left);
-      state.slip += paid_out;
-      state.work += p.activation_force * paid_out;
-      stretch -= paid_out;
-    }
-    const double tension = stretch > 0.0 ? p.stiffness * stretch : 0.0;
-    for (Vec3& load : loads)
-      load = {};
-    if (tension == 0.0) return 0.0;
-    for (std::size_t i = 1; i < path.size(); ++i) {
-      const Vec3 segment = path[i] - path[i - 1];
-      const double l = norm(segment);
-      if (!(l > 0.0)) continue;  // two points at one place: no direction, no load
-      const Vec3 pull = segment * (tension / l);
-      loads[i - 1] += pull;  // towards the next point
-      loads[i] -= pull;      // towards the previous one
-    }
-    return tension;
+  /// The lambda_j of a rope laid along `path` at tension `pretension`: equal strain T0 / EA.
+  static void lay(double ea, double pretension, std::span<const Vec3> path,
+                  std::span<double> rest) {
+    for (std::size_t j = 0; j + 1 < path.size(); ++j)
+      rest[j] = norm(path[j + 1] - path[j]) * ea / (ea + pretension);
   }
 
-  /// The elastic energy the rope holds: k e^2 / 2 for e > 0.
-  static double elastic_energy(const Params& p, double path_length, const State& state) {
-    const double stretch = path_length - p.rest_length - state.slip;
-    return stretch > 0.0 ? 0.5 * p.stiffness * stretch * stretch : 0.0;
+  /// The elastic energy E the rope holds on `path` with segments `rest`.
+  static double elastic_energy(const Params& p, std::span<const Vec3> path,
+                               std::span<const double> rest) {
+    double e = 0.0;
+    for (std::size_t j = 0; j + 1 < path.size(); ++j)
+      e += energy(p.axial_rigidity, norm(path[j + 1] - path[j]), rest[j]);
+    return e;
+  }
+
+  /// One step on the path `path` (anchor, points, anchor): slides rope through the points and
+  /// out of the brakes (updating `rest` and `state`), then fills `out`. `rest` and out's
+  /// length and tension have path.size() - 1 entries, capstan and loads path.size().
+  static void compute(const Params& p, std::span<const Vec3> path, std::span<double> rest,
+                      State& state, const Segments& out) {
+    const std::size_t n = path.size() - 1;
+    for (std::size_t j = 0; j < n; ++j)
+      out.length[j] = norm(path[j + 1] - path[j]);
+    if (p.friction > 0.0)
+      slide_with_friction(p, path, rest, state, out);
+    else
+      slide_freely(p, rest, state, out.length, out.tension[0]);
+    for (Vec3& load : out.loads)
+      load = {};
+    for (std::size_t j = 0; j < n; ++j) {
+      const double t = tension(p.axial_rigidity, out.length[j], rest[j]);
+      out.tension[j] = t;
+      if (t == 0.0) continue;  // slack (or two points at one place: no direction)
+      const Vec3 pull = (path[j + 1] - path[j]) * (t / out.length[j]);
+      out.loads[j] += pull;      // towards the next point
+      out.loads[j + 1] -= pull;  // towards the previous one
+    }
+  }
+
+ private:
+  static bool braked(const Params& p) { return std::isfinite(p.activation_force); }
+
+  /// Without friction: one tension, T = EA (L - Lambda) / Lambda over the path length L and the
+  /// rope's unstretched length Lambda = sum lambda_j, which the brakes raise to EA L / (EA + F_b)
+  /// where T exceeds F_b; the segments then share Lambda in proportion to their lengths.
+  static void slide_freely(const Params& p, std::span<double> rest, State& state,
+                           std::span<const double> length, double last_tension) {
+    const double ea = p.axial_rigidity;
+    double total_length = 0.0, total_rest = 0.0;
+    for (std::size_t j = 0; j < rest.size(); ++j) {
+      total_length += length[j];
+      total_rest += rest[j];
+    }
+    if (braked(p) && tension(ea, total_length, total_rest) > p.activation_force &&
+        state.slip < p.stroke) {
+      const double paid_out = std::min(ea * total_length / (ea + p.activation_force) - total_rest,
+                                       p.stroke - state.slip);
+      if (paid_out > 0.0) {
+        state.slip += paid_out;
+        total_rest += paid_out;
+        state.brake_work += 0.5 *
+                            (driving_force(ea, last_tension) +
+                             driving_force(ea, tension(ea, total_length, total_rest))) *
+                            paid_out;
+      }
+    }
+    if (!(total_length > 0.0)) return;
+    const double share = total_rest / total_length;
+    for (std::size_t j = 0; j < rest.size(); ++j)
+      rest[j] = length[j] * share;
+  }
+
+  /// Moves rope into segment `to` out of segment `from` (whose tensions are T_to > c T_from)
+  /// until T_to = c T_from, and returns the work it dissipates (`last_excess`: g(T_to) -
+  /// g(T_from) at the last step's tensions). With A the new lambda_to and
+  /// S = lambda_to + lambda_from: l_to / A - 1 = c (l_from / (S - A) - 1), the one root of
+  /// (c - 1) A^2 + (l_to + c l_from - (c - 1) S) A - l_to S = 0 in (0, S); where that root
+  /// would leave both slack, A = l_to (the to segment just slack).
+  static double slide(double ea, double c, double l_to, double& rest_to, double l_from,
+                      double& rest_from, double last_excess) {
+    const double s = rest_to + rest_from;
+    const double alpha = c - 1.0;
+    const double beta = l_to + c * l_from - alpha * s;
+    const double root = std::sqrt(beta * beta + 4.0 * alpha * l_to * s);
+    double a = beta > 0.0 ? 2.0 * l_to * s / (beta + root) : (root - beta) / (2.0 * alpha);
+    a = std::clamp(a, rest_to, std::max(rest_to, std::min(l_to, s)));
+    const double moved = a - rest_to;
+    rest_to = a;
+    rest_from = s - a;
+    return 0.5 *
+           (last_excess + driving_force(ea, tension(ea, l_to, rest_to)) -
+            driving_force(ea, tension(ea, l_from, rest_from))) *
+           moved;
+  }
+
+  /// An end brake on segment j: lambda_j grows to EA l_j / (EA + F_b) (T_j = F_b), at most by
+  /// what is left of the stroke. True where it paid out.
+  static bool pay_out(const Params& p, std::size_t j, std::span<double> rest, State& state,
+                      std::span<const double> length, double last_tension) {
+    const double ea = p.axial_rigidity;
+    if (!(tension(ea, length[j], rest[j]) > p.activation_force) || !(state.slip < p.stroke))
+      return false;
+    const double paid_out =
+        std::min(ea * length[j] / (ea + p.activation_force) - rest[j], p.stroke - state.slip);
+    if (!(paid_out > 0.0)) return false;
+    state.slip += paid_out;
+    rest[j] += paid_out;
+    state.brake_work +=
+        0.5 *
+        (driving_force(ea, last_tension) + driving_force(ea, tension(ea, length[j], rest[j]))) *
+        paid_out;
+    return true;
+  }
+
+  static void slide_with_friction(const Params& p, std::span<const Vec3> path,
+                                  std::span<double> rest, State& state, const Segments& out) {
+    const double ea = p.axial_rigidity;
+    const std::size_t n = rest.size();
+    const std::span<const double> length = out.length;
+    // The rope turns by theta_i at point i, the angle between its segments' directions there.
+    for (std::size_t i = 1; i < n; ++i) {
+      const double lengths = length[i - 1] * length[i];
+      double theta = 0.0;
+      if (lengths > 0.0) {
+        const double cosine = dot(path[i] - path[i - 1], path[i + 1] - path[i]) / lengths;
+        theta = std::acos(std::clamp(cosine, -1.0, 1.0));
+      }
+      out.capstan[i] = std::exp(p.friction * theta);
+    }
+    for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+      bool moved = false;
+      if (braked(p)) {
+        moved |= pay_out(p, 0, rest, state, length, out.tension[0]);
+        moved |= pay_out(p, n - 1, rest, state, length, out.tension[n - 1]);
+      }
+      for (std::size_t i = 1; i < n; ++i) {
+        const double c = out.capstan[i] * (1.0 + kSlideTolerance);
+        const double before = tension(ea, length[i - 1], rest[i - 1]);
+        const double after = tension(ea, length[i], rest[i]);
+        // The last step's driving forces on the two sides (out.tension is written after).
+        const double last_excess =
+            driving_force(ea, out.tension[i - 1]) - driving_force(ea, out.tension[i]);
+        if (before > c * after) {
+          state.friction_work += slide(ea, out.capstan[i], length[i - 1], rest[i - 1], length[i],
+                                       rest[i], last_excess);
+          moved = true;
+        } else if (after > c * before) {
+          state.friction_work += slide(ea, out.capstan[i], length[i], rest[i], length[i - 1],
+                                       rest[i - 1], -last_excess);
+          moved = true;
+        }
+      }
+      if (!moved) break;
+    }
   }
 };
 

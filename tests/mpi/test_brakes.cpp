@@ -37,7 +37,7 @@ struct ParticleRow {
 struct BrakedRun {
   std::vector<ParticleRow> particles;
   std::vector<Vec3> body_position, body_velocity, slip;
-  std::vector<double> travel, work, rope_slip, rope_work;
+  std::vector<double> travel, work, rope_slip, rope_work, rope_friction, rope_segments;
   Energies energies;
   /// How far the brakes (of shackles or ropes) have slid: the largest travel.
   double largest_travel() const {
@@ -66,7 +66,9 @@ BrakedRun snapshot(Simulation& sim) {
   r.travel = sim.model().brakes.travel;
   r.work = sim.model().brakes.work;
   r.rope_slip = sim.model().ropes.slip;
-  r.rope_work = sim.model().ropes.work;
+  r.rope_work = sim.model().ropes.brake_work;
+  r.rope_friction = sim.model().ropes.friction_work;
+  r.rope_segments = sim.model().ropes.segment_rest;
   r.energies = sim.energies();
   return r;
 }
@@ -85,6 +87,8 @@ void expect_same(const BrakedRun& a, const BrakedRun& b, const char* what) {
   EXPECT_EQ(a.work, b.work) << what;
   EXPECT_EQ(a.rope_slip, b.rope_slip) << what;
   EXPECT_EQ(a.rope_work, b.rope_work) << what;
+  EXPECT_EQ(a.rope_friction, b.rope_friction) << what;
+  EXPECT_EQ(a.rope_segments, b.rope_segments) << what;
   EXPECT_EQ(a.energies.ledger(), b.energies.ledger()) << what;
 }
 
@@ -125,6 +129,15 @@ void expect_rank_independent_restartable_and_balanced(const CaseConfig& c, const
       EXPECT_GT(travel_half, 0.0);
       EXPECT_GT(travel_end, 1.2 * travel_half);
       EXPECT_GT(straight.energies.contact_damping, 0.0);
+      // Ropes with friction slide through the shackles as well as out of their brakes.
+      const std::vector<double>& mu = sim.model().ropes.friction;
+      if (std::any_of(mu.begin(), mu.end(), [](double f) { return f > 0.0; })) {
+        double friction_work = 0.0;
+        for (const double w : straight.rope_friction)
+          friction_work += w;
+        EXPECT_GT(friction_work, 0.0);
+        EXPECT_GT(straight.energies.friction, friction_work);  // with the contacts'
+      }
       // The ledger closes: what the balance moved is a small part of what the brakes took.
       EXPECT_GT(straight.energies.brake_work, 0.0);
       EXPECT_LT(std::abs(straight.energies.balance_error(initial.energies)),
@@ -184,6 +197,18 @@ TEST(Brakes, ShacklesOnRopesSlideAlikeOnEveryRankCountAndRestartBitwise) {
                              "particles.nets[0].shackles.ropes.axial_stiffness=2e6",
                              "particles.nets[0].shackles.ropes.brake.activation_force=1500"}),
       "ropes");
+}
+
+TEST(Brakes, ShacklesOnFrictionalRopesSlideAlikeOnEveryRankCountAndRestartBitwise) {
+  // The same pull with friction 0.3 between the ropes and the shackles: the corner shackles,
+  // where the ropes turn most, hold until the capstan ratio and then slide.
+  expect_rank_independent_restartable_and_balanced(
+      load_case_from_string(testing::kTinyRockfall, "tiny.yaml",
+                            {"simulation.gravity=[0, 0, -400]",
+                             "particles.nets[0].shackles.ropes.axial_stiffness=2e6",
+                             "particles.nets[0].shackles.ropes.friction=0.3",
+                             "particles.nets[0].shackles.ropes.brake.activation_force=1500"}),
+      "frictional_ropes");
 }
 
 }  // namespace
