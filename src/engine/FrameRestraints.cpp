@@ -29,7 +29,7 @@ SlidingRope::Params rope_params(const RopeStore& s, std::size_t r) {
 /// hold the longest rope.
 struct RopeBuffers {
   std::vector<Vec3> path, loads;
-  std::vector<double> length, capstan;
+  std::vector<double> length, capstan, start;
 
   SlidingRope::Segments segments_for(const RopeStore& ropes, std::size_t r,
                                      const std::vector<RigidBody>& bodies,
@@ -38,7 +38,8 @@ struct RopeBuffers {
     loads.resize(path.size());
     length.resize(path.size() - 1);
     capstan.resize(path.size());
-    return {length, tension, capstan, loads};
+    start.resize(path.size() - 1);
+    return {length, tension, capstan, start, loads};
   }
 };
 

@@ -32,11 +32,12 @@ namespace ringdem {
 ///
 /// Each call is one backward-Euler step of these sliders at the call's geometry (Simo & Hughes
 /// 1998, ch. 1): without friction in closed form, with it by Gauss–Seidel sweeps over the points
-/// and ends, each a closed-form local slide. A slide of d lambda dissipates its driving force
-/// times d lambda, with -dE/d lambda_j = T_j + T_j^2 / (2 EA) =: g(T_j): a brake g(T_end) d lambda
-/// and a point (g(T_high) - g(T_low)) d lambda, each force the mean of the last step's (the
-/// tensions the call finds in `out`) and the slide's end state, the trapezoid that the energy
-/// ledger takes of the loads' work, so that the balance closes to second order in the step.
+/// and ends, each a closed-form local slide. The step dissipates sum_j g_j d lambda_j over its
+/// segments' changes d lambda_j, with the driving force -dE/d lambda_j = T_j + T_j^2 / (2 EA) =:
+/// g(T_j) taken as the mean of the last step's (the tensions the call finds in `out`) and this
+/// step's: the trapezoid that the energy ledger takes of the loads' work, so that the balance
+/// closes to second order in the step (exactly, for an energy quadratic in x and lambda). Of
+/// it the brakes take their end segments' g times what they paid out, the friction the rest.
 /// The result depends only on the arguments: the same bits on every rank.
 struct SlidingRope {
   struct Params {
@@ -57,6 +58,7 @@ struct SlidingRope {
     std::span<double> length;   ///< l_j [m]
     std::span<double> tension;  ///< T_j [N]: in, the last call's (or the laid rope's); out, this
     std::span<double> capstan;  ///< exp(mu theta_i) at each point (scratch; path-sized)
+    std::span<double> start;    ///< lambda_j at the call's start (scratch; segment-sized)
     std::span<Vec3> loads;      ///< the rope's load on each path point [N] (at the anchors: the
                                 ///< frame's)
   };
@@ -157,45 +159,34 @@ struct SlidingRope {
   }
 
   /// Moves rope into segment `to` out of segment `from` (whose tensions are T_to > c T_from)
-  /// until T_to = c T_from, and returns the work it dissipates (`last_excess`: g(T_to) -
-  /// g(T_from) at the last step's tensions). With A the new lambda_to and
+  /// until T_to = c T_from. With A the new lambda_to and
   /// S = lambda_to + lambda_from: l_to / A - 1 = c (l_from / (S - A) - 1), the one root of
   /// (c - 1) A^2 + (l_to + c l_from - (c - 1) S) A - l_to S = 0 in (0, S); where that root
   /// would leave both slack, A = l_to (the to segment just slack).
-  static double slide(double ea, double c, double l_to, double& rest_to, double l_from,
-                      double& rest_from, double last_excess) {
+  static void slide(double c, double l_to, double& rest_to, double l_from, double& rest_from) {
     const double s = rest_to + rest_from;
     const double alpha = c - 1.0;
     const double beta = l_to + c * l_from - alpha * s;
     const double root = std::sqrt(beta * beta + 4.0 * alpha * l_to * s);
     double a = beta > 0.0 ? 2.0 * l_to * s / (beta + root) : (root - beta) / (2.0 * alpha);
     a = std::clamp(a, rest_to, std::max(rest_to, std::min(l_to, s)));
-    const double moved = a - rest_to;
     rest_to = a;
     rest_from = s - a;
-    return 0.5 *
-           (last_excess + driving_force(ea, tension(ea, l_to, rest_to)) -
-            driving_force(ea, tension(ea, l_from, rest_from))) *
-           moved;
   }
 
   /// An end brake on segment j: lambda_j grows to EA l_j / (EA + F_b) (T_j = F_b), at most by
-  /// what is left of the stroke. True where it paid out.
-  static bool pay_out(const Params& p, std::size_t j, std::span<double> rest, State& state,
-                      std::span<const double> length, double last_tension) {
+  /// what is left of the stroke. Returns what it paid out.
+  static double pay_out(const Params& p, std::size_t j, std::span<double> rest, State& state,
+                        std::span<const double> length) {
     const double ea = p.axial_rigidity;
     if (!(tension(ea, length[j], rest[j]) > p.activation_force) || !(state.slip < p.stroke))
-      return false;
+      return 0.0;
     const double paid_out =
         std::min(ea * length[j] / (ea + p.activation_force) - rest[j], p.stroke - state.slip);
-    if (!(paid_out > 0.0)) return false;
+    if (!(paid_out > 0.0)) return 0.0;
     state.slip += paid_out;
     rest[j] += paid_out;
-    state.brake_work +=
-        0.5 *
-        (driving_force(ea, last_tension) + driving_force(ea, tension(ea, length[j], rest[j]))) *
-        paid_out;
-    return true;
+    return paid_out;
   }
 
   static void slide_with_friction(const Params& p, std::span<const Vec3> path,
@@ -213,31 +204,43 @@ struct SlidingRope {
       }
       out.capstan[i] = std::exp(p.friction * theta);
     }
+    std::copy(rest.begin(), rest.end(), out.start.begin());
+    double paid_first = 0.0, paid_last = 0.0;
     for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
       bool moved = false;
       if (braked(p)) {
-        moved |= pay_out(p, 0, rest, state, length, out.tension[0]);
-        moved |= pay_out(p, n - 1, rest, state, length, out.tension[n - 1]);
+        const double first = pay_out(p, 0, rest, state, length);
+        const double last = pay_out(p, n - 1, rest, state, length);
+        paid_first += first;
+        paid_last += last;
+        moved = moved || first > 0.0 || last > 0.0;
       }
       for (std::size_t i = 1; i < n; ++i) {
         const double c = out.capstan[i] * (1.0 + kSlideTolerance);
         const double before = tension(ea, length[i - 1], rest[i - 1]);
         const double after = tension(ea, length[i], rest[i]);
-        // The last step's driving forces on the two sides (out.tension is written after).
-        const double last_excess =
-            driving_force(ea, out.tension[i - 1]) - driving_force(ea, out.tension[i]);
         if (before > c * after) {
-          state.friction_work += slide(ea, out.capstan[i], length[i - 1], rest[i - 1], length[i],
-                                       rest[i], last_excess);
+          slide(out.capstan[i], length[i - 1], rest[i - 1], length[i], rest[i]);
           moved = true;
         } else if (after > c * before) {
-          state.friction_work += slide(ea, out.capstan[i], length[i], rest[i], length[i - 1],
-                                       rest[i - 1], -last_excess);
+          slide(out.capstan[i], length[i], rest[i], length[i - 1], rest[i - 1]);
           moved = true;
         }
       }
       if (!moved) break;
     }
+    // The step's dissipation: the trapezoid of g over each segment's change (out.tension still
+    // holds the last step's tensions; compute() writes this step's after).
+    const auto mean_force = [&](std::size_t j) {
+      return 0.5 * (driving_force(ea, out.tension[j]) +
+                    driving_force(ea, tension(ea, length[j], rest[j])));
+    };
+    double dissipated = 0.0;
+    for (std::size_t j = 0; j < n; ++j)
+      if (rest[j] != out.start[j]) dissipated += mean_force(j) * (rest[j] - out.start[j]);
+    const double braking = mean_force(0) * paid_first + mean_force(n - 1) * paid_last;
+    state.brake_work += braking;
+    state.friction_work += dissipated - braking;
   }
 };
 

@@ -21,7 +21,7 @@ constexpr double kRigidity = 1.2e7;  // EA [N]: a 3 m rope of k = EA / L0 = 4e6 
 struct Rope {
   SlidingRope::Params params;
   std::vector<Vec3> path;
-  std::vector<double> rest, length, tension, capstan;
+  std::vector<double> rest, length, tension, capstan, start;
   std::vector<Vec3> loads;
   SlidingRope::State state;
 
@@ -31,6 +31,7 @@ struct Rope {
         length(path.size() - 1),
         tension(path.size() - 1),
         capstan(path.size()),
+        start(path.size() - 1),
         loads(path.size()) {
     params.axial_rigidity = kRigidity;
     params.friction = friction;
@@ -45,7 +46,7 @@ struct Rope {
       r *= total / sum;
   }
   void step() {
-    SlidingRope::compute(params, path, rest, state, {length, tension, capstan, loads});
+    SlidingRope::compute(params, path, rest, state, {length, tension, capstan, start, loads});
   }
   double energy() const { return SlidingRope::elastic_energy(params, path, rest); }
   double total_rest() const {
@@ -253,12 +254,22 @@ TEST(SlidingRope, ARopeWrappedOverManyPointsSlidesAtTheCapstanRatioOfTheWholeTur
     turn += std::acos(dot(normalized(path[i] - path[i - 1]), normalized(path[i + 1] - path[i])));
   EXPECT_NEAR(turn, M_PI, 1e-12);
   double ratio = 1.0;
+  const double initial = rope.energy();
+  rope.step();
+  double paid_work = 0.0, load_before = rope.loads.back().z;
   for (int i = 1; i <= 3000; ++i) {
+    const double previous = rope.path.back().z;
     rope.path.back().z = -1.0 - 0.03 * i / 3000.0;
     rope.step();
     ratio = rope.tension.back() / rope.tension.front();
+    paid_work -= 0.5 * (load_before + rope.loads.back().z) * (rope.path.back().z - previous);
+    load_before = rope.loads.back().z;
   }
   EXPECT_NEAR(ratio, std::exp(mu * M_PI), 1e-6 * ratio);
+  // The work put in at the pulled end is what the rope holds and what the eight slip rings took,
+  // where each step slides rope through many of them at once.
+  EXPECT_GT(rope.state.friction_work, 0.1 * paid_work);
+  EXPECT_NEAR(paid_work, rope.energy() - initial + rope.state.friction_work, 1e-6 * paid_work);
   EXPECT_GT(rope.tension.back(), 10.0e3);
   // Each segment's tension is exp(mu x the turn before it) times the held end's.
   double before = 0.0;

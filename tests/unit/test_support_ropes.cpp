@@ -96,13 +96,13 @@ TEST(SupportRopes, EachSideHasOneTautRopeThroughItsShacklesInOrder) {
     SlidingRope::State state;
     const std::size_t n = path.size() - 1;
     std::vector<double> rest(m.ropes.rest_of(r).begin(), m.ropes.rest_of(r).end()), length(n),
-        tension(n), capstan(n + 1);
+        tension(n), capstan(n + 1), start(n);
     std::vector<Vec3> loads(n + 1);
     ASSERT_EQ(rest.size(), n);
     const SlidingRope::Params p{m.ropes.axial_rigidity[r], m.ropes.friction[r],
                                 m.ropes.activation_force[r], m.ropes.stroke[r]};
     EXPECT_EQ(p.axial_rigidity, 2e7);
-    SlidingRope::compute(p, path, rest, state, {length, tension, capstan, loads});
+    SlidingRope::compute(p, path, rest, state, {length, tension, capstan, start, loads});
     for (std::size_t j = 0; j < n; ++j) {
       EXPECT_NEAR(tension[j], 500.0, 1e-9 * 500.0) << "rope " << r << " segment " << j;
       EXPECT_EQ(m.ropes.segment_tension[m.ropes.segment_begin(r) + j], 500.0);
