@@ -4,6 +4,7 @@
 // tension a rockfall reports, against the pretension and the brakes' activation force.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <stdlib.h>
 
 #include <cmath>
@@ -22,6 +23,7 @@
 #include "app/ImpactRecord.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "engine/FrameRestraints.hpp"
+#include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
 #include "io/Checkpoint.hpp"
@@ -130,6 +132,44 @@ TEST(SupportRopes, EachSideHasOneTautRopeThroughItsShacklesInOrder) {
   for (std::size_t r = 0; r < m.ropes.size(); ++r)
     energy += 0.5 * 500.0 * 500.0 * m.ropes.rest_length[r] / m.ropes.axial_rigidity[r];
   EXPECT_NEAR(totals.elastic_energy, energy, 1e-9 * energy);
+}
+
+// A checkpoint of format 12 held each rope's state as one tension; this one's ropes need their
+// segments' lambda_j and tensions: such a file with ropes is refused with the reason (one
+// without ropes still reads, the restart tests' 12-format cases).
+TEST(SupportRopes, ACheckpointWrittenBeforeRopeSegmentsIsRefused) {
+  const CaseConfig c = load_case_from_string(roped("ropes: {axial_stiffness: 2e7}"), "x.yaml");
+  const Communicator comm = testing::self_comm();
+  Simulation sim(build_scenario_model(c, comm), comm, settings_from_case(c));
+  std::string dir = (std::filesystem::temp_directory_path() / "ringdem_ropes_XXXXXX").string();
+  ASSERT_NE(mkdtemp(dir.data()), nullptr);
+  const std::string path =
+      CheckpointStore(dir).write(comm, sim.model(), sim.restart_state(), DriverState{}, 0, c);
+  {
+    Model model = build_model_without_particles(c);
+    DriverState driver;
+    EXPECT_NO_THROW(read_checkpoint(comm, path, c, model, driver));
+  }
+  {
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    const hid_t a = H5Aopen(f, "format_version", H5P_DEFAULT);
+    const std::int64_t twelve = 12;
+    H5Awrite(a, H5T_NATIVE_INT64, &twelve);
+    H5Aclose(a);
+    H5Fclose(f);
+  }
+  Model model = build_model_without_particles(c);
+  DriverState driver;
+  try {
+    read_checkpoint(comm, path, c, model, driver);
+    ADD_FAILURE() << "a format 12 checkpoint with ropes was read";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("checkpoint format version 12 holds each support rope's "
+                                         "state as one tension"),
+              std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 /// The values of one column of a CSV file with a header line.
