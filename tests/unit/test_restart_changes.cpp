@@ -4,7 +4,6 @@
 // step changed mid-run (the energy ledger goes on without a jump, the step count to an end
 // time is counted from the change).
 #include <gtest/gtest.h>
-#include <hdf5.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -12,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "CheckpointVersion.hpp"
 #include "TestCases.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
@@ -152,14 +152,7 @@ TEST(CheckpointFormat, OlderVersionIsRefusedWithTheReason) {
   EXPECT_EQ(read_checkpoint_info(path).case_text, canonical_case_text(c));
   EXPECT_EQ(read_checkpoint_info(path).model_fingerprint,
             model_fingerprint(canonical_case_text(c)));
-  {
-    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    const hid_t a = H5Aopen(f, "format_version", H5P_DEFAULT);
-    const std::int64_t two = 2;
-    H5Awrite(a, H5T_NATIVE_INT64, &two);
-    H5Aclose(a);
-    H5Fclose(f);
-  }
+  testing::set_checkpoint_format_version(path, 2);
   try {
     read_checkpoint_info(path);
     ADD_FAILURE() << "a version 2 checkpoint was accepted";

@@ -4,7 +4,6 @@
 // tension a rockfall reports, against the pretension and the brakes' activation force.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <hdf5.h>
 #include <stdlib.h>
 
 #include <cmath>
@@ -17,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "CaseLoaderFixtures.hpp"
+#include "CheckpointVersion.hpp"
 #include "CommandLine.hpp"
 #include "FileText.hpp"
 #include "TestCases.hpp"
@@ -150,14 +150,7 @@ TEST(SupportRopes, ACheckpointWrittenBeforeRopeSegmentsIsRefused) {
     DriverState driver;
     EXPECT_NO_THROW(read_checkpoint(comm, path, c, model, driver));
   }
-  {
-    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-    const hid_t a = H5Aopen(f, "format_version", H5P_DEFAULT);
-    const std::int64_t twelve = 12;
-    H5Awrite(a, H5T_NATIVE_INT64, &twelve);
-    H5Aclose(a);
-    H5Fclose(f);
-  }
+  testing::set_checkpoint_format_version(path, 12);
   Model model = build_model_without_particles(c);
   DriverState driver;
   try {
