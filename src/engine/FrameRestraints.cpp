@@ -114,7 +114,7 @@ std::optional<TimeStepPlan> plan_time_steps_with_restraints(const CaseConfig& co
   set_restraint_limits(build_model_without_particles(config), limits);
   plan->tighten(limits.brake, "the brake limit sqrt(M/k) of a shackle torus on its brake",
                 config.simulation.dt_safety);
-  plan->tighten(limits.rope, "the rope limit sqrt(M/4k) of a shackle torus on its rope",
+  plan->tighten(limits.rope, "the rope limit sqrt(M/k) of a shackle torus on its rope",
                 config.simulation.dt_safety);
   return plan;
 }

@@ -20,7 +20,8 @@ struct StabilityLimits {
   double bond_rotation;  ///< sqrt(I / max((4 + Phi) c / L, G J / L))
   /// sqrt(M / k) of a braked body on its brake's spring (docs/physics.md "Brake elements")
   double brake = std::numeric_limits<double>::infinity();
-  /// sqrt(M / 4k) of a body on a support rope of stiffness k = EA / L0 ("Support ropes")
+  /// sqrt(M / k) of a body on a support rope: k = 4 EA / L0 sliding freely, EA (1 / lambda_a +
+  /// 1 / lambda_b) held by friction ("Support ropes"; engine/FrameRestraints)
   double rope = std::numeric_limits<double>::infinity();
 
   double min() const;
