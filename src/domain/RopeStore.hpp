@@ -15,7 +15,7 @@ namespace ringdem {
 /// carry, ropes are few and replicated on every rank, and every rank updates them alike from the
 /// bodies' reduced state: no migration, no ghosts. for_each_field() is the registry: the case
 /// builds the parameters, checkpoints carry the state (kCheckpoint: one row per rope, or one
-/// per segment for segment_rest).
+/// per segment for the segment columns).
 struct RopeStore {
   /// Rope r runs through the bodies nodes[node_begin[r] .. node_begin[r + 1]) in order; its
   /// path has one segment more than bodies, from segment_begin(r) on in the segment columns.

@@ -84,9 +84,8 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
                              CheckpointInfo* info = nullptr);
 
 /// Root attributes and the case text (ringdem info, --restart auto). Throws Hdf5Error for a file
-/// that is no complete checkpoint of a format version this ringdem reads (3 and 4; older ones
-/// lack the case text; a version 3 file restarts with a neighbour-list rebuild counted as the
-/// last one, its later rebuilds possibly at other steps than in the run never interrupted).
+/// that is no complete checkpoint of a format version this ringdem reads (11 to 13: the list of
+/// versions and what each added is at kFormatVersion in io/Checkpoint.cpp).
 CheckpointInfo read_checkpoint_info(const std::string& path);
 
 /// Checks every dataset of a checkpoint against its checksum; returns the dataset names checked.
