@@ -25,6 +25,7 @@
 #include "core/Version.hpp"
 #include "engine/FrameRestraints.hpp"
 #include "io/CaseLoader.hpp"
+#include "io/InputError.hpp"
 #include "io/SizeEstimate.hpp"
 
 namespace {
@@ -223,7 +224,11 @@ int main(int argc, char** argv) {
               ? fmt::format(" (more than the {:.0f} MiB available here)", have / (1024.0 * 1024.0))
               : std::string());
       // What sizes a job besides memory: the step and how many of them the run may take.
-      if (const auto plan = ringdem::plan_time_steps_with_restraints(config))
+      if (const auto plan = ringdem::plan_time_steps_with_restraints(config)) {
+        if (const auto warning = ringdem::restraint_step_warning(config, *plan))
+          std::cerr << ringdem::format_diagnostic({check_path, 0, 0, "simulation.dt", *warning,
+                                                   ringdem::Severity::kWarning})
+                    << '\n';
         fmt::print(
             "time step: {:.4g} s ({}, {:.3f} of the smallest stability limit, {:.4g} s: {}); "
             "at most {:.0f} steps in the {:.4g} s the run may last ({})\n",
@@ -232,6 +237,7 @@ int main(int argc, char** argv) {
             plan->duration_key.rfind("scenario.rockfall.", 0) == 0
                 ? std::string("the rockfall's phases at their longest")
                 : plan->duration_key);
+      }
       return 0;
     } catch (const ringdem::InputError& e) {
       std::cerr << e.format();

@@ -119,6 +119,15 @@ std::optional<TimeStepPlan> plan_time_steps_with_restraints(const CaseConfig& co
   return plan;
 }
 
+std::optional<std::string> restraint_step_warning(const CaseConfig& config,
+                                                  const TimeStepPlan& plan) {
+  if (!plan.fixed || !(plan.dt > plan.limit)) return std::nullopt;
+  // Above the particles' and bonds' limit too: the loader's warning names that one.
+  const std::optional<TimeStepPlan> particles = plan_time_steps(config);
+  if (particles && plan.dt > particles->limit) return std::nullopt;
+  return fixed_step_above_limit(plan.dt, plan.limit, plan.limit_what);
+}
+
 void hold_restrained_bodies(Model& model, bool held) {
   for (const std::int32_t b : restrained_bodies(model)) {
     RigidBody& body = model.bodies[static_cast<std::size_t>(b)];

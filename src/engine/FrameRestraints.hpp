@@ -1,6 +1,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 
 #include "core/Vec3.hpp"
 #include "engine/Model.hpp"
@@ -29,6 +30,13 @@ void set_restraint_limits(const Model& model, StabilityLimits& limits);
 /// from its restraints as a run builds them (the model without its particles), so that the plan
 /// has the step a run will take where a brake or a rope sets it.
 std::optional<TimeStepPlan> plan_time_steps_with_restraints(const CaseConfig& config);
+
+/// The warning for a fixed simulation.dt above a brake's or a rope's stability limit (the
+/// loader warns of one above the particles' and bonds' limits, which it knows without the
+/// built restraints): the message of fixed_step_above_limit(), or none where the case's dt is
+/// automatic, within the plan's limit, or above a limit the loader has named already.
+std::optional<std::string> restraint_step_warning(const CaseConfig& config,
+                                                  const TimeStepPlan& plan);
 
 /// Every body a brake or a rope holds (body indices; a body on a brake before those on ropes).
 std::vector<std::int32_t> restrained_bodies(const Model& model);

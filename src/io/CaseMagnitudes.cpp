@@ -464,6 +464,13 @@ KindLimits kind_limits(const CaseConfig& c, const std::vector<Kind>& kinds,
 
 }  // namespace
 
+std::string fixed_step_above_limit(double dt, double limit, const std::string& what) {
+  return fmt::format(
+      "the fixed time step {} s is {:.3g} times the smallest stability limit, {} s ({}): the "
+      "run may diverge; lower it, or leave it out to take dt_safety x that limit",
+      format_number(dt), dt / limit, short_number(limit), what);
+}
+
 void TimeStepPlan::tighten(double smaller, const std::string& what, double dt_safety) {
   if (!(smaller < limit)) return;
   limit = smaller;
@@ -504,11 +511,7 @@ void check_case_magnitudes(const CaseConfig& c, Context& ctx) {
   const auto [duration, duration_key] = run_duration(c);
   if (s.dt && *s.dt > limit.value && !ctx.failed("simulation.dt"))
     ctx.warn(ctx.where("simulation.dt", "simulation"), "simulation.dt",
-             fmt::format("the fixed time step {} s is {:.3g} times the smallest stability limit, "
-                         "{} s ({}): the run may diverge; lower it, or leave it out to "
-                         "take dt_safety x that limit",
-                         format_number(*s.dt), *s.dt / limit.value, short_number(limit.value),
-                         limit.what));
+             fixed_step_above_limit(*s.dt, limit.value, limit.what));
   if (!ctx.failed("simulation") && !ctx.failed(duration_key) && std::isfinite(limit.value)) {
     const double dt = s.dt ? std::min(*s.dt, limit.value) : s.dt_safety * limit.value;
     const double steps = duration / dt;

@@ -55,6 +55,11 @@ struct TimeStepPlan {
 };
 std::optional<TimeStepPlan> plan_time_steps(const CaseConfig& config);
 
+/// What the warning for a fixed time step `dt` above the smallest stability limit `limit`
+/// (described by `what`) says: the loader's for the particles' and bonds' limits, `ringdem
+/// check`'s for a brake's or a rope's (which need the built restraints).
+std::string fixed_step_above_limit(double dt, double limit, const std::string& what);
+
 /// Reports derived quantities out of range to `ctx`. Runs after the other cross-key checks
 /// (cross_validate_case calls it last); entries with errors already are skipped.
 void check_case_magnitudes(const CaseConfig& config, schema::Context& ctx);

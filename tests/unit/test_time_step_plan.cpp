@@ -5,9 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <optional>
 #include <string>
 
 #include "CommandLine.hpp"
+#include "TempDir.hpp"
 #include "TestCases.hpp"
 #include "app/ScenarioDriver.hpp"
 #include "engine/FrameRestraints.hpp"
@@ -76,6 +80,46 @@ TEST(TimeStepPlan, AStiffBrakeOrRopeSetsTheStepAsInTheRun) {
                                                 "tiny.yaml", {"simulation.dt=auto"});
   EXPECT_EQ(plan_time_steps_with_restraints(soft)->limit, plan_time_steps(soft)->limit);
   expect_plan_of_the_built_model(soft);
+}
+
+// A fixed step above a stiff brake's limit: the loader cannot know that limit and says nothing,
+// so `ringdem check` warns of it, with the ratio and the limit the run's pre-flight report
+// shows; under it, with an automatic step, or above the net's own limit (the loader's warning)
+// it does not.
+TEST(TimeStepPlan, AFixedStepAboveARestraintsLimitIsWarnedOf) {
+  const std::string stiff = with_shackles("brake: {stiffness: 1e13, activation_force: 2000}");
+  const CaseConfig c = load_case_from_string(stiff, "tiny.yaml");
+  ASSERT_TRUE(c.simulation.dt.has_value());
+  const TimeStepPlan plan = *plan_time_steps_with_restraints(c);
+  const Communicator comm = testing::self_comm();
+  const Simulation sim(build_scenario_model(c, comm), comm, settings_from_case(c));
+  ASSERT_GT(*c.simulation.dt, sim.limits().brake);  // the run's own limit, another code path
+  const std::optional<std::string> warning = restraint_step_warning(c, plan);
+  ASSERT_TRUE(warning.has_value());
+  // The run's limit and ratio, in the loader's words.
+  EXPECT_EQ(*warning,
+            fixed_step_above_limit(*c.simulation.dt, sim.limits().brake, plan.limit_what));
+  EXPECT_NE(warning->find("brake limit"), std::string::npos) << *warning;
+
+  const CaseConfig automatic = load_case_from_string(stiff, "tiny.yaml", {"simulation.dt=auto"});
+  EXPECT_FALSE(restraint_step_warning(automatic, *plan_time_steps_with_restraints(automatic)));
+  const CaseConfig under = load_case_from_string(
+      stiff, "tiny.yaml", {fmt::format("simulation.dt={}", 0.9 * sim.limits().brake)});
+  EXPECT_FALSE(restraint_step_warning(under, *plan_time_steps_with_restraints(under)));
+  const CaseConfig above_net = load_case_from_string(
+      stiff, "tiny.yaml", {fmt::format("simulation.dt={}", 2.0 * plan_time_steps(c)->limit)});
+  EXPECT_FALSE(restraint_step_warning(above_net, *plan_time_steps_with_restraints(above_net)));
+
+  // The command prints it as a warning of the case file's simulation.dt, and exits 0.
+  const std::string dir = testing::temp_dir("stiff_brake");
+  const std::string path = dir + "/stiff_brake.yaml";
+  std::ofstream(path) << stiff;
+  const testing::CommandResult r =
+      testing::run_command(std::string("'") + RINGDEM_BINARY + "' check '" + path + "'");
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find(path + ": warning: simulation.dt: " + *warning), std::string::npos)
+      << r.output;
 }
 
 TEST(TimeStepPlan, CheckPrintsIt) {
