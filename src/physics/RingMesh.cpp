@@ -1,0 +1,97 @@
+#include "physics/RingMesh.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ringdem {
+
+RingMesh::Plane RingMesh::plane(const Vec3* bead, std::size_t n) {
+  Plane pl;
+  Vec3 sum;
+  for (std::size_t i = 0; i < n; ++i)
+    sum += bead[i];
+  pl.centre = sum / static_cast<double>(n);
+  // A = 1/2 sum_i q_i x q_(i+1): the polygon's vector area (Eq. M1's normal)
+  Vec3 area;
+  double reach2 = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 q = bead[i] - pl.centre;
+    const Vec3 q_next = bead[i + 1 == n ? 0 : i + 1] - pl.centre;
+    area += cross(q, q_next);
+    reach2 = std::max(reach2, norm2(q));
+  }
+  area *= 0.5;
+  pl.area = norm(area);
+  pl.normal = pl.area > 0.0 ? area / pl.area : Vec3{};
+  pl.reach = std::sqrt(reach2);
+  return pl;
+}
+
+bool RingMesh::compute(const Params& params, const Plane& plane, const Input& in, Output& out,
+                       Vec3* bead_force, Vec3* bead_damping) {
+  if (!(plane.area > 0.0)) return false;
+  const Vec3& n = plane.normal;
+  const Vec3 e = in.position - plane.centre;
+  const double d = dot(e, n);
+  const double overlap = in.radius - std::abs(d);  // Eq. M1
+  if (overlap <= 0.0) return false;
+  const Vec3 e_perp = e - n * d;
+  const double rho = norm(e_perp);
+  const double a = std::sqrt(plane.area / M_PI);
+  const double width = std::min(in.radius, 0.5 * a);
+  const double t = (a - rho) / width;
+  if (t <= 0.0) return false;
+  // The fade at the rim: s = S(t), S(t) = 3 t^2 - 2 t^3, and S'(t) (Eq. M1)
+  const double weight = t >= 1.0 ? 1.0 : t * t * (3.0 - 2.0 * t);
+  const double slope = t >= 1.0 ? 0.0 : 6.0 * t * (1.0 - t);
+  // Eq. M3: g_i = d(d)/d(p_i) = -n / N + 1/2 w x (p_(i-1) - p_(i+1)), w = e_perp / |A|; held
+  // in bead_force until the loads are known.
+  const Vec3 w = e_perp / plane.area;
+  const double inv_n = 1.0 / static_cast<double>(in.n);
+  Vec3* const gradient = bead_force;
+  double d_rate = dot(n, in.velocity);  // d' = n . v + sum_i g_i . v_i
+  for (std::size_t i = 0; i < in.n; ++i) {
+    const Vec3& before = in.bead_position[i == 0 ? in.n - 1 : i - 1];
+    const Vec3& after = in.bead_position[i + 1 == in.n ? 0 : i + 1];
+    gradient[i] = n * (-inv_n) + cross(w, before - after) * 0.5;
+    d_rate += dot(gradient[i], in.bead_velocity[i]);
+  }
+  const double side = d >= 0.0 ? 1.0 : -1.0;
+  const double overlap_rate = -side * d_rate;
+  // Eq. M5: a spring and a dashpot along the gradient of delta, never pulling
+  const double k = params.stiffness;
+  const double viscous = 2.0 * params.damping_ratio * std::sqrt(k * in.m_star);
+  const double elastic = k * weight * overlap;
+  const double normal = std::max(0.0, elastic + viscous * weight * overlap_rate);
+  const double damping = normal - elastic;
+  // Eq. M4: minus the gradient of E through s: L (d(rho) - d(a)) with L = k delta^2 S' / (2 w),
+  // d(rho)/dx = e_perp / rho, d(rho)/d(p_i) = -(e / N + d g_i) / rho,
+  // d(a)/d(p_i) = n x (p_(i-1) - p_(i+1)) / (4 pi a).
+  const double fade = 0.5 * k * overlap * overlap * slope / width;
+  out.overlap = overlap;
+  out.weight = weight;
+  out.elastic_energy = 0.5 * k * weight * overlap * overlap;
+  out.outward = n * side;
+  out.damping = n * (side * damping);
+  out.force = n * (side * normal);
+  if (fade > 0.0) out.force += e_perp * (fade / rho);
+  for (std::size_t i = 0; i < in.n; ++i) {
+    const Vec3 g = gradient[i];
+    bead_damping[i] = g * (side * damping);
+    bead_force[i] = g * (side * normal);
+    if (fade > 0.0) {
+      const Vec3& before = in.bead_position[i == 0 ? in.n - 1 : i - 1];
+      const Vec3& after = in.bead_position[i + 1 == in.n ? 0 : i + 1];
+      const Vec3 rho_gradient = (e * inv_n + g * d) * (-1.0 / rho);
+      const Vec3 a_gradient = cross(n, before - after) * (1.0 / (4.0 * M_PI * a));
+      bead_force[i] += (rho_gradient - a_gradient) * fade;
+    }
+  }
+  return true;
+}
+
+double RingMesh::time_step_limit(double stiffness, double grain_mass, double ring_mass) {
+  return std::sqrt(1.0 / (4.0 * stiffness * (1.0 / grain_mass + 3.0 / ring_mass)));
+}
+
+}  // namespace ringdem
