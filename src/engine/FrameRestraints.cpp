@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/ModelBuilder.hpp"
+#include "engine/RingMeshTerm.hpp"
 #include "physics/BrakeElement.hpp"
 #include "physics/SlidingRope.hpp"
 
@@ -107,11 +108,15 @@ void set_restraint_limits(const Model& model, StabilityLimits& limits) {
 std::optional<TimeStepPlan> plan_time_steps_with_restraints(const CaseConfig& config) {
   std::optional<TimeStepPlan> plan = plan_time_steps(config);
   const bool restrained = std::any_of(config.nets.begin(), config.nets.end(), [](const auto& n) {
-    return n.shackles.brake.has_value() || n.shackles.ropes.has_value();
+    return n.shackles.brake.has_value() || n.shackles.ropes.has_value() || n.mesh.has_value();
   });
   if (!plan || !restrained) return plan;
   StabilityLimits limits{};
-  set_restraint_limits(build_model_without_particles(config), limits);
+  const Model model = build_model_without_particles(config);
+  set_restraint_limits(model, limits);
+  plan->tighten(RingMeshTerm::time_step_limit(model),
+                "the mesh limit of the lightest grain a net's secondary mesh holds",
+                config.simulation.dt_safety);
   plan->tighten(limits.brake, "the brake limit sqrt(M/k) of a shackle torus on its brake",
                 config.simulation.dt_safety);
   plan->tighten(limits.rope, "the rope limit sqrt(M/k) of a shackle torus on its rope",

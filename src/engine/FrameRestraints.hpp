@@ -26,9 +26,9 @@ void apply_restraints(Model& model);
 /// transverse stiffness T (1/l_a + 1/l_b) is left out, small beside those while T << EA.
 void set_restraint_limits(const Model& model, StabilityLimits& limits);
 
-/// plan_time_steps (what `ringdem check` prints) with the limits of the case's brakes and ropes,
-/// from its restraints as a run builds them (the model without its particles), so that the plan
-/// has the step a run will take where a brake or a rope sets it.
+/// plan_time_steps (what `ringdem check` prints) with the limits of the case's brakes and ropes
+/// and of its nets' secondary meshes, from the model as a run builds it without its particles,
+/// so that the plan has the step a run will take where one of them sets it.
 std::optional<TimeStepPlan> plan_time_steps_with_restraints(const CaseConfig& config);
 
 /// The warning for a fixed simulation.dt above a brake's or a rope's stability limit (the

@@ -14,6 +14,7 @@
 #include "physics/BondTimoshenko.hpp"
 #include "physics/BondTimoshenkoPlastic.hpp"
 #include "physics/MaterialTable.hpp"
+#include "physics/RingMesh.hpp"
 
 namespace ringdem {
 
@@ -23,6 +24,18 @@ namespace ringdem {
 struct PointLoad {
   std::int64_t gid = -1;
   Vec3 force;
+};
+
+/// A net's secondary mesh (`particles.nets[].mesh`, docs/physics.md "Secondary mesh"): the
+/// rings with body ids first_body .. first_body + n_rings - 1, each of beads_per_ring particles
+/// in gid order round the ring, hold the grains that RingMesh catches.
+struct RingMeshSpec {
+  std::int32_t first_body = 0;
+  std::int32_t n_rings = 0;
+  int beads_per_ring = 0;
+  double centreline_radius = 0.0;  ///< of the rings as built (m)
+  double ring_mass = 0.0;          ///< of one ring (kg): the stability limit's m_ring
+  RingMesh::Params params;
 };
 
 /// Everything a simulation holds, built from a validated case.
@@ -35,6 +48,7 @@ struct Model {
   std::vector<OutflowBox> outflow;  ///< boxes that grains may not leave (`outflow[]`)
   std::vector<InflowSpec> inflow;   ///< inlets that add grains during the run (`inflow[]`)
   std::vector<PointLoad> point_loads;
+  std::vector<RingMeshSpec> ring_meshes;  ///< nets with a secondary mesh
   MaterialTable materials;
   std::vector<std::string> bond_type_names;
   std::vector<BondTimoshenko::Params> bond_types;

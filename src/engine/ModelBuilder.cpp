@@ -281,6 +281,20 @@ ModelPlan plan_model(const CaseConfig& c) {
         rings.push_back(ring_spec(model, c, shackle, RingSpec::kNoBond, 0));
       }
     }
+    if (net.mesh && !layout.rings.empty()) {
+      // The net's rings are the first bodies of its source, after those of the sources before.
+      RingMeshSpec mesh;
+      for (const auto& src : plan.sources)
+        mesh.first_body += src->body_count();
+      mesh.n_rings = static_cast<std::int32_t>(layout.rings.size());
+      const RingGeometry& ring = rings.front().geometry;
+      mesh.beads_per_ring = ring.n_particles;
+      mesh.centreline_radius = ring.centreline_radius();
+      mesh.ring_mass = rings.front().density * ring.n_particles * 4.0 / 3.0 * M_PI *
+                       std::pow(ring.particle_radius, 3);
+      mesh.params = {net.mesh->opening, net.mesh->stiffness, net.mesh->damping_ratio};
+      model.ring_meshes.push_back(mesh);
+    }
     plan.sources.push_back(std::make_unique<RingSource>("net", std::move(rings)));
   }
 

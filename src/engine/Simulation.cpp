@@ -13,6 +13,7 @@
 #include "engine/FrameRestraints.hpp"
 #include "engine/ModelTable.hpp"
 #include "engine/PairContactTerm.hpp"
+#include "engine/RingMeshTerm.hpp"
 #include "physics/Integrator.hpp"
 
 namespace ringdem {
@@ -63,6 +64,8 @@ std::vector<std::unique_ptr<ForceTerm>> Simulation::make_terms(Model& m) {
   terms.push_back(bond_model->make(m));
   for (auto& t : contact_model->make())
     terms.push_back(std::move(t));
+  // A net's secondary mesh is part of the case, not a model choice: present when asked for.
+  if (!m.ring_meshes.empty()) terms.push_back(std::make_unique<RingMeshTerm>(m.ring_meshes));
   return terms;
 }
 
@@ -93,6 +96,7 @@ void Simulation::init_limits() {
   limits_.bond_shear = comm_.min(limits_.bond_shear);
   limits_.bond_rotation = comm_.min(limits_.bond_rotation);
   set_restraint_limits(model_, limits_);  // replicated: the same on every rank
+  limits_.mesh = RingMeshTerm::time_step_limit(model_);
 }
 
 Simulation::Simulation(Model model, const Communicator& comm, const SimulationSettings& settings)

@@ -128,6 +128,13 @@ struct ShackleConfig {
   bool rigid_tori() const { return brake.has_value() || ropes.has_value(); }
 };
 
+/// A net's secondary mesh (`particles.nets[].mesh`; physics/RingMesh.hpp).
+struct NetMeshConfig {
+  double opening = 0.0;    ///< required
+  double stiffness = 0.0;  ///< required
+  double damping_ratio = 0.3;
+};
+
 /// A horizontal chain-mail net of rings (domain/RingNet.hpp); the defaults are the paper's
 /// 180-ring net. `width` / `length`, when given, set `columns` / `rows` (the loader does).
 struct RingNetConfig {
@@ -149,6 +156,7 @@ struct RingNetConfig {
   std::string bond = "ring";
   std::optional<double> mass;  ///< per ring, as RingConfig::mass
   ShackleConfig shackles;
+  std::optional<NetMeshConfig> mesh;
 };
 
 /// Free spheres on a regular lattice (debris, packing tests).

@@ -273,6 +273,31 @@ const Table<RingConfig>& ring_table() {
   return table;
 }
 
+const Table<NetMeshConfig>& net_mesh_table() {
+  using Mesh = NetMeshConfig;
+  static const Table<Mesh> table{
+      "particles.nets[].mesh",
+      "A secondary mesh spanning every ring of the net, as the chain-link or hexagonal mesh of "
+      "a debris-flow barrier (docs/physics.md \"Secondary mesh\"): a disc in the plane of "
+      "each ring's beads, of the area of their polygon, which holds every grain of `opening` "
+      "diameter or more whose centre lies on it, by a frictionless spring and dashpot on its "
+      "overlap with the plane, fading out at the rim. Its loads on the ring's beads are "
+      "gradients of its energy, so force and moment balance. Finer grains pass, as through "
+      "the rings without a mesh. It widens each rank's ghost layer to half a ring's "
+      "perimeter.",
+      {
+          schema::number("opening", &Mesh::opening, above(0), "m",
+                         "Mesh opening: grains of this diameter or more are held")
+              .required(),
+          schema::number("stiffness", &Mesh::stiffness, above(0), "N/m",
+                         "Normal stiffness k of the mesh under one grain")
+              .required(),
+          schema::number("damping_ratio", &Mesh::damping_ratio, at_least(0), "",
+                         "Damping ratio zeta of the mesh's dashpot, c = 2 zeta sqrt(k m*)"),
+      }};
+  return table;
+}
+
 const Table<RingNetConfig>& net_table() {
   using N = RingNetConfig;
   static const Table<N> table{
@@ -338,6 +363,8 @@ const Table<RingNetConfig>& net_table() {
               .default_text("material density x particle volume"),
           schema::section("shackles", &N::shackles, shackle_table(),
                           "Rigid shackles holding the outer rings"),
+          schema::optional_section("mesh", &N::mesh, net_mesh_table(),
+                                   "A secondary mesh on every ring that holds finer grains"),
       }};
   return table;
 }

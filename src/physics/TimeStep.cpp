@@ -7,12 +7,17 @@
 namespace ringdem {
 
 double StabilityLimits::min() const {
-  return std::min({rayleigh, bond_axial, bond_shear, bond_rotation, brake, rope});
+  return std::min({rayleigh, bond_axial, bond_shear, bond_rotation, brake, rope, mesh});
 }
 
 std::vector<std::pair<std::string, double>> StabilityLimits::named() const {
-  return {{"Rayleigh", rayleigh},           {"bond axial", bond_axial}, {"bond shear", bond_shear},
-          {"bond rotation", bond_rotation}, {"brake", brake},           {"rope", rope}};
+  return {{"Rayleigh", rayleigh},
+          {"bond axial", bond_axial},
+          {"bond shear", bond_shear},
+          {"bond rotation", bond_rotation},
+          {"brake", brake},
+          {"rope", rope},
+          {"mesh", mesh}};
 }
 
 StabilityLimits stability_limits(const ParticleStore& p, const BondStore& bonds,

@@ -23,6 +23,9 @@ struct StabilityLimits {
   /// sqrt(M / k) of a body on a support rope: k = 4 EA / L0 sliding freely, EA (1 / lambda_a +
   /// 1 / lambda_b) held by friction ("Support ropes"; engine/FrameRestraints)
   double rope = std::numeric_limits<double>::infinity();
+  /// sqrt(1 / (k (1 / m + 3 / M))) of the lightest grain a net's secondary mesh holds
+  /// (RingMesh::time_step_limit; docs/physics.md "Secondary mesh")
+  double mesh = std::numeric_limits<double>::infinity();
 
   double min() const;
   /// (name, value) of each limit, for the pre-flight report.
