@@ -412,23 +412,16 @@ TEST(Equivalence, GrainsEnteringAndLeaving) {
 // each mesh contact's loads on the grain and on every bead of its ring are computed wherever
 // one of them is owned, from the same inputs, so the run is the same bits on any rank count.
 TEST(Equivalence, AMeshedNetCatchesGrainsOnAnyRankCount) {
-  const CaseConfig c = load_case_from_string(R"(schema_version: 1
-simulation: {dt: 2.0e-6, end_time: 1.0, gravity: [0, 0, -9.81]}
-materials:
-  - {name: steel, density: 7800, youngs_modulus: 200.0e9, poisson_ratio: 0.3, restitution: 0.5, friction: 0.3}
-  - {name: rock, density: 2600, youngs_modulus: 1.0e9, poisson_ratio: 0.25, restitution: 0.3, friction: 0.5}
-bonds:
-  - {name: ring, derive_from: {windings: 12, wire_diameter: 0.003}, radius_multiplier: 0.43}
-particles:
-  nets:
-    - {group: net, rows: 2, columns: 3, bond: ring, material: steel, mass: 0.647, n_particles: 40,
-       shackles: {n_particles: 12}, mesh: {opening: 0.06, stiffness: 2.0e5}}
-  lattices:
-    - {group: grains, origin: [-0.2, -0.1, 0.07], count: [3, 2, 1], spacing: 0.2,
-       particle_radius: 0.05, material: rock, velocity: [0.1, 0, -2]}
-scenario: {type: free_run}
-)",
-                                             "meshed.yaml");
+  const CaseConfig c = load_case_from_string(
+      testing::net_free_run("dt: 2.0e-6, end_time: 1.0, gravity: [0, 0, -9.81]",
+                            "rows: 2, columns: 3, shackles: {n_particles: 12}, "
+                            "mesh: {opening: 0.06, stiffness: 2.0e5}",
+                            "  lattices:\n"
+                            "    - {group: grains, origin: [-0.2, -0.1, 0.07], count: [3, 2, 1], "
+                            "spacing: 0.2, particle_radius: 0.05, material: rock, "
+                            "velocity: [0.1, 0, -2]}\n",
+                            "1.0e9"),
+      "meshed.yaml");
   const auto r = run_both(c, 30000, /*imbalance_threshold=*/0.0);
   // The mesh held grains: their speed down, summed over the six (which come last in gid
   // order), is at least 1 m/s less than over the bare net's rings in the same time.

@@ -5,6 +5,7 @@
 #include <mpi.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "comm/Communicator.hpp"
@@ -125,6 +126,31 @@ inline CaseConfig ring_patch_hit_by_sphere(double clearance, double speed, doubl
   boulder.velocity = {0, 0, -speed};
   c.rigid_bodies = {boulder};
   return c;
+}
+
+/// A free run of a small net of the paper's rings (40 beads, 0.647 kg each) and rock grains,
+/// as case-file text: `simulation` the keys of its simulation section, `net` the keys of the
+/// net entry besides its group, bond, material and rings (rows, columns, shackles, mesh, ...),
+/// `grains` the particles section's entries after `nets` (spheres, lattices), `rock_modulus`
+/// the rock's Young's modulus (Pa).
+inline std::string net_free_run(const std::string& simulation, const std::string& net,
+                                const std::string& grains,
+                                const std::string& rock_modulus = "30.0e9") {
+  return "schema_version: 1\nsimulation: {" + simulation +
+         "}\n"
+         "materials:\n"
+         "  - {name: steel, density: 7800, youngs_modulus: 200.0e9, poisson_ratio: 0.3, "
+         "restitution: 0.5, friction: 0.3}\n"
+         "  - {name: rock, density: 2600, youngs_modulus: " +
+         rock_modulus +
+         ", poisson_ratio: 0.25, restitution: 0.3, friction: 0.5}\n"
+         "bonds:\n"
+         "  - {name: ring, derive_from: {windings: 12, wire_diameter: 0.003}, "
+         "radius_multiplier: 0.43}\n"
+         "particles:\n"
+         "  nets:\n"
+         "    - {group: net, bond: ring, material: steel, mass: 0.647, n_particles: 40, " +
+         net + "}\n" + grains + "scenario: {type: free_run}\n";
 }
 
 /// A rockfall case of a 2 x 3 net and a 5 kg boulder: the sag ends after t = 0.01 s, the

@@ -20,24 +20,13 @@ namespace {
 
 using namespace case_fixture;
 
-const std::string kMeshedNet = R"(schema_version: 1
-simulation: {dt: 2.0e-6, end_time: 0.25, gravity: [0, 0, 0]}
-materials:
-  - {name: steel, density: 7800, youngs_modulus: 200.0e9, poisson_ratio: 0.3, restitution: 0.5, friction: 0.3}
-  - {name: rock, density: 2600, youngs_modulus: 30.0e9, poisson_ratio: 0.25, restitution: 0.3, friction: 0.5}
-bonds:
-  - {name: ring, derive_from: {windings: 12, wire_diameter: 0.003}, radius_multiplier: 0.43}
-particles:
-  nets:
-    - {group: net, rows: 2, columns: 2, bond: ring, material: steel, mass: 0.647, n_particles: 40,
-       MESH}
-  spheres:
-    - {group: grains, position: [0, 0, 1], velocity: [0, 0, -0.5], radius: RADIUS, material: rock}
-scenario: {type: free_run}
-)";
-
-std::string meshed_net(const std::string& mesh, double radius = 0.05) {
-  return replaced(replaced(kMeshedNet, "MESH", mesh), "RADIUS", std::to_string(radius));
+/// Two linked rings (a 2 x 2 lattice), with `net_keys` (shackles, mesh), and one rock grain of
+/// `radius` moving at 0.5 m/s along -z, without gravity.
+std::string meshed_net(const std::string& net_keys, double radius = 0.05) {
+  return testing::net_free_run(
+      "dt: 2.0e-6, end_time: 0.25, gravity: [0, 0, 0]", "rows: 2, columns: 2, " + net_keys,
+      "  spheres:\n    - {group: grains, position: [0, 0, 1], velocity: [0, 0, -0.5], radius: " +
+          std::to_string(radius) + ", material: rock}\n");
 }
 
 TEST(RingMeshTerm, TheLoaderAsksForTheOpeningAndTheStiffness) {
