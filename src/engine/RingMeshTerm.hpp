@@ -33,9 +33,6 @@ class RingMeshTerm final : public ForceTerm {
   /// material. Infinite without meshes.
   static double time_step_limit(const Model& model);
 
-  /// Ring–grain pairs within reach since the last rebuild (on this rank).
-  std::size_t n_candidates() const { return grain_.size(); }
-
  private:
   struct MeshRing {
     std::uint32_t mesh;        ///< index into meshes_

@@ -164,6 +164,14 @@ long long validate_net(RingNetConfig& n, const std::string& p,
                           schema::format_number(n.particle_radius),
                           schema::format_number(n.contact_radius)));
   }
+  if (n.mesh && !ctx.failed(p + ".mesh") && !ctx.failed(p + ".internal_diameter") &&
+      n.mesh->opening >= n.internal_diameter)
+    ctx.warn(ctx.where(p + ".mesh.opening", p), p + ".mesh.opening",
+             fmt::format("the mesh holds grains of {} m or more, which the rings' {} m openings "
+                         "hold anyway: it adds cost and no retention; lower it to the mesh's "
+                         "opening",
+                         schema::format_number(n.mesh->opening),
+                         schema::format_number(n.internal_diameter)));
   for (const auto& [target, count] : {std::pair{"width", "columns"}, std::pair{"length", "rows"}}) {
     if (ctx.given(p + "." + target) && ctx.given(p + "." + count))
       ctx.error(

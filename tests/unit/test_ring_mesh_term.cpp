@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "CaseLoaderFixtures.hpp"
 #include "TestCases.hpp"
@@ -40,6 +41,16 @@ TEST(RingMeshTerm, TheLoaderAsksForTheOpeningAndTheStiffness) {
       load_case_from_string(meshed_net("mesh: {opening: 0.08, stiffness: 1.0e5}"), "x.yaml");
   ASSERT_TRUE(c.nets[0].mesh.has_value());
   EXPECT_EQ(c.nets[0].mesh->damping_ratio, 0.3);  // the default (docs/case-file.md)
+  // An opening as wide as the rings' holds nothing they do not: a warning, at the key.
+  std::vector<Diagnostic> warnings;
+  load_case_from_string(meshed_net("mesh: {opening: 0.08, stiffness: 1.0e5}"), "x.yaml", {},
+                        &warnings);
+  EXPECT_TRUE(warnings.empty());
+  load_case_from_string(meshed_net("mesh: {opening: 0.3, stiffness: 1.0e5}"), "x.yaml", {},
+                        &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].key_path, "particles.nets[0].mesh.opening");
+  EXPECT_NE(warnings[0].message.find("hold anyway"), std::string::npos) << warnings[0].message;
 }
 
 struct Throw {
