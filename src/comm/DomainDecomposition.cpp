@@ -536,7 +536,10 @@ void DomainDecomposition::build_ghosts(ParticleStore& p) {
   std::vector<std::vector<char>> send(n_ranks);
   // With one rank every block is this rank's: nobody to send a ghost to.
   const std::size_t n_senders = n_ranks > 1 ? p.n_local() : 0;
-  std::vector<int> targets;
+  std::vector<int> targets, far_targets;
+  if (n_senders > 0)
+    for (FarGhosts& far : far_)
+      far.index(comm_, p, [this](const Vec3& x) { return block_of(x); });
   for (std::size_t k = 0; k < n_senders; ++k) {
     const std::uint64_t block = block_of(p.position[k]);
     const int* first = nullptr;
@@ -548,6 +551,18 @@ void DomainDecomposition::build_ghosts(ParticleStore& p) {
       collect_halo_ranks(block, targets);
       first = targets.data();
       last = first + targets.size();
+    }
+    if (!far_.empty()) {
+      far_targets.clear();
+      for (const FarGhosts& far : far_)
+        far.append_targets(p, k, block, far_targets);
+      if (!far_targets.empty()) {  // with the layer's, each rank once, in rank order
+        far_targets.insert(far_targets.end(), first, last);
+        std::sort(far_targets.begin(), far_targets.end());
+        far_targets.erase(std::unique(far_targets.begin(), far_targets.end()), far_targets.end());
+        first = far_targets.data();
+        last = first + far_targets.size();
+      }
     }
     for (const int* r = first; r != last; ++r) {
       ghost_send_[static_cast<std::size_t>(*r)].push_back(static_cast<std::uint32_t>(k));

@@ -8,6 +8,7 @@
 
 #include "comm/CellGraph.hpp"
 #include "comm/Communicator.hpp"
+#include "comm/FarGhosts.hpp"
 #include "domain/BondStore.hpp"
 #include "domain/PairStore.hpp"
 #include "domain/ParticleStore.hpp"
@@ -55,6 +56,11 @@ class DomainDecomposition {
   void set_migration_round_bytes(std::size_t bytes) { round_min_bytes_ = bytes; }
   /// Rounds the last migration took (the same on every rank).
   std::int64_t last_migration_rounds() const { return last_rounds_; }
+
+  /// Particles that a term couples beyond the blocks' width (FarGhosts): from the next ghost
+  /// layer on, each rank also holds those within the rule's reach of its own. Every rank adds
+  /// the same rules.
+  void add_far_ghosts(FarGhostRule rule) { far_.emplace_back(std::move(rule), block_size_); }
 
   /// Refreshes the per-step ghost fields (field_flag::kGhostStep) from their owners.
   void update_ghosts(ParticleStore& p);
@@ -132,6 +138,7 @@ class DomainDecomposition {
     halo_ranks_.clear();
     halo_rank_pool_.clear();
   }
+  std::vector<FarGhosts> far_;
   std::int64_t cells_held_ = 0;  ///< occupied cells at the last partition or migration
   std::vector<std::vector<std::uint32_t>> ghost_send_;  ///< per rank: local indices to send
   std::vector<int> ghost_recv_count_;                   ///< per rank: ghosts received

@@ -5,6 +5,7 @@
 #include <string_view>
 #include <vector>
 
+#include "comm/FarGhosts.hpp"
 #include "domain/ContactSpringStore.hpp"
 #include "domain/PairStore.hpp"
 #include "domain/ParticleStore.hpp"
@@ -70,6 +71,11 @@ class ForceTerm {
   /// Largest centre distance of two particles this term couples (before the skin): every
   /// partner of an owned particle within it must be present as a ghost.
   virtual double ghost_width(const ParticleStore& p) const = 0;
+  /// Particles this term couples farther apart than any term's ghost width, where only a few
+  /// reach that far (FarGhostRule; its reach before the skin): nothing by default.
+  virtual std::optional<FarGhostRule> far_ghosts(const ParticleStore& /*p*/) const {
+    return std::nullopt;
+  }
   /// Resolves particle indices, builds candidate lists, takes slots, fills the gather map.
   virtual void rebuild(RebuildContext& ctx) = 0;
   /// Writes this term's slots for the current state.

@@ -19,15 +19,26 @@ int mesh_of(const std::vector<RingMeshSpec>& meshes, std::int32_t body) {
 
 }  // namespace
 
-double RingMeshTerm::ghost_width(const ParticleStore& p) const {
-  if (meshes_.empty()) return 0.0;
-  double ring_span = 0.0;
-  for (const RingMeshSpec& m : meshes_)
+std::optional<FarGhostRule> RingMeshTerm::far_ghosts(const ParticleStore& p) const {
+  if (meshes_.empty()) return std::nullopt;
+  double ring_span = 0.0, opening = std::numeric_limits<double>::infinity();
+  for (const RingMeshSpec& m : meshes_) {
     ring_span = std::max(ring_span, 1.1 * M_PI * m.centreline_radius);
+    opening = std::min(opening, m.params.opening);
+  }
   double r_max = 0.0;
   for (std::size_t k = 0; k < p.n_local(); ++k)
     r_max = std::max(r_max, p.radius[k]);
-  return ring_span + r_max;
+  FarGhostRule rule;
+  rule.reach = ring_span + r_max;
+  rule.anchor = [meshes = meshes_](const ParticleStore& q, std::size_t k) {
+    return mesh_of(meshes, q.body[k]) >= 0;
+  };
+  // As rebuild() takes its candidates: grains (of no ring) a mesh can hold.
+  rule.partner = [opening](const ParticleStore& q, std::size_t k) {
+    return q.body[k] < 0 && 2.0 * q.radius[k] >= opening;
+  };
+  return rule;
 }
 
 double RingMeshTerm::time_step_limit(const Model& model) {

@@ -14,17 +14,21 @@ namespace ringdem {
 /// between a meshed ring and a grain coarse enough to be held, each with a slot for the grain;
 /// each ring in contact has one slot per bead, the sum of its contacts' loads on that bead in
 /// the order of the grains' gids. A rank evaluates the contacts whose grain or any of whose
-/// ring's beads it owns, from the ring's beads in gid order: the ghost width brings the whole
-/// ring and every grain that touches it to every rank that owns one of them, so each rank sums
-/// the same loads in the same order.
+/// ring's beads it owns, from the ring's beads in gid order: its far ghosts (far_ghosts())
+/// bring the whole ring and every grain that touches it to every rank that owns one of them,
+/// so each rank sums the same loads in the same order.
 class RingMeshTerm final : public ForceTerm {
  public:
   explicit RingMeshTerm(std::vector<RingMeshSpec> meshes) : meshes_(std::move(meshes)) {}
 
   std::string_view name() const override { return "ring_mesh"; }
-  /// A bead is at most half a ring's perimeter (pi R, with 10 % for stretched bonds) from any
-  /// other and from a grain inside the ring, which adds its radius.
-  double ghost_width(const ParticleStore& p) const override;
+  /// Nothing beyond the other terms' layer: the mesh's reach is far_ghosts()'.
+  double ghost_width(const ParticleStore&) const override { return 0.0; }
+  /// The beads of meshed rings (anchors) and the grains a mesh can hold (partners), as far
+  /// apart as half a ring's perimeter (pi R, with 10 % for stretched bonds), which bounds a
+  /// bead's distance from any other and from a point of the ring's disc, plus a grain's radius.
+  /// As a ghost width it made every block that wide, and every grain's ghost layer that thick.
+  std::optional<FarGhostRule> far_ghosts(const ParticleStore& p) const override;
   void rebuild(RebuildContext& ctx) override;
   void compute(ComputeContext& ctx) override;
 

@@ -80,6 +80,17 @@ void Simulation::find_typed_terms() {
     throw std::logic_error("a model with bonds must keep the particles' orientations");
 }
 
+void Simulation::add_far_ghosts() {
+  for (const auto& t : terms_) {
+    std::optional<FarGhostRule> rule = t->far_ghosts(model_.particles);
+    // Every rank takes the rule (the collective index of FarGhosts), with the widest reach.
+    const double reach = comm_.max(rule ? rule->reach : 0.0);
+    if (!rule || !(reach > 0.0)) continue;
+    rule->reach = reach + settings_.skin;
+    decomposition_.add_far_ghosts(std::move(*rule));
+  }
+}
+
 double Simulation::block_size() const {
   double width = 0.0;
   for (const auto& t : terms_)
@@ -106,6 +117,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       terms_(make_terms(model_)),
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
+  add_far_ghosts();
   ledger_.set_enabled(settings_.energy_ledger);
   model_.particles.set_tracks_ledger(settings_.energy_ledger);
   outflow_ = OutflowSink(model_.outflow);
@@ -138,6 +150,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       terms_(make_terms(model_)),
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
+  add_far_ghosts();
   ledger_.set_enabled(settings_.energy_ledger);
   model_.particles.set_tracks_ledger(settings_.energy_ledger);
   ParticleStore& p = model_.particles;

@@ -293,6 +293,8 @@ class Simulation {
   /// Block width of the decomposition: the widest term's partner distance plus the skin (the
   /// same on every rank).
   double block_size() const;
+  /// The terms' far-coupled particles (ForceTerm::far_ghosts) to the decomposition.
+  void add_far_ghosts();
 
   Model model_;
   const Communicator& comm_;
