@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_set>
 
 #include "core/CellKeys.hpp"
 
@@ -31,44 +32,62 @@ std::uint64_t FarGhosts::zone_of_block(std::uint64_t block) const {
 void FarGhosts::index(const Communicator& comm, const ParticleStore& p,
                       const std::function<std::uint64_t(const Vec3&)>& block_of) {
   rank_ = comm.rank();
-  std::vector<AnchorBlock> mine;
+  std::vector<AnchorBox> boxes;  // this rank's, one per zone
   std::vector<std::uint64_t> zones;
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     const bool anchor = rule_.anchor(p, k);
     if (!anchor && !rule_.partner(p, k)) continue;
     const std::uint64_t block = block_of(p.position[k]);
-    if (anchor) mine.push_back({block, rank_});
-    zones.push_back(zone_of_block(block));
+    const std::uint64_t zone = zone_of_block(block);
+    zones.push_back(zone);
+    if (!anchor) continue;
+    std::int64_t b[3];
+    unpack(block, b[0], b[1], b[2]);
+    // Anchors are few and come in runs of one ring: the last box is most often theirs.
+    auto box = std::find_if(boxes.rbegin(), boxes.rend(),
+                            [zone](const AnchorBox& x) { return x.zone == zone; });
+    if (box == boxes.rend()) {
+      boxes.push_back({zone, {b[0], b[1], b[2]}, {b[0], b[1], b[2]}, rank_});
+      continue;
+    }
+    for (int a = 0; a < 3; ++a) {
+      box->low[a] = std::min(box->low[a], b[a]);
+      box->high[a] = std::max(box->high[a], b[a]);
+    }
   }
-  const auto unique = [](auto& v, auto less, auto equal) {
-    std::sort(v.begin(), v.end(), less);
-    v.erase(std::unique(v.begin(), v.end(), equal), v.end());
-  };
-  unique(
-      mine, [](const AnchorBlock& a, const AnchorBlock& b) { return a.block < b.block; },
-      [](const AnchorBlock& a, const AnchorBlock& b) { return a.block == b.block; });
-  unique(zones, std::less<>{}, std::equal_to<>{});
+  const std::vector<AnchorBox> all_boxes = comm.allgather(boxes);
+  std::unordered_set<std::uint64_t> anchor_zones;
+  for (const AnchorBox& box : all_boxes)
+    anchor_zones.insert(box.zone);
+  // The zones this rank owns anchors or partners in, those next to an anchor's zone only
+  // (only anchors look them up; all of them would grow with the whole model on every rank).
+  std::sort(zones.begin(), zones.end());
+  zones.erase(std::unique(zones.begin(), zones.end()), zones.end());
   struct OwnedZone {
     std::uint64_t zone;
     std::int32_t rank;
   };
   std::vector<OwnedZone> owned_zones;
-  owned_zones.reserve(zones.size());
-  for (const std::uint64_t z : zones)
-    owned_zones.push_back({z, rank_});
-  const std::vector<AnchorBlock> anchors = comm.allgather(mine);
+  for (const std::uint64_t z : zones) {
+    bool near_anchor = false;
+    for_each_neighbour(
+        z, [&](std::uint64_t n) { near_anchor = near_anchor || anchor_zones.count(n); });
+    if (near_anchor) owned_zones.push_back({z, rank_});
+  }
   const std::vector<OwnedZone> occupied = comm.allgather(owned_zones);
 
-  // Each entry listed under the 27 zones around its own: a particle then looks up its own
-  // zone only.
+  // Each entry listed under the zones around its own: a particle then looks up its own zone
+  // only. This rank's own entries are left out (nothing to send to itself).
   anchors_near_.clear();
   owners_near_.clear();
-  for (const AnchorBlock& a : anchors)
-    for_each_neighbour(zone_of_block(a.block),
-                       [&](std::uint64_t zone) { anchors_near_[zone].push_back(a); });
+  for (const AnchorBox& box : all_boxes)
+    if (box.rank != rank_)
+      for_each_neighbour(box.zone, [&](std::uint64_t zone) { anchors_near_[zone].push_back(box); });
   for (const OwnedZone& z : occupied)
     if (z.rank != rank_)
-      for_each_neighbour(z.zone, [&](std::uint64_t zone) { owners_near_[zone].push_back(z.rank); });
+      for_each_neighbour(z.zone, [&](std::uint64_t zone) {
+        if (anchor_zones.count(zone)) owners_near_[zone].push_back(z.rank);
+      });
   for (auto& [zone, ranks] : owners_near_) {
     std::sort(ranks.begin(), ranks.end());
     ranks.erase(std::unique(ranks.begin(), ranks.end()), ranks.end());
@@ -87,15 +106,13 @@ void FarGhosts::append_targets(const ParticleStore& p, std::size_t k, std::uint6
   }
   const auto it = anchors_near_.find(zone);
   if (it == anchors_near_.end()) return;
-  std::int64_t i, j, l;
-  unpack(block, i, j, l);
-  for (const AnchorBlock& a : it->second) {
-    if (a.rank == rank_) continue;
-    std::int64_t ai, aj, al;
-    unpack(a.block, ai, aj, al);
-    if (std::abs(ai - i) <= zone_blocks_ && std::abs(aj - j) <= zone_blocks_ &&
-        std::abs(al - l) <= zone_blocks_)
-      ranks.push_back(a.rank);
+  std::int64_t b[3];
+  unpack(block, b[0], b[1], b[2]);
+  for (const AnchorBox& box : it->second) {
+    bool within = true;  // the box's nearest block at most D blocks away along each axis
+    for (int a = 0; a < 3; ++a)
+      within = within && b[a] >= box.low[a] - zone_blocks_ && b[a] <= box.high[a] + zone_blocks_;
+    if (within) ranks.push_back(box.rank);
   }
 }
 

@@ -29,11 +29,13 @@ struct FarGhostRule {
 /// - an anchor goes to every rank that owns an anchor or a partner in one of the 27 zones
 ///   around its own (zones of D blocks a side, D = ceil(reach / block size): two particles
 ///   within the reach lie in the same or neighbouring zones);
-/// - a partner to every rank that owns an anchor in a block within D blocks of its own along
-///   each axis.
-/// Both lists are gathered from every rank at each ghost-layer build (index()): the anchors'
-/// blocks, and the zones in which each rank owns anchors or partners (a zone is about the
-/// reach wide, so a rank has few). No rank holds more than these small lists.
+/// - a partner to every rank whose anchors in one of those zones span a box of blocks within D
+///   blocks of its own along each axis (a box per rank and zone: a partner then tests a few
+///   boxes, not every anchor's block, and a rank whose box is near but whose anchors are not
+///   only gets a few ghosts too many).
+/// Both lists are gathered from every rank at each ghost-layer build (index()): the boxes, and
+/// the zones next to an anchor's in which each rank owns anchors or partners (a zone is about
+/// the reach wide: a net's few). No rank holds more than these small lists.
 class FarGhosts {
  public:
   FarGhosts(FarGhostRule rule, double block_size);
@@ -50,8 +52,10 @@ class FarGhosts {
   std::int64_t zone_blocks() const { return zone_blocks_; }
 
  private:
-  struct AnchorBlock {
-    std::uint64_t block;
+  /// The blocks (i, j, k) from `low` to `high` hold every anchor that `rank` owns in `zone`.
+  struct AnchorBox {
+    std::uint64_t zone;
+    std::int64_t low[3], high[3];
     std::int32_t rank;
   };
   std::uint64_t zone_of_block(std::uint64_t block) const;
@@ -59,8 +63,8 @@ class FarGhosts {
   FarGhostRule rule_;
   std::int64_t zone_blocks_;
   int rank_ = 0;
-  /// Zone -> the anchor blocks (with their owners) in it and in the 26 zones around it.
-  std::unordered_map<std::uint64_t, std::vector<AnchorBlock>> anchors_near_;
+  /// Zone -> the other ranks' anchor boxes in it and in the 26 zones around it.
+  std::unordered_map<std::uint64_t, std::vector<AnchorBox>> anchors_near_;
   /// Zone -> the ranks that own an anchor or a partner in it or in the 26 zones around it.
   std::unordered_map<std::uint64_t, std::vector<int>> owners_near_;
 };
