@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
+
+#include "core/CellKeys.hpp"
 
 namespace ringdem {
 
@@ -98,22 +101,51 @@ void RingMeshTerm::rebuild(RebuildContext& ctx) {
   // next rebuild), evaluated here when the grain or a bead is owned.
   std::vector<std::pair<std::int64_t, std::uint32_t>> near;  // (gid, index)
   std::uint32_t n_slots = 0;
-  for (MeshRing& ring : rings_) {
-    const RingMeshSpec& mesh = meshes_[ring.mesh];
-    const auto n = static_cast<std::size_t>(mesh.beads_per_ring);
+  std::vector<RingMesh::Plane> planes;
+  planes.reserve(rings_.size());
+  double widest = 0.0, opening = std::numeric_limits<double>::infinity();
+  for (const MeshRing& ring : rings_) {
+    const auto n = static_cast<std::size_t>(meshes_[ring.mesh].beads_per_ring);
     position_.resize(n);
     for (std::size_t i = 0; i < n; ++i)
       position_[i] = p.position[bead_[ring.first_bead + i]];
-    const RingMesh::Plane plane = RingMesh::plane(position_.data(), n);
-    const bool owned = ring_owned[static_cast<std::size_t>(&ring - rings_.data())];
+    planes.push_back(RingMesh::plane(position_.data(), n));
+    widest = std::max(widest, planes.back().reach);
+    opening = std::min(opening, meshes_[ring.mesh].params.opening);
+  }
+  // The grains a mesh here can hold, in cubes at least one ring's reach wide: a ring's
+  // candidates lie in the 27 cubes around its centre's (a scan of every particle for every
+  // ring was rings x particles at each rebuild, some 10^7 on a rank at a full case's net).
+  double r_max = 0.0;
+  for (std::size_t k = 0; k < n_total && !rings_.empty(); ++k)
+    if (p.body[k] < 0 && 2.0 * p.radius[k] >= opening) r_max = std::max(r_max, p.radius[k]);
+  const double cube = widest + r_max + 2.0 * ctx.skin;
+  const auto cube_of = [cube](const Vec3& x) {
+    return cell_keys::pack(static_cast<std::int64_t>(std::floor(x.x / cube)),
+                           static_cast<std::int64_t>(std::floor(x.y / cube)),
+                           static_cast<std::int64_t>(std::floor(x.z / cube)));
+  };
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grains_in;
+  for (std::size_t k = 0; k < n_total && !rings_.empty(); ++k)
+    if (p.body[k] < 0 && 2.0 * p.radius[k] >= opening)
+      grains_in[cube_of(p.position[k])].push_back(static_cast<std::uint32_t>(k));
+  for (MeshRing& ring : rings_) {
+    const RingMeshSpec& mesh = meshes_[ring.mesh];
+    const auto n = static_cast<std::size_t>(mesh.beads_per_ring);
+    const std::size_t r = static_cast<std::size_t>(&ring - rings_.data());
+    const RingMesh::Plane& plane = planes[r];
+    const bool owned = ring_owned[r];
     near.clear();
-    for (std::size_t k = 0; k < n_total; ++k) {
-      if (p.body[k] >= 0 || 2.0 * p.radius[k] < mesh.params.opening) continue;
-      if (k >= p.n_local() && !owned) continue;
-      const double reach = plane.reach + p.radius[k] + 2.0 * ctx.skin;
-      if (norm2(p.position[k] - plane.centre) < reach * reach)
-        near.emplace_back(p.gid[k], static_cast<std::uint32_t>(k));
-    }
+    cell_keys::for_each_neighbour(cube_of(plane.centre), [&](std::uint64_t key) {
+      const auto it = grains_in.find(key);
+      if (it == grains_in.end()) return;
+      for (const std::uint32_t k : it->second) {
+        if (2.0 * p.radius[k] < mesh.params.opening) continue;
+        if (k >= p.n_local() && !owned) continue;
+        const double reach = plane.reach + p.radius[k] + 2.0 * ctx.skin;
+        if (norm2(p.position[k] - plane.centre) < reach * reach) near.emplace_back(p.gid[k], k);
+      }
+    });
     std::sort(near.begin(), near.end());
     ring.first_contact = static_cast<std::uint32_t>(grain_.size());
     ring.n_contacts = static_cast<std::uint32_t>(near.size());
