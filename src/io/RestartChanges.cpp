@@ -86,6 +86,13 @@ const std::vector<RestartKeyRule>& restart_key_rules() {
       {"scenario.rockfall.sag_kinetic_energy", K::kApplied, E::kNone, kRestTest},
       {"scenario.rockfall.sag_check_interval", K::kApplied, E::kNone, kRestTest},
       {"scenario.rockfall.resettle_max_time", K::kApplied, E::kNone, kRestTest},
+      // A mesh holds no state of its own between steps beyond what its next rebuild finds.
+      {"particles.nets[*].mesh.stiffness", K::kApplied, E::kTimeStep,
+       "the nets' secondary mesh from the restart on (an automatic dt is chosen again)"},
+      {"particles.nets[*].mesh.damping_ratio", K::kApplied, E::kNone,
+       "the nets' secondary mesh from the restart on"},
+      {"particles.nets[*].mesh.opening", K::kApplied, E::kNone,
+       "which grains the nets' secondary mesh holds, from the restart on"},
       // The model the saved state belongs to: refused even with --allow-changes.
       {"particles*", K::kFixed, E::kNone,
        "the particles and bonds were created from it; the checkpoint holds their state"},

@@ -1,20 +1,24 @@
 // A net's secondary mesh in a run (particles.nets[].mesh, engine/RingMeshTerm): the loader's
 // checks, a coarse grain that falls through a bare ring held by the meshed one, with the energy
 // ledger closing and the mesh's stability limit in the run's limits; a grain finer than the
-// opening passes the meshed ring.
+// opening passes the meshed ring; a mesh changed at a restart applies from there on.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "CaseLoaderFixtures.hpp"
+#include "TempDir.hpp"
 #include "TestCases.hpp"
 #include "engine/FrameRestraints.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
+#include "io/Checkpoint.hpp"
+#include "io/RestartChanges.hpp"
 
 namespace ringdem {
 namespace {
@@ -61,22 +65,29 @@ struct Throw {
   double mesh_limit = 0.0;  ///< the run's mesh stability limit [s]
 };
 
+Vec3 centroid_of_first_ring(const ParticleStore& p) {
+  Vec3 sum;
+  int n = 0;
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    if (p.body[k] == 0) {
+      sum += p.position[k];
+      ++n;
+    }
+  return sum / n;
+}
+
 /// Two linked rings without shackles or gravity; the grain thrown at 0.5 m/s along -z from 60
 /// mm above the centroid of the first ring, 0.25 s.
-Throw throw_at_first_ring(const std::string& mesh, double radius) {
+CaseConfig thrown_at_first_ring(const std::string& mesh, double radius) {
   CaseConfig c = load_case_from_string(meshed_net(mesh, radius), "x.yaml");
+  c.spheres[0].position =
+      centroid_of_first_ring(build_model(c, testing::self_comm()).particles) + Vec3{0, 0, 0.06};
+  return c;
+}
+
+Throw throw_at_first_ring(const std::string& mesh, double radius) {
+  const CaseConfig c = thrown_at_first_ring(mesh, radius);
   const Communicator comm = testing::self_comm();
-  const auto centroid_of_first_ring = [](const ParticleStore& p) {
-    Vec3 sum;
-    int n = 0;
-    for (std::size_t k = 0; k < p.n_local(); ++k)
-      if (p.body[k] == 0) {
-        sum += p.position[k];
-        ++n;
-      }
-    return sum / n;
-  };
-  c.spheres[0].position = centroid_of_first_ring(build_model(c, comm).particles) + Vec3{0, 0, 0.06};
   Simulation sim(build_model(c, comm), comm, settings_from_case(c));
   const Energies initial = sim.energies();
   sim.run_steps(sim.steps_until(c.simulation.end_time));
@@ -119,6 +130,64 @@ TEST(RingMeshTerm, AMeshedRingStopsACoarseGrainThatPassesTheBareRing) {
 }
 
 // A grain finer than the opening (70 mm against 80) passes the meshed ring as the bare one.
+/// The grain's position and velocity after a run of `first` steps of `written`, a checkpoint,
+/// and `second` steps restarted with `read`.
+std::pair<Vec3, Vec3> grain_after_restart(const CaseConfig& written, const CaseConfig& read,
+                                          std::int64_t first, std::int64_t second,
+                                          const std::string& dir) {
+  const Communicator self = testing::self_comm();
+  std::string path;
+  {
+    Simulation sim(build_model(written, self), self, settings_from_case(written));
+    sim.run_steps(first);
+    path = CheckpointStore(dir).write(self, sim.model(), sim.restart_state(), DriverState{}, 0,
+                                      written);
+  }
+  Model model = build_model_without_particles(read);
+  DriverState driver;
+  const RestartState state = read_checkpoint(self, path, read, model, driver);
+  Simulation resumed(std::move(model), self, settings_from_case(read), state);
+  resumed.run_steps(second);
+  const ParticleStore& p = resumed.model().particles;
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    if (p.body[k] < 0) return {p.position[k], p.velocity[k]};
+  ADD_FAILURE() << "no grain";
+  return {};
+}
+
+// The mesh's stiffness, damping and opening may be changed at a restart (--allow-changes,
+// docs/output.md). Checkpointed at 4 ms, before the grain reaches the mesh (at about 20 ms), and
+// restarted with a stiffer and more damped mesh, the run ends at 0.1 s with the same bits as a
+// run with that mesh from the start, and not as the restart with the mesh unchanged.
+TEST(RingMeshTerm, AChangedMeshAppliesFromTheRestartOn) {
+  for (const char* key : {"stiffness", "damping_ratio", "opening"}) {
+    const RestartKeyRule& rule = restart_rule_of(std::string("particles.nets[0].mesh.") + key);
+    EXPECT_EQ(rule.kind, RestartKeyKind::kApplied) << key;
+  }
+  EXPECT_EQ(restart_rule_of("particles.nets[0].mesh.stiffness").effect, RestartEffect::kTimeStep);
+  EXPECT_EQ(restart_rule_of("particles.nets[0].rows").kind, RestartKeyKind::kFixed);
+  const CaseConfig soft = thrown_at_first_ring(
+      "shackles: {enabled: false}, mesh: {opening: 0.08, stiffness: 1.0e5}", 0.05);
+  const CaseConfig stiff = thrown_at_first_ring(
+      "shackles: {enabled: false}, mesh: {opening: 0.08, stiffness: 4.0e5, damping_ratio: 0.6}",
+      0.05);
+  constexpr std::int64_t kFirst = 2000, kSecond = 48000;  // dt = 2 us
+  const std::string dir = testing::temp_dir("mesh-restart");
+  const auto changed = grain_after_restart(soft, stiff, kFirst, kSecond, dir + "/changed");
+  const auto unchanged = grain_after_restart(soft, soft, kFirst, kSecond, dir + "/unchanged");
+  const Communicator self = testing::self_comm();
+  Simulation fresh(build_model(stiff, self), self, settings_from_case(stiff));
+  fresh.run_steps(kFirst + kSecond);
+  const ParticleStore& p = fresh.model().particles;
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    if (p.body[k] < 0) {
+      EXPECT_EQ(changed.first, p.position[k]);
+      EXPECT_EQ(changed.second, p.velocity[k]);
+    }
+  EXPECT_NE(changed.second, unchanged.second);  // the grain met the mesh after the restart
+  std::filesystem::remove_all(dir);
+}
+
 TEST(RingMeshTerm, AGrainFinerThanTheOpeningPasses) {
   const Throw fine = throw_at_first_ring(
       "shackles: {enabled: false}, mesh: {opening: 0.08, stiffness: 1.0e5}", 0.035);
