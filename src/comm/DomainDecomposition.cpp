@@ -537,7 +537,7 @@ void DomainDecomposition::build_ghosts(ParticleStore& p) {
   // With one rank every block is this rank's: nobody to send a ghost to.
   const std::size_t n_senders = n_ranks > 1 ? p.n_local() : 0;
   std::vector<int> targets, far_targets;
-  if (n_senders > 0)
+  if (n_ranks > 1)  // collective: every rank, those that own nothing too
     for (FarGhosts& far : far_)
       far.index(comm_, p, [this](const Vec3& x) { return block_of(x); });
   for (std::size_t k = 0; k < n_senders; ++k) {

@@ -162,5 +162,30 @@ TEST_F(FarGhostLayer, CellsOfSeveralBlocksReachTheSameNeighbourhoods) {
   expect_far_neighbourhoods(p, {}, /*one_block_cells=*/false);
 }
 
+// A model held in one block: one rank owns every particle, the others none. The far ghosts'
+// index is collective, so a rank that owns nothing still takes part (it had skipped it and
+// left the others waiting in their gather).
+TEST_F(FarGhostLayer, ARankThatOwnsNothingStillTakesPart) {
+  const Communicator c(comm_);
+  ParticleStore p;
+  if (c.rank() == 0)
+    for (int i = 0; i < 4; ++i) {
+      ParticleStore::NewParticle np;
+      np.gid = i;
+      np.position = {0.001 + 0.002 * i, 0.005, 0.005};
+      np.radius = kPartnerRadius;
+      np.density = 1000;
+      np.body = i == 0 ? 0 : -1;  // one anchor, three partners
+      p.add(np);
+    }
+  p.rebuild_index();
+  DomainDecomposition d(c, kFarBlock, 0.0);
+  d.add_far_ghosts(ring_rule());
+  d.distribute_initial(p, {});
+  d.redistribute(p, {});
+  EXPECT_EQ(c.sum(static_cast<std::int64_t>(p.n_local())), 4);
+  EXPECT_EQ(p.n_ghost(), 0u);  // nobody else owns anything near
+}
+
 }  // namespace
 }  // namespace ringdem
