@@ -283,8 +283,9 @@ const Table<NetMeshConfig>& net_mesh_table() {
       "diameter or more whose centre lies on it, by a frictionless spring and dashpot on its "
       "overlap with the plane, fading out at the rim. Its loads on the ring's beads are "
       "gradients of its energy, so force and moment balance. Finer grains pass, as through "
-      "the rings without a mesh. It widens each rank's ghost layer to half a ring's "
-      "perimeter.",
+      "the rings without a mesh. Its beads and the grains it can hold reach the ranks that "
+      "need them half a ring's perimeter away (far ghosts); the other grains keep their "
+      "one-block ghost layer.",
       {
           schema::number("opening", &Mesh::opening, above(0), "m",
                          "Mesh opening: grains of this diameter or more are held")
