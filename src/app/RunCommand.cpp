@@ -84,13 +84,31 @@ void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64
           : fmt::format("the scenario's phases set the steps (at most {} to end_time {:g} s)",
                         sim.steps_until(config.simulation.end_time) - sim.steps(),
                         config.simulation.end_time);
-  fmt::print("time step {:.4g} s ({}), {}\n", sim.dt(),
-             time_step_origin.empty() ? origin : origin + ", " + time_step_origin, steps);
+  const std::string how = time_step_origin.empty() ? origin : origin + ", " + time_step_origin;
+  const auto substeps = sim.settings().substeps;
+  if (substeps > 1)
+    fmt::print("grain step {:.4g} s, {} sub-steps of {:.4g} s ({}), {}\n", sim.dt(), substeps,
+               sim.substep(), how, steps);
+  else
+    fmt::print("time step {:.4g} s ({}), {}\n", sim.dt(), how, steps);
+  // With sub-steps every limit is the fast interactions' (the net's, and those of the grains
+  // that touch it); the grains' contacts with each other take the grain step.
+  const char* step_name = substeps > 1 ? "the sub-step" : "dt";
   for (const auto& [name, limit] : sim.limits().named())
     if (std::isfinite(limit))
-      fmt::print("  {:<14} limit {:.4g} s: dt is {:.3f} of it\n", name, limit, sim.dt() / limit);
-  if (sim.dt() > sim.limits().min())
-    fmt::print("WARNING: dt exceeds the smallest stability limit; the run may blow up\n");
+      fmt::print("  {:<14} limit {:.4g} s: {} is {:.3f} of it\n", name, limit, step_name,
+                 sim.substep() / limit);
+  if (sim.substep() > sim.limits().min())
+    fmt::print("WARNING: {} exceeds the smallest stability limit; the run may blow up\n",
+               step_name);
+  if (substeps > 1 && std::isfinite(sim.grain_rayleigh_limit())) {
+    fmt::print("  {:<14} limit {:.4g} s: the grain step is {:.3f} of it\n", "grains' Rayleigh",
+               sim.grain_rayleigh_limit(), sim.dt() / sim.grain_rayleigh_limit());
+    if (sim.dt() > sim.grain_rayleigh_limit())
+      fmt::print(
+          "WARNING: the grain step exceeds the grains' Rayleigh limit; lower "
+          "simulation.substeps\n");
+  }
 }
 
 MemoryUse measure_memory_use(const CaseConfig& config, const Communicator& comm) {

@@ -68,6 +68,16 @@ void ParticleStore::set_tracks_damping(bool on) {
   resize_ledger_columns();
 }
 
+void ParticleStore::set_tracks_slow_loads(bool on) {
+  if (on == tracks_slow_loads_) return;
+  tracks_slow_loads_ = on;
+  for (auto* v : {&slow_force, &slow_torque})
+    if (on)
+      v->assign(n_total(), Vec3{});
+    else
+      std::vector<Vec3>().swap(*v);
+}
+
 void ParticleStore::resize_ledger_columns() {
   if (books_global_damping())
     for_each_ledger_field([n = n_total()](const FieldInfo&, auto& v) { v.assign(n, 0.0); });

@@ -88,6 +88,12 @@ class ParticleStore {
   /// the current step is dissipated_global - dt/2 power_global (global_damping_tally()).
   std::vector<double> dissipated_global;
   std::vector<double> power_global;
+  /// Multi-rate stepping (simulation.substeps > 1, docs/physics.md "Two time scales"): the
+  /// loads of the slow interactions (gravity, grain–grain and grain–body contacts) of the last
+  /// grain step, which kick the particles at the grain step's ends; only while
+  /// tracks_slow_loads().
+  std::vector<Vec3> slow_force;
+  std::vector<Vec3> slow_torque;
 
   /// The trapezoidal tally of an accumulator and its last power (see dissipated_global).
   static double ledger_value(double accumulated, double last_power, double dt) {
@@ -134,7 +140,17 @@ class ParticleStore {
     // format 11 has none: every particle restarts at bin 0, the order it was in (gid order).
     f(FieldInfo{"sort_bin", kState | kGhostOnce | kZeroIfAbsent}, sort_bin);
     if (books_global_damping()) for_each_ledger_field(f);
+    if (tracks_slow_loads_) {
+      f(FieldInfo{"slow_force", kState}, slow_force);
+      f(FieldInfo{"slow_torque", kState}, slow_torque);
+    }
   }
+
+  /// Whether the store keeps the slow loads of multi-rate stepping (slow_force). Off by
+  /// default: single-rate runs carry no such columns.
+  bool tracks_slow_loads() const { return tracks_slow_loads_; }
+  /// Turns the columns on (zeros) or off (emptied).
+  void set_tracks_slow_loads(bool on);
 
   /// Whether the energy ledger is kept (simulation.energy_ledger). Off, the store keeps none of
   /// its columns: in memory, migration and checkpoints a particle carries only what moves it.
@@ -231,6 +247,7 @@ class ParticleStore {
   bool tracks_orientation_ = true;
   bool tracks_ledger_ = true;
   bool tracks_damping_ = true;
+  bool tracks_slow_loads_ = false;
   std::size_t n_local_ = 0;
   std::size_t n_ghost_ = 0;
   GidIndex index_;

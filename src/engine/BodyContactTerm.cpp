@@ -25,20 +25,25 @@ void BodyContactTerm::rebuild(RebuildContext& ctx) {
   const auto old_springs = springs_by_key(springs_);
   particle_.clear();
   body_.clear();
+  fast_.clear();
   springs_.resize(0);
   for (std::size_t b = 0; b < ctx.bodies.size(); ++b)
     for (std::size_t k = 0; k < p.n_local(); ++k)
       if (ctx.bodies[b].closest(p.position[k]).distance < p.radius[k] + ctx.skin) {
         particle_.push_back(static_cast<std::uint32_t>(k));
         body_.push_back(static_cast<std::uint32_t>(b));
+        fast_.push_back(is_fast_particle(p, k) ? 1 : 0);
         const auto it = old_springs.find(PairKey{p.gid[k], static_cast<std::int64_t>(b)});
         springs_.append(p.gid[k], static_cast<std::int64_t>(b),
                         it != old_springs.end() ? it->second : Vec3{});
       }
+  fast_list_.clear();
+  for (std::size_t w = 0; w < fast_.size(); ++w)
+    if (fast_[w] != 0) fast_list_.push_back(static_cast<std::uint32_t>(w));
   slots_ = ctx.allocator.take(particle_.size());
   for (std::size_t w = 0; w < particle_.size(); ++w)
     ctx.gather.add(particle_[w], GatherMap::kBodyKeyBase + body_[w], ctx.term_number,
-                   slots_.begin + static_cast<std::uint32_t>(w), true);
+                   slots_.begin + static_cast<std::uint32_t>(w), true, fast_[w] != 0);
 }
 
 void BodyContactTerm::compute(ComputeContext& ctx) {
@@ -51,10 +56,17 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
   // Particle–body contacts (physics.md §3, with R_j and m_j of the body), a chunk of
   // candidates at a time: the touching ones' inputs into the chunk's columns, the contact law
   // over them vectorised, then each one's loads in candidate order.
-  for_each_chunk(IndexRange{0, particle_.size()}, BodyContactChunk::kSize, [&](IndexRange range) {
+  // Multi-rate stepping: a fast evaluation visits its candidates from their list, a slow one
+  // skips them.
+  const bool fast_only = ctx.rate == ForceRate::kFast;
+  const bool slow_only = ctx.rate == ForceRate::kSlow;
+  const std::size_t n_visit = fast_only ? fast_list_.size() : particle_.size();
+  for_each_chunk(IndexRange{0, n_visit}, BodyContactChunk::kSize, [&](IndexRange range) {
     chunk.n = 0;
     chunk.any_rolling = false;
-    for (std::size_t w = range.begin; w < range.end; ++w) {
+    for (std::size_t i = range.begin; i < range.end; ++i) {
+      const std::size_t w = fast_only ? fast_list_[i] : i;
+      if (slow_only && fast_[w] != 0) continue;
       const std::uint32_t k = particle_[w];
       const RigidBody& body = ctx.bodies[body_[w]];
       // A plane's distance and normal without the closest point: the aggregate went through

@@ -33,9 +33,12 @@ class BodyContactTerm final : public ForceTerm {
   const std::vector<ExactSum>& body_load_sums() const { return body_load_sums_; }
   /// The particle–body pairs within reach since the last rebuild (on this rank).
   std::size_t n_candidates() const { return particle_.size(); }
+  bool has_slow_interactions() const override { return true; }
 
  private:
   std::vector<std::uint32_t> particle_, body_;
+  std::vector<std::uint8_t> fast_;        ///< per candidate: its particle is fast (ForceRate)
+  std::vector<std::uint32_t> fast_list_;  ///< the candidates with fast_ set
   /// Row w: contact w (gid of particle_[w], partner the body's number).
   ContactSpringStore springs_{ContactSpringStore::Partner::kRigidBody};
   SlotRange slots_;

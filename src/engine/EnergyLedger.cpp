@@ -18,7 +18,7 @@ void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
     std::vector<std::uint32_t>().swap(record_of_slot_);
     return;
   }
-  const auto& ledger_slots = gather.ledger_slots();
+  const auto& ledger_slots = gather.ledger_slots(rate_);
   records_.assign(ledger_slots.size() + 1, DissipationRecord{});
   record_of_slot_.assign(n_slots, static_cast<std::uint32_t>(ledger_slots.size()));
   for (std::size_t e = 0; e < ledger_slots.size(); ++e)
@@ -118,8 +118,9 @@ void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& g
   // Only the particles with a load to book now: contacts summed per particle, records, or a
   // driver's power. Where they are not few, every owned particle is visited in index order
   // and accumulate_below() skips the others.
-  const auto& particles = gather.ledger_particles();
-  const auto& driven = gather.driven_powers();
+  const auto& particles = gather.ledger_particles(rate_);
+  static const std::vector<GatherMap::ParticlePower> kNone;
+  const auto& driven = books_drivers() ? gather.driven_powers() : kNone;
   visit_.clear();
   // Direct entries are all visited (each is cleared after it is read).
   const std::size_t touched = !moments ? 0 : own_entries_ ? n_local : touched_list_.size();
@@ -173,10 +174,11 @@ void EnergyLedger::accumulate_below(std::size_t end, const ParticleStore& p,
   // and the ledger closes to O(dt^2) at every step, the order of velocity Verlet's own energy
   // error. (The work of F^n with the half-step velocity the contact law saw, F^n . v^{n-1/2}
   // dt, would be only first order.)
-  const auto& particles = gather.ledger_particles();
-  const auto& offsets = gather.ledger_offsets();
-  const auto& ledger_slots = gather.ledger_slots();
-  const auto& driven = gather.driven_powers();
+  const auto& particles = gather.ledger_particles(rate_);
+  const auto& offsets = gather.ledger_offsets(rate_);
+  const auto& ledger_slots = gather.ledger_slots(rate_);
+  static const std::vector<GatherMap::ParticlePower> kNone;
+  const auto& driven = books_drivers() ? gather.driven_powers() : kNone;
   const bool moments = have_moments(p.n_local());
   std::size_t i = next_records_, d = next_driven_, v_index = next_visit_;
   for (; v_index < n_visit_; ++v_index) {
@@ -267,7 +269,7 @@ void EnergyLedger::finish_accumulation(const GatherMap& gather, double dt, bool 
     own_entries_zeroed_ = true;
   }
   // External forces: F_ext . (x^{n+1} - x^n), exact for a constant force.
-  if (!initial)
+  if (!initial && books_drivers())
     for (const auto& x : gather.external_powers())
       direct_[kBoundary].add(dt * x.power);
   for (int t = 0; t < kTallies; ++t) {

@@ -140,6 +140,12 @@ class EnergyLedger {
   /// tallies stay as they are.
   void set_enabled(bool on) { enabled_ = on; }
   bool enabled() const { return enabled_; }
+  /// The interactions this ledger books (ForceRate): multi-rate stepping keeps a ledger per
+  /// rate, each with its own slots (GatherMap::ledger_slots of its rate) and step. Only a fast
+  /// or single-rate ledger books the drivers' power on driven particles and the work of point
+  /// loads (GatherMap::driven_powers, external_powers): the loads of held particles are fast.
+  /// Set before the first rebuild().
+  void set_rate(ForceRate rate) { rate_ = rate; }
 
   /// After GatherMap::finish(): one record per ledger slot, stored in the order accumulate()
   /// reads them (one contiguous stream), plus a scratch record for the other slots.
@@ -224,6 +230,8 @@ class EnergyLedger {
   }
 
   bool enabled_ = true;
+  ForceRate rate_ = ForceRate::kAll;
+  bool books_drivers() const { return rate_ != ForceRate::kSlow; }
   /// This rank's exact tallies (see intervals(), direct()): the powers of the step being booked,
   /// those of particles that leave after it, and those of the last step.
   std::array<ExactSum, kTallies> intervals_, direct_, now_, closing_, last_;

@@ -7,6 +7,12 @@
 
 namespace ringdem {
 
+/// Which interactions a force evaluation computes. A single-rate step computes all of them;
+/// multi-rate stepping (simulation.substeps, docs/physics.md "Two time scales") computes the
+/// fast ones (bonds, and every interaction with a net particle at one end) at every sub-step
+/// and the slow ones (grain–grain and grain–body contacts) once per grain step.
+enum class ForceRate { kAll, kFast, kSlow };
+
 /// A contiguous range of force slots (or of a term's own items).
 struct SlotRange {
   std::uint32_t begin = 0;

@@ -36,6 +36,12 @@ struct RebuildContext {
   std::uint32_t term_number;  ///< position in the term list: the gather order's tie-break
 };
 
+/// Whether particle k steps at the fast rate wherever it takes part: a ring's bead (body >= 0)
+/// or a held particle (a net's shackle). Its interactions are all fast.
+inline bool is_fast_particle(const ParticleStore& p, std::size_t k) {
+  return p.body[k] >= 0 || p.motion[k] != Motion::kFree;
+}
+
 /// What a force term reads and writes in one force evaluation.
 struct ComputeContext {
   const ParticleStore& particles;
@@ -46,6 +52,7 @@ struct ComputeContext {
   double time;
   double dt;
   ParticleLoads loads;  ///< for a term that sums per particle (ForceSlots.hpp)
+  ForceRate rate = ForceRate::kAll;
 };
 
 /// A contact that overlaps (Simulation::initial_overlaps): particle `index` and its partner, a
@@ -111,6 +118,10 @@ class ForceTerm {
                              double /*fraction*/, std::vector<ContactOverlap>& /*out*/) const {}
   /// Set when the last compute() changed the topology (a bond broke): forces a rebuild.
   virtual bool topology_changed() const { return false; }
+  /// Whether some of this term's interactions are slow (ForceRate): such a term computes only
+  /// those of the evaluation's rate. A term without (bonds, a net's mesh) is fast throughout:
+  /// a slow evaluation skips it, and its slots are gathered with the fast loads.
+  virtual bool has_slow_interactions() const { return false; }
 };
 
 }  // namespace ringdem

@@ -1,6 +1,7 @@
 #include "engine/GatherMap.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <tuple>
 
 namespace ringdem {
@@ -14,33 +15,36 @@ void GatherMap::finish(const ParticleStore& p) {
   std::sort(entries_.begin(), entries_.end(), [](const Entry& x, const Entry& y) {
     return std::tie(x.particle, x.key, x.term) < std::tie(y.particle, y.key, y.term);
   });
-  gather_particle_.clear();
-  gather_offset_.assign(1, 0);
-  gather_slot_.resize(entries_.size());
-  for (std::size_t e = 0; e < entries_.size(); ++e) {
-    const std::uint32_t k = entries_[e].particle;
-    if (gather_particle_.empty() || gather_particle_.back() != k) {
-      gather_particle_.push_back(k);
-      gather_offset_.push_back(gather_offset_.back());
-    }
-    ++gather_offset_.back();
-    gather_slot_[e] = entries_[e].slot;
+  all_.build(entries_, -1);
+  if (split_by_rate_) {
+    fast_.build(entries_, 1);
+    slow_.build(entries_, 0);
   }
 
   // Energy ledger: the owned particles with ledger slots (in gather order), and driven ones.
-  ledger_particle_.clear();
-  ledger_offset_.assign(1, 0);
-  ledger_slot_.clear();
+  ledger_all_.build(entries_, -1, true);
+  if (split_by_rate_) {
+    ledger_fast_.build(entries_, 1, true);
+    ledger_slow_.build(entries_, 0, true);
+  }
   driven_particle_.clear();
-  for (std::size_t e = 0, k = 0; k < n_local_; ++k) {
-    const std::size_t first = ledger_slot_.size();
-    for (; e < entries_.size() && entries_[e].particle == k; ++e)
-      if (entries_[e].ledger) ledger_slot_.push_back(entries_[e].slot);
-    if (ledger_slot_.size() > first) {
-      ledger_particle_.push_back(static_cast<std::uint32_t>(k));
-      ledger_offset_.push_back(static_cast<std::uint32_t>(ledger_slot_.size()));
-    }
+  for (std::size_t k = 0; k < n_local_; ++k)
     if (p.motion[k] != Motion::kFree) driven_particle_.push_back(static_cast<std::uint32_t>(k));
+}
+
+void GatherMap::SlotLists::build(const std::vector<Entry>& entries, int fast, bool ledger_only) {
+  particle.clear();
+  offset.assign(1, 0);
+  slot.clear();
+  for (const Entry& e : entries) {
+    if (fast >= 0 && e.fast != (fast == 1)) continue;
+    if (ledger_only && !e.ledger) continue;
+    if (particle.empty() || particle.back() != e.particle) {
+      particle.push_back(e.particle);
+      offset.push_back(offset.back());
+    }
+    ++offset.back();
+    slot.push_back(e.slot);
   }
 }
 
@@ -75,18 +79,24 @@ void GatherMap::apply_point_loads(ParticleStore& p, const std::vector<PointLoad>
   }
 }
 
-void GatherMap::gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity) {
+void GatherMap::gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity,
+                       ForceRate rate, const ParticleLoads* loads) {
   // Raw pointers, read once (nothing in the loop can move them).
-  Vec3* const force = p.force.data();
-  Vec3* const torque = p.torque.data();
-  const std::uint32_t* const offset = gather_offset_.data();
-  const std::uint32_t* const slot = gather_slot_.data();
+  Vec3* const force = loads ? loads->force : p.force.data();
+  Vec3* const torque = loads ? loads->torque : p.torque.data();
+  const bool split = rate != ForceRate::kAll;
+  if (split && !split_by_rate_)
+    throw std::logic_error("GatherMap::gather of one rate without set_split_by_rate()");
+  const SlotLists& lists = !split ? all_ : rate == ForceRate::kFast ? fast_ : slow_;
+  const std::vector<std::uint32_t>& particles = lists.particle;
+  const std::uint32_t* const offset = lists.offset.data();
+  const std::uint32_t* const slot = lists.slot.data();
   const double *const fx = slots.fx.data(), *const fy = slots.fy.data(),
                       *const fz = slots.fz.data();
   const double *const tx = slots.tx.data(), *const ty = slots.ty.data(),
                       *const tz = slots.tz.data();
-  for (std::size_t i = 0; i < gather_particle_.size(); ++i) {
-    const std::uint32_t k = gather_particle_[i];
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const std::uint32_t k = particles[i];
     Vec3 f = force[k];
     Vec3 t = torque[k];
     for (std::uint32_t e = offset[i]; e < offset[i + 1]; ++e) {
@@ -98,6 +108,8 @@ void GatherMap::gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gr
     torque[k] = t;
   }
   // Energy ledger: whatever a driven particle's interactions push against, the driver supplies.
+  // (Multi-rate stepping holds every particle that is not free at the fast rate.)
+  if (rate == ForceRate::kSlow) return;
   driven_.clear();
   for (const std::uint32_t k : driven_particle_) {
     Vec3 applied;

@@ -23,10 +23,15 @@ class GatherMap {
   void begin(std::size_t n_local);
   /// One slot of particle `particle` (ignored unless owned), from term number `term`;
   /// `ledger`: the slot carries a dissipation record for the energy ledger.
+  /// `fast`: the slot's interaction is fast (ForceRate), which matters only where the gather
+  /// is split by rate.
   void add(std::uint32_t particle, std::int64_t partner_key, std::uint32_t term, std::uint32_t slot,
-           bool ledger) {
-    if (particle < n_local_) entries_.push_back({particle, partner_key, term, slot, ledger});
+           bool ledger, bool fast = true) {
+    if (particle < n_local_) entries_.push_back({particle, partner_key, term, slot, ledger, fast});
   }
+  /// Multi-rate stepping: finish() also lists each rate's slots, which gather() of a fast or
+  /// slow evaluation sums alone.
+  void set_split_by_rate(bool split) { split_by_rate_ = split; }
   /// Sorts the entries into the gather order and builds the ledger's particle lists: owned
   /// particles with ledger slots, and driven ones (`p.motion`).
   void finish(const ParticleStore& p);
@@ -40,12 +45,22 @@ class GatherMap {
   void apply_point_loads(ParticleStore& p, const std::vector<PointLoad>& loads);
   /// Adds each owned particle's slots in gather order. Notes the power of the interaction loads
   /// on driven particles (their velocity is not changed by the kicks), for the ledger.
-  void gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity);
+  /// `rate`: the slots of that rate only (ForceRate::kAll: every slot), added to `loads`
+  /// (default: the particles' force and torque).
+  void gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity,
+              ForceRate rate = ForceRate::kAll, const ParticleLoads* loads = nullptr);
 
-  /// The owned particles with ledger slots, with those slots in gather order.
-  const std::vector<std::uint32_t>& ledger_particles() const { return ledger_particle_; }
-  const std::vector<std::uint32_t>& ledger_offsets() const { return ledger_offset_; }
-  const std::vector<std::uint32_t>& ledger_slots() const { return ledger_slot_; }
+  /// The owned particles with ledger slots, with those slots in gather order (those of one
+  /// rate where the gather is split by rate: each rate's ledger books its own).
+  const std::vector<std::uint32_t>& ledger_particles(ForceRate rate = ForceRate::kAll) const {
+    return ledger_lists(rate).particle;
+  }
+  const std::vector<std::uint32_t>& ledger_offsets(ForceRate rate = ForceRate::kAll) const {
+    return ledger_lists(rate).offset;
+  }
+  const std::vector<std::uint32_t>& ledger_slots(ForceRate rate = ForceRate::kAll) const {
+    return ledger_lists(rate).slot;
+  }
 
   struct ParticlePower {
     std::uint32_t particle;
@@ -64,15 +79,31 @@ class GatherMap {
     std::uint32_t term;
     std::uint32_t slot;
     bool ledger;
+    bool fast;
   };
+
   std::size_t n_local_ = 0;
   std::vector<Entry> entries_;
+  /// Owned particles with slots, and their slots in gather order (see all_).
+  struct SlotLists {
+    std::vector<std::uint32_t> particle, offset, slot;
+    /// fast: -1 any, 0 slow, 1 fast; `ledger_only`: the slots with ledger records alone.
+    void build(const std::vector<Entry>& entries, int fast, bool ledger_only = false);
+  };
   /// The owned particles with slots (ascending), and theirs in gather order: those of
-  /// gather_particle_[i] are gather_slot_[e] for e in [gather_offset_[i], gather_offset_[i + 1]).
+  /// all_.particle[i] are all_.slot[e] for e in [all_.offset[i], all_.offset[i + 1]).
   /// Only these are visited: most grains of a flow have no slot (their contacts add to the
   /// loads directly), and a pass over every particle's offsets took a third of the gather.
-  std::vector<std::uint32_t> gather_particle_, gather_offset_, gather_slot_;
-  std::vector<std::uint32_t> ledger_particle_, ledger_offset_, ledger_slot_;
+  /// fast_ and slow_: those of each rate (multi-rate stepping, set_split_by_rate()).
+  SlotLists all_, fast_, slow_;
+  /// The ledger's particles with their ledger slots: of every rate, and of each.
+  SlotLists ledger_all_, ledger_fast_, ledger_slow_;
+  const SlotLists& ledger_lists(ForceRate rate) const {
+    return rate == ForceRate::kFast   ? ledger_fast_
+           : rate == ForceRate::kSlow ? ledger_slow_
+                                      : ledger_all_;
+  }
+  bool split_by_rate_ = false;
   std::vector<std::uint32_t> driven_particle_;
   std::vector<ParticlePower> external_, driven_;
   /// The point loads applied in this evaluation, by particle (the gather takes them out of a

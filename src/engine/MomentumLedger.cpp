@@ -24,8 +24,10 @@ void MomentumLedger::rebuild(const ParticleStore& p, double free_mass) {
 void MomentumLedger::book_evaluation(const ParticleStore& p,
                                      const std::vector<Vec3>& body_contact_loads,
                                      const std::vector<PointLoad>& point_loads, const Vec3& gravity,
-                                     double half_dt, bool root, bool initial) {
+                                     double half_dt, bool root, bool initial,
+                                     const std::vector<Vec3>* loads) {
   if (!enabled_) return;
+  const std::vector<Vec3>& force = loads ? *loads : p.force;
   for (ExactSum& s : pending_)
     s = ExactSum{};
   if (root) {
@@ -42,7 +44,7 @@ void MomentumLedger::book_evaluation(const ParticleStore& p,
       add(pending_, kPointLoads, load.force * half_dt);
   }
   for (const std::uint32_t k : held_) {
-    Vec3 received = p.force[k] - gravity * p.mass[k];
+    Vec3 received = force[k] - gravity * p.mass[k];
     for (const PointLoad& load : point_loads)
       if (load.gid == p.gid[k]) received -= load.force;
     add(pending_, kHeld, received * -half_dt);
@@ -52,9 +54,10 @@ void MomentumLedger::book_evaluation(const ParticleStore& p,
     totals_[c] += pending_[c];
 }
 
-void MomentumLedger::book_leaving(const ParticleStore& p, std::size_t k, double half_dt) {
+void MomentumLedger::book_leaving(const ParticleStore& p, std::size_t k, double half_dt,
+                                  const std::vector<Vec3>* loads) {
   if (!enabled_) return;
-  add(totals_, kExchange, p.force[k] * -half_dt);
+  add(totals_, kExchange, (loads ? *loads : p.force)[k] * -half_dt);
 }
 
 void MomentumLedger::book_arrivals(const ParticleStore& p, std::size_t first, std::size_t last,

@@ -76,11 +76,16 @@ class MomentumLedger {
   /// half kick unless `initial` (the evaluation of the initial state kicks only forward).
   /// `body_contact_loads`: each rigid body's reduced contact load (without the loads of brakes
   /// and ropes, which act on the body, not on the particles).
+  /// `loads`: the particles' loads of the evaluation (default: their force; multi-rate
+  /// stepping books its slow evaluations from ParticleStore::slow_force).
   void book_evaluation(const ParticleStore& p, const std::vector<Vec3>& body_contact_loads,
                        const std::vector<PointLoad>& point_loads, const Vec3& gravity,
-                       double half_dt, bool root, bool initial);
-  /// Owned particle k leaves the model before the next first half kick: its load will not kick.
-  void book_leaving(const ParticleStore& p, std::size_t k, double half_dt);
+                       double half_dt, bool root, bool initial,
+                       const std::vector<Vec3>* loads = nullptr);
+  /// Owned particle k leaves the model before the next first half kick: its load (of `loads`,
+  /// default its force) will not kick.
+  void book_leaving(const ParticleStore& p, std::size_t k, double half_dt,
+                    const std::vector<Vec3>* loads = nullptr);
   /// Owned particles [first, last) came in with their loads before the next first half kick.
   void book_arrivals(const ParticleStore& p, std::size_t first, std::size_t last, double half_dt);
   /// The first half kick of a step: the loads of the last evaluation kick again.

@@ -72,6 +72,20 @@ void PairContactTerm::rebuild(RebuildContext& ctx) {
 
   search_.build(p, ctx.skin, exclusions_, pairs_);
   carry_springs(p);
+  rates_current_ = false;
+}
+
+void PairContactTerm::classify_rates(const ParticleStore& p) {
+  constexpr std::size_t kChunk = PairContactChunk::kSize;
+  const std::size_t n = pairs_.size();
+  fast_mask_.assign((n + kChunk - 1) / kChunk, 0);
+  fast_chunks_.clear();
+  for (std::size_t m = 0; m < n; ++m)
+    if (is_fast_particle(p, pairs_.i[m]) || is_fast_particle(p, pairs_.j[m]))
+      fast_mask_[m / kChunk] |= std::uint64_t{1} << (m % kChunk);
+  for (std::size_t c = 0; c < fast_mask_.size(); ++c)
+    if (fast_mask_[c] != 0) fast_chunks_.push_back(static_cast<std::uint32_t>(c));
+  rates_current_ = true;
 }
 
 void PairContactTerm::carry_springs(const ParticleStore& p) {
@@ -197,6 +211,14 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
   const std::size_t n_pairs = pairs_.size();
   constexpr std::size_t kPrefetchAhead = 16;
   bool most_touch = true;
+  // Multi-rate stepping: only the candidates of the evaluation's rate (ForceRate).
+  if (ctx.rate != ForceRate::kAll && !rates_current_) classify_rates(p);
+  constexpr std::size_t kChunk = PairContactChunk::kSize;
+  const auto rate_mask = [&](IndexRange range) -> std::uint64_t {
+    if (ctx.rate == ForceRate::kAll) return ~std::uint64_t{0};
+    const std::uint64_t fast = fast_mask_[range.begin / kChunk];
+    return ctx.rate == ForceRate::kFast ? fast : ~fast;
+  };
   // Particle contacts (physics.md §3), a chunk of candidates at a time: the touching ones are
   // copied into the chunk's columns, the contact law runs over them vectorised, and their
   // loads are added in pair order. The pairs come in ascending order of their ends' sort keys
@@ -204,17 +226,18 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
   // its contacts in ascending partner key, the gather order (DESIGN §4), without a slot per
   // pair. Most candidates of a loose packing do not touch: they cost a distance test in
   // touching_mask() and a bit of held_mask(), and hold no spring.
-  for_each_chunk(IndexRange{0, pairs_.size()}, PairContactChunk::kSize, [&](IndexRange range) {
+  const auto run_chunk = [&](IndexRange range) {
     chunk.n = 0;
     chunk.any_rolling = false;
     // The candidates to visit: those that touch, and those whose contact opened since the
     // last step (their springs go back). Where most of the last chunk's candidates touched (a
     // packing in contact), all of them: the filter would only repeat the test below.
     static_assert(PairContactChunk::kSize <= 64, "a chunk's candidates are one 64-bit mask");
-    const std::uint64_t visit = most_touch
-                                    ? ~std::uint64_t{0} >> (64 - range.size())
-                                    : touching_mask(range, pair_a, pair_b, position, radius) |
-                                          springs.held_mask(range.begin, range.size());
+    const std::uint64_t visit =
+        (most_touch ? ~std::uint64_t{0} >> (64 - range.size())
+                    : touching_mask(range, pair_a, pair_b, position, radius) |
+                          springs.held_mask(range.begin, range.size())) &
+        rate_mask(range);
     for_each_selected_in_order(
         range, visit, [&](std::size_t m) __attribute__((always_inline)) {
           const std::uint32_t a = pair_a[m];
@@ -290,7 +313,13 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             }
           }
         });
-  });
+  };
+  if (ctx.rate == ForceRate::kFast) {
+    for (const std::uint32_t c : fast_chunks_)
+      run_chunk(IndexRange{c * kChunk, std::min((c + 1) * kChunk, n_pairs)});
+  } else {
+    for_each_chunk(IndexRange{0, n_pairs}, kChunk, run_chunk);
+  }
 }
 
 }  // namespace ringdem

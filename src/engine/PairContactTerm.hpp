@@ -32,6 +32,7 @@ class PairContactTerm final : public ForceTerm {
                      std::vector<ContactOverlap>& out) const override;
 
   std::size_t n_candidates() const { return pairs_.size(); }
+  bool has_slow_interactions() const override { return true; }
 
  private:
   /// compute() with the energy ledger's ContactMoments (kBook) or without.
@@ -49,6 +50,14 @@ class PairContactTerm final : public ForceTerm {
   /// restart) to the next rebuild(): empty between rebuilds.
   ContactSpringStore springs_{ContactSpringStore::Partner::kParticle};
   PairContactChunk chunk_;  ///< compute scratch (28 KB)
+  /// Multi-rate stepping (ForceRate): per chunk of PairContactChunk::kSize candidates, bit c
+  /// set where candidate c has a fast particle at one end, and the chunks with any such bit
+  /// (from the last rebuild; empty while no evaluation has asked for a rate).
+  std::vector<std::uint64_t> fast_mask_;
+  std::vector<std::uint32_t> fast_chunks_;
+  bool rates_current_ = false;  ///< fast_mask_ is of the current candidates
+  /// Sets fast_mask_ and fast_chunks_ for the current candidates.
+  void classify_rates(const ParticleStore& p);
 };
 
 }  // namespace ringdem

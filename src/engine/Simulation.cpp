@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -13,28 +12,11 @@
 #include "engine/FrameRestraints.hpp"
 #include "engine/ModelTable.hpp"
 #include "engine/PairContactTerm.hpp"
+#include "engine/PhaseTimer.hpp"
 #include "engine/RingMeshTerm.hpp"
 #include "physics/Integrator.hpp"
 
 namespace ringdem {
-
-namespace {
-
-class PhaseTimer {
- public:
-  explicit PhaseTimer(double& sink) : sink_(sink), start_(std::chrono::steady_clock::now()) {}
-  ~PhaseTimer() {
-    sink_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
-  PhaseTimer(const PhaseTimer&) = delete;
-  PhaseTimer& operator=(const PhaseTimer&) = delete;
-
- private:
-  double& sink_;
-  std::chrono::steady_clock::time_point start_;
-};
-
-}  // namespace
 
 SimulationSettings settings_from_case(const CaseConfig& c) {
   SimulationSettings s;
@@ -46,6 +28,7 @@ SimulationSettings settings_from_case(const CaseConfig& c) {
   s.momentum_ledger = c.scenario.type == "free_run";
   s.energy_ledger = c.simulation.energy_ledger;
   s.sort_every = c.simulation.sort_every;
+  s.substeps = c.simulation.substeps;
   return s;
 }
 
@@ -108,6 +91,7 @@ void Simulation::init_limits() {
   limits_.bond_rotation = comm_.min(limits_.bond_rotation);
   set_restraint_limits(model_, limits_);  // replicated: the same on every rank
   limits_.mesh = RingMeshTerm::time_step_limit(model_);
+  grain_rayleigh_limit_ = slow_particles_rayleigh_limit();
 }
 
 Simulation::Simulation(Model model, const Communicator& comm, const SimulationSettings& settings)
@@ -123,6 +107,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   outflow_ = OutflowSink(model_.outflow);
   inflow_ = InflowSource(model_.inflow);
   momentum_ = MomentumLedger(model_.bodies.size(), settings_.momentum_ledger);
+  set_up_substeps();
   ParticleStore& p = model_.particles;
   // Each rank built a slice of every source; move the particles to the owners of their blocks.
   decomposition_.distribute_initial(p, pair_stores());
@@ -136,6 +121,10 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   // re-sort of step 0), as LAMMPS sorts at set-up: built in gid order and re-sorted at the first
   // step, every fresh run paid a second full rebuild (docs/performance.md, twenty-ninth round).
   rebuild(settings_.sort_every > 0 ? sort_width() : 0.0);
+  if (settings_.substeps > 1) {
+    compute_initial_substep_forces();
+    return;
+  }
   compute_forces();  // loads of the initial state, for the first half kick
   book_momentum(/*initial=*/true);
   apply_global_damping(model_.particles, dt_);
@@ -151,6 +140,8 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
   add_far_ghosts();
+  if (settings_.substeps > 1)
+    throw std::runtime_error("simulation.substeps > 1: restarts are not supported yet");
   ledger_.set_enabled(settings_.energy_ledger);
   model_.particles.set_tracks_ledger(settings_.energy_ledger);
   ParticleStore& p = model_.particles;
@@ -248,6 +239,8 @@ RestartState Simulation::restart_state() const {
 void Simulation::change_time_step(double dt) {
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw std::runtime_error("change_time_step: the time step must be positive and finite");
+  if (settings_.substeps > 1)
+    throw std::runtime_error("change_time_step: not with simulation.substeps > 1");
   // The global-damping accumulators hold tally + dt/2 P of their last power P
   // (ParticleStore::ledger_value): re-weight that last half step so the tally is unchanged
   // under the new dt. The contact terms' sums of the intervals so far are totalled over the
@@ -341,6 +334,7 @@ void Simulation::build_lists(double sort_width) {
   // Only touching contacts carry a spring across the rebuild; migration moves those rows with
   // their particles, and each term's rebuild() reads its own store back by key.
   ledger_.release_moments();
+  fast_ledger_.release_moments();
   for (auto& t : terms_)
     t->pack_springs(p);
   // Before the migration, which stores the owned particles in the new keys' order and sends
@@ -363,6 +357,7 @@ void Simulation::build_lists(double sort_width) {
   outflow_.note_positions(p);
   move_bound_at_outflow_note_ = move_bound_;  // after a restart, the checkpoint's bound
   ledger_.rebuild(gather_, allocator_.size());
+  fast_ledger_.rebuild(gather_, allocator_.size());
   // A rebuild is collective (every rank rebuilds at the same step): so is this flag.
   if (!model_.bodies.empty() && body_term_ != nullptr)
     bodies_in_reach_ = comm_.any(body_term_->n_candidates() > 0);
@@ -371,7 +366,9 @@ void Simulation::build_lists(double sort_width) {
   if (momentum_.enabled())
     for (std::size_t k = 0; k < p.n_local(); ++k)
       if (p.motion[k] == Motion::kFree) free_mass.add(p.mass[k]);
-  momentum_.rebuild(p, momentum_.enabled() ? comm_.sum_exact({free_mass})[0] : 0.0);
+  const double total_free_mass = momentum_.enabled() ? comm_.sum_exact({free_mass})[0] : 0.0;
+  momentum_.rebuild(p, total_free_mass);
+  fast_momentum_.rebuild(p, total_free_mass);
 }
 
 void Simulation::flag_turning_particles() {
@@ -395,11 +392,6 @@ void Simulation::flag_turning_particles() {
 
 Integrator::Turning Simulation::turning() const {
   return {track_orientations_, all_turning_ ? nullptr : turning_.data()};
-}
-
-void Simulation::book_momentum(bool initial) {
-  momentum_.book_evaluation(model_.particles, body_contact_loads_, model_.point_loads,
-                            settings_.gravity, 0.5 * dt_, comm_.is_root(), initial);
 }
 
 bool Simulation::needs_rebuild() {
@@ -429,7 +421,7 @@ bool Simulation::needs_rebuild() {
   // step, when the state is synchronised (OutflowSink); they ride on the same reduction.
   // The particles moved at most the bound since the outflow noted them, plus this drift.
   const bool leaving = outflow_.any_leaving(
-      model_.particles, move_bound_ - move_bound_at_outflow_note_ + drift_.max_speed * dt_);
+      model_.particles, move_bound_ - move_bound_at_outflow_note_ + drift_.max_speed * drift_dt_);
   const auto global = comm_.max(
       std::array<double, 5>{drift_.max_speed, topology_changed ? 1.0 : 0.0,
                             static_cast<double>(stop_local_), runaway, leaving ? 1.0 : 0.0});
@@ -439,7 +431,7 @@ bool Simulation::needs_rebuild() {
   // each drift times dt: a bound that needs no column of reference positions, read every
   // step, and is the same on any rank count. It rebuilds somewhat earlier than the largest
   // actual move would; the forces do not depend on when lists are rebuilt.
-  move_bound_ += global[0] * dt_;
+  move_bound_ += global[0] * drift_dt_;
   const double particle_move = move_bound_;
   const bool bond_broke = global[1] > 0.0;
   stop_agreed_ = static_cast<int>(global[2]);
@@ -450,70 +442,11 @@ bool Simulation::needs_rebuild() {
          particle_move + body_move > settings_.skin;
 }
 
-void Simulation::compute_forces(bool loads_started) {
-  ParticleStore& p = model_.particles;
-  {
-    PhaseTimer t(phase_seconds_[kGather]);
-    if (!loads_started) GatherMap::initialise_loads(p, settings_.gravity);
-    gather_.apply_point_loads(p, model_.point_loads);
-    ledger_.begin_step(p.n_local());
-  }
-  ComputeContext ctx{p,
-                     model_.bodies,
-                     model_.materials,
-                     slots_,
-                     ledger_,
-                     time_,
-                     dt_,
-                     ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
-  {
-    PhaseTimer t(phase_seconds_[kBonds]);
-    bond_term_->compute(ctx);
-  }
-  {
-    PhaseTimer t(phase_seconds_[kContacts]);
-    for (std::size_t k = 1; k < terms_.size(); ++k)
-      terms_[k]->compute(ctx);
-  }
-  {
-    // An all-reduce: it waits for the slowest rank, which is the comm phase's to show.
-    PhaseTimer t(phase_seconds_[kComm]);
-    reduce_body_loads();
-  }
-  // The contact loads, for the momentum balance: the restraints' loads act on the bodies alone.
-  body_contact_loads_.resize(model_.bodies.size());
-  for (std::size_t b = 0; b < model_.bodies.size(); ++b)
-    body_contact_loads_[b] = model_.bodies[b].force;
-  apply_restraints(model_);  // on the reduced loads, alike on every rank
-  {
-    PhaseTimer t(phase_seconds_[kGather]);
-    gather_.gather(p, slots_, settings_.gravity);
-  }
-}
-
-void Simulation::reduce_body_loads() {
-  if (model_.bodies.empty() || body_term_ == nullptr) return;
-  // Each body's load is the exact sum of its contacts' loads: the same bits on any rank count,
-  // in one all-reduce of a few words per body whatever the number of contacts (only the limbs
-  // their magnitudes need: ExactSumReducer). No rank gathers the others' contacts (a debris
-  // flow's bed touches every grain that rests on it).
-  using L = BodyContactTerm::LoadColumn;
-  if (!bodies_in_reach_) {
-    // No particle within reach of any body on any rank: each load is the sum of no terms, +0
-    // (a body waiting out of play, such as the rockfall's boulder while the net sags).
-    for (RigidBody& b : model_.bodies)
-      b.force = b.torque = Vec3{};
+void Simulation::step() {
+  if (settings_.substeps > 1) {
+    substepped_step({});
     return;
   }
-  const std::vector<double>& total = body_load_reducer_.sum(comm_, body_term_->body_load_sums());
-  for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
-    const double* const t = &total[L::kLoadColumns * b];
-    model_.bodies[b].force = {t[L::kForceX], t[L::kForceY], t[L::kForceZ]};
-    model_.bodies[b].torque = {t[L::kTorqueX], t[L::kTorqueY], t[L::kTorqueZ]};
-  }
-}
-
-void Simulation::step() {
   start_step();
   evaluate_step();
   finish_step();
@@ -521,6 +454,20 @@ void Simulation::step() {
 
 void Simulation::start_step() {
   ParticleStore& p = model_.particles;
+  exchange_grains_and_rebuild();
+  momentum_.book_first_half();
+  {
+    PhaseTimer t(phase_seconds_[kIntegrate]);
+    // The drift also starts the next loads (F = m g, T = 0): compute_forces() goes on from them.
+    drift_ = Integrator::first_half(p, dt_, settings_.gravity, kMaxStepFraction * settings_.skin,
+                                    kMaxTurn, turning());
+    drift_dt_ = dt_;
+    Integrator::first_half(model_.bodies, dt_, settings_.gravity);
+  }
+  time_ += dt_;
+}
+
+void Simulation::exchange_grains_and_rebuild() {
   if (outflow_pending_ || !inflow_.empty()) {
     bool changed = false;
     {
@@ -532,15 +479,6 @@ void Simulation::start_step() {
       rebuild();
     }
   }
-  momentum_.book_first_half();
-  {
-    PhaseTimer t(phase_seconds_[kIntegrate]);
-    // The drift also starts the next loads (F = m g, T = 0): compute_forces() goes on from them.
-    drift_ = Integrator::first_half(p, dt_, settings_.gravity, kMaxStepFraction * settings_.skin,
-                                    kMaxTurn, turning());
-    Integrator::first_half(model_.bodies, dt_, settings_.gravity);
-  }
-  time_ += dt_;
 }
 
 void Simulation::evaluate_step() {
@@ -605,6 +543,7 @@ void Simulation::finish_step_and_start_next(const BodyObserver& observe_bodies) 
         [this, &p](std::size_t end) {
           ledger_.accumulate_below(end, p, model_.bodies, slots_, gather_);
         });
+    drift_dt_ = dt_;
     ledger_.finish_accumulation(gather_, dt_);
     momentum_.book_first_half();
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);
@@ -615,6 +554,14 @@ void Simulation::finish_step_and_start_next(const BodyObserver& observe_bodies) 
 
 void Simulation::run_steps(std::int64_t n, const std::function<void()>& before_each,
                            const BodyObserver& observe_bodies) {
+  if (settings_.substeps > 1) {
+    for (std::int64_t k = 0; k < n; ++k) {
+      if (before_each) before_each();
+      substepped_step(observe_bodies);
+      if (stop_agreed_) break;
+    }
+    return;
+  }
   bool started = false;  // the next step's first half is done
   for (std::int64_t k = 0; k < n; ++k) {
     if (before_each) before_each();
@@ -642,9 +589,17 @@ bool Simulation::exchange_grains() {
   };
   if (outflow_pending_) {  // every rank knows: the last step's reduction
     before_change();
-    for (std::size_t k = 0; k < p.n_local() && momentum_.enabled(); ++k)
-      if (outflow_.leaving(p, k)) momentum_.book_leaving(p, k, 0.5 * dt_);
-    const auto& held = ledger_.held_by_leaving();
+    const bool two_rates = settings_.substeps > 1;
+    for (std::size_t k = 0; k < p.n_local() && momentum_.enabled(); ++k) {
+      if (!outflow_.leaving(p, k)) continue;
+      // With two rates a leaving grain misses the next half kicks of both its loads.
+      momentum_.book_leaving(p, k, 0.5 * dt_, two_rates ? &p.slow_force : nullptr);
+      if (two_rates) fast_momentum_.book_leaving(p, k, 0.5 * substep());
+    }
+    auto held = ledger_.held_by_leaving();
+    if (two_rates)
+      for (int h = 0; h < EnergyLedger::kHeldSums; ++h)
+        held[h] += fast_ledger_.held_by_leaving()[h];
     outflow_.remove_leaving(p, settings_.gravity, dt_, held[EnergyLedger::kContactHeld],
                             held[EnergyLedger::kTangentialHeld]);
     outflow_pending_ = false;
@@ -657,6 +612,12 @@ bool Simulation::exchange_grains() {
     const std::size_t first_new = p.n_local();
     inflow_.emit(i, p, time_, settings_.gravity, comm_.rank(), comm_.size());
     momentum_.book_arrivals(p, first_new, p.n_local(), 0.5 * dt_);
+    if (settings_.substeps > 1)  // their weight is a slow load
+      for (std::size_t k = first_new; k < p.n_local(); ++k) {
+        p.slow_force[k] = p.force[k];
+        p.slow_torque[k] = p.torque[k];
+        p.force[k] = p.torque[k] = Vec3{};
+      }
   }
   return changed;
 }

@@ -45,6 +45,11 @@ struct SimulationSettings {
   /// the particles"): at every step number that is a multiple, the lists are rebuilt with each
   /// grain in the bin of its position. 0: never (every particle stays in gid order).
   std::int64_t sort_every = 1000;
+  /// Multi-rate stepping (docs/physics.md "Two time scales"): the fast interactions (bonds and
+  /// every interaction with a net particle, ForceRate) step dt / substeps within each step of
+  /// dt, which the slow ones (gravity, grain–grain and grain–body contacts) take as impulses at
+  /// its ends (impulse r-RESPA). 1: one rate.
+  std::int64_t substeps = 1;
 };
 
 /// The settings a case file asks for.
@@ -129,8 +134,11 @@ class Simulation {
   void change_time_step(double dt);
   /// The time step the case asks for: simulation.dt, or dt_safety times the smallest
   /// stability limit when it is left out. A scenario may step otherwise for a while.
+  /// With multi-rate stepping (settings().substeps > 1) this is the grain step, substeps
+  /// times that (the step of the fast interactions).
   double case_time_step() const {
-    return settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min();
+    return static_cast<double>(settings_.substeps) *
+           (settings_.dt > 0.0 ? settings_.dt : settings_.dt_safety * limits_.min());
   }
   /// The step at which the time reaches `end_time` (within 1e-9 of a step), counted from the
   /// step the current dt began at (0, or the restart that changed it).
@@ -165,6 +173,12 @@ class Simulation {
   std::int64_t steps() const { return steps_; }
   std::int64_t rebuilds() const { return rebuilds_; }
   const StabilityLimits& limits() const { return limits_; }
+  /// The fast interactions' step: dt() / settings().substeps (dt() with one rate).
+  double substep() const { return dt_ / static_cast<double>(settings_.substeps); }
+  /// The smallest Rayleigh limit of the particles that take the grain step (multi-rate
+  /// stepping: those that are not fast, is_fast_particle()), over the ranks; infinite where
+  /// there are none.
+  double grain_rayleigh_limit() const { return grain_rayleigh_limit_; }
   const SimulationSettings& settings() const { return settings_; }
   Model& model() { return model_; }
   const Model& model() const { return model_; }
@@ -260,13 +274,29 @@ class Simulation {
   double sort_width_due();
   /// Every term's pair store (bonds, contact springs), in term order: what migration moves.
   std::vector<PairStore> pair_stores();
-  /// One force evaluation. `loads_started`: the drift pass already set F = m g, T = 0
-  /// (Integrator::first_half); otherwise this does.
-  void compute_forces(bool loads_started = false);
+  /// One force evaluation of the interactions of `rate`, over a step of `dt`. `loads_started`:
+  /// the drift pass already set F = m g, T = 0 (Integrator::first_half); otherwise this does.
+  /// A slow evaluation (multi-rate stepping) writes the particles' slow loads (slow_force,
+  /// slow_torque, with gravity), a fast one their loads without gravity.
+  void compute_forces(bool loads_started = false, ForceRate rate = ForceRate::kAll,
+                      double dt = 0.0);
+  /// Multi-rate stepping (settings().substeps > 1, SimulationSubsteps.cpp): checks that the
+  /// model is one it can step and sets the rates up (constructors).
+  void set_up_substeps();
+  /// grain_rayleigh_limit() of the particles now (collective).
+  double slow_particles_rayleigh_limit() const;
+  /// The initial evaluation of both rates (a fresh start).
+  void compute_initial_substep_forces();
+  /// One step of dt_: the slow half kick, substeps fast velocity-Verlet steps, the slow
+  /// evaluation and its half kick.
+  void substepped_step(const BodyObserver& observe_bodies);
+  /// Takes the grains out and in that are due at the start of a step, and rebuilds if that
+  /// changed the particles (start_step()).
+  void exchange_grains_and_rebuild();
   void reduce_body_loads();
   /// Books the loads of the evaluation just done in the momentum ledger (after the bodies'
   /// loads are reduced, before global damping changes the particles' loads).
-  void book_momentum(bool initial);
+  void book_momentum(bool initial, ForceRate rate = ForceRate::kAll);
   bool needs_rebuild();
   /// Names the particle (or body) that ran away and the likely cause; throws
   /// DivergenceError on every rank. Collective. `energy_excess`: the energy guard fired (its
@@ -311,6 +341,7 @@ class Simulation {
   EnergyLedger ledger_;
   std::vector<ExcludedPair> excluded_;  ///< rebuild scratch
   StabilityLimits limits_{};
+  double grain_rayleigh_limit_ = 0.0;  ///< grain_rayleigh_limit()
   double dt_ = 0.0;
   double time_ = 0.0;
   std::int64_t steps_ = 0;
@@ -332,11 +363,26 @@ class Simulation {
   double move_bound_at_outflow_note_ = 0.0;
   bool track_orientations_ = true;  ///< some particle has a bond (Integrator::first_half)
   Integrator::Drift drift_;         ///< the last drift pass (this rank), for the divergence guard
-  EnergyGuard energy_guard_;        ///< the divergence guard's energy part, at every energies()
-  OutflowSink outflow_;             ///< model_.outflow's boxes and what went out
-  InflowSource inflow_;             ///< model_.inflow's inlets and what came in
-  MomentumLedger momentum_;         ///< impulses of the reported loads on the free particles
-  bool outflow_pending_ = false;    ///< a grain left a box in the last drift (on some rank)
+  double drift_dt_ = 0.0;           ///< the time step of that drift (dt_, or a sub-step)
+  /// Multi-rate stepping: each body's contact load of the last fast evaluation (reduced), to
+  /// which the slow evaluation's adds.
+  std::vector<Vec3> fast_body_force_, fast_body_torque_;
+  /// Multi-rate stepping: the ledgers of the fast interactions, booked at every sub-step with
+  /// its step (ledger_ and momentum_ book the slow ones at the grain step).
+  EnergyLedger fast_ledger_;
+  MomentumLedger fast_momentum_{0, false};
+  /// Each body's contact load of the evaluation just done, of its rate alone (the momentum
+  /// ledger of that rate books it).
+  std::vector<Vec3> rate_body_loads_;
+  /// The ledger that books the interactions of `rate`.
+  EnergyLedger& ledger_of(ForceRate rate) {
+    return rate == ForceRate::kFast ? fast_ledger_ : ledger_;
+  }
+  EnergyGuard energy_guard_;      ///< the divergence guard's energy part, at every energies()
+  OutflowSink outflow_;           ///< model_.outflow's boxes and what went out
+  InflowSource inflow_;           ///< model_.inflow's inlets and what came in
+  MomentumLedger momentum_;       ///< impulses of the reported loads on the free particles
+  bool outflow_pending_ = false;  ///< a grain left a box in the last drift (on some rank)
   /// Per owned particle, 1 where it is an end of an intact bond (flag_turning_particles()).
   std::vector<std::uint8_t> turning_;
   /// Every owned particle is flagged: turning() passes no flags.

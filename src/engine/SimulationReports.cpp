@@ -184,6 +184,16 @@ Simulation::GrainFlux Simulation::inflow_totals() const {
 
 MomentumBalance Simulation::momentum_balance() const {
   MomentumBalance b = momentum_.balance(model_.particles, comm_);
+  if (fast_momentum_.enabled()) {
+    // Multi-rate stepping: the impulses of the fast loads, booked at the sub-steps.
+    const MomentumBalance fast = fast_momentum_.balance(model_.particles, comm_);
+    b.gravity += fast.gravity;
+    b.point_loads += fast.point_loads;
+    b.held += fast.held;
+    b.exchange += fast.exchange;
+    for (std::size_t i = 0; i < b.bodies.size() && i < fast.bodies.size(); ++i)
+      b.bodies[i] += fast.bodies[i];
+  }
   b.outflow = outflow_totals().momentum;
   b.inflow = inflow_totals().momentum;
   return b;
@@ -228,6 +238,9 @@ Energies Simulation::energies() {
     kDampingSteps,  // the contact terms' trapezoidal sums (EnergyLedger::intervals)
     kFrictionSteps,
     kBoundarySteps,
+    kDampingSubsteps,  // multi-rate stepping: the fast ledger's, of the sub-step
+    kFrictionSubsteps,
+    kBoundarySubsteps,
     kColumns
   };
   std::vector<ExactSum> partial(kColumns);
@@ -240,6 +253,19 @@ Energies Simulation::energies() {
   partial[kDamping] += direct[EnergyLedger::kDamping];
   partial[kFriction] += direct[EnergyLedger::kFriction];
   partial[kBoundary] += direct[EnergyLedger::kBoundary];
+  if (settings_.substeps > 1) {
+    const auto& fast_steps = fast_ledger_.intervals();
+    const auto& fast_direct = fast_ledger_.direct();
+    partial[kDampingSubsteps] += fast_steps[EnergyLedger::kDamping];
+    partial[kFrictionSubsteps] += fast_steps[EnergyLedger::kFriction];
+    partial[kBoundarySubsteps] += fast_steps[EnergyLedger::kBoundary];
+    partial[kDamping] += fast_direct[EnergyLedger::kDamping];
+    partial[kFriction] += fast_direct[EnergyLedger::kFriction];
+    partial[kBoundary] += fast_direct[EnergyLedger::kBoundary];
+    const auto& fast_held = fast_ledger_.held();
+    partial[kFriction] += fast_held[EnergyLedger::kTangentialHeld].negated();
+    partial[kContact] += fast_held[EnergyLedger::kContactHeld];
+  }
   // What left through outflow boxes: the dissipation it had booked stays in the ledger, the
   // tangential energy its springs held went out with it (friction counts what they hold).
   const std::vector<ExactSum>& gone = outflow_.partial();
@@ -271,10 +297,15 @@ Energies Simulation::energies() {
   Energies e;
   e.kinetic = sums[kKinetic];
   e.potential = sums[kPotential];
-  e.contact_damping = EnergyLedger::tally(sums[kDampingSteps], sums[kDamping], dt_);
-  e.friction = EnergyLedger::tally(sums[kFrictionSteps], sums[kFriction], dt_);
+  // The fast ledger's sums are zero in a single-rate run.
+  const double h = substep();
+  e.contact_damping = EnergyLedger::tally(sums[kDampingSteps], sums[kDamping], dt_) +
+                      EnergyLedger::tally(sums[kDampingSubsteps], 0.0, h);
+  e.friction = EnergyLedger::tally(sums[kFrictionSteps], sums[kFriction], dt_) +
+               EnergyLedger::tally(sums[kFrictionSubsteps], 0.0, h);
   e.global_damping = sums[kGlobal];
-  e.boundary_work = EnergyLedger::tally(sums[kBoundarySteps], sums[kBoundary], dt_);
+  e.boundary_work = EnergyLedger::tally(sums[kBoundarySteps], sums[kBoundary], dt_) +
+                    EnergyLedger::tally(sums[kBoundarySubsteps], 0.0, h);
   e.contact_elastic = sums[kContact];
   e.bond_elastic = sums[kBond];
   e.broken_bonds = sums[kBreak];

@@ -268,6 +268,8 @@ struct SimulationConfig {
   bool energy_ledger = true;
   /// Steps between re-sorts of the grains by space (SimulationSettings::sort_every); 0: never.
   int sort_every = 1000;
+  /// Fast sub-steps per grain step (SimulationSettings::substeps); 1: one rate.
+  int substeps = 1;
 };
 
 /// Quasi-static tensile test of ring elements (the paper's "DEM Modeling of a Tensile Test"):

@@ -79,6 +79,13 @@ const Table<SimulationConfig>& simulation_table() {
               "its neighbours near in memory. The results are the same bits on any "
               "rank count and change at round-off with this value; 0: never (gid "
               "order)"),
+          schema::integer(
+              "substeps", &S::substeps, at_least(1),
+              "Multi-rate stepping (docs/physics.md \"Two time scales\"): the net's bonds and "
+              "every contact of a net particle step dt, the grains' contacts with each other "
+              "and with rigid bodies, and gravity, once every `substeps` steps of dt, as "
+              "impulses (r-RESPA). Rows, frames and checkpoints come at those grain steps. 1: "
+              "one rate"),
       }};
   return table;
 }

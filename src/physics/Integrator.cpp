@@ -659,4 +659,13 @@ void apply_global_damping(ParticleStore& p, double dt) {
   }
 }
 
+void Integrator::kick(ParticleStore& p, const std::vector<Vec3>& force,
+                      const std::vector<Vec3>& torque, double half_dt) {
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    if (p.motion[k] != Motion::kFree) continue;
+    p.velocity[k] += force[k] * (half_dt / p.mass[k]);
+    p.omega[k] += torque[k] * (half_dt / p.inertia(k));
+  }
+}
+
 }  // namespace ringdem

@@ -68,6 +68,11 @@ struct Integrator {
   /// break the memory streams too often.
   static constexpr std::size_t kBlock = 256 * kChunk;
 
+  /// v += F/m half_dt, omega += T/I half_dt for owned free particles, from the loads given
+  /// (multi-rate stepping's slow kicks: ParticleStore::slow_force).
+  static void kick(ParticleStore& p, const std::vector<Vec3>& force,
+                   const std::vector<Vec3>& torque, double half_dt);
+
   /// Rigid bodies: prescribed ones move with their velocity; free ones are integrated from
   /// their contact load plus gravity.
   static void first_half(std::vector<RigidBody>& bodies, double dt, const Vec3& gravity);

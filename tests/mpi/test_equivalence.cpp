@@ -443,5 +443,44 @@ TEST(Equivalence, AMeshedNetCatchesGrainsOnAnyRankCount) {
   expect_identical_energies(r.reference_energies, r.parallel_energies);
 }
 
+// Multi-rate stepping (simulation.substeps): the net's contacts and bonds at every sub-step, the
+// grains' contacts with each other at every fourth, with their ghosts refreshed at both rates:
+// the same bits on any rank count.
+TEST(Equivalence, ASubsteppedNetCatchesGrainsOnAnyRankCount) {
+  const CaseConfig c = load_case_from_string(
+      testing::net_free_run("dt: 2.0e-6, end_time: 1.0, gravity: [0, 0, -9.81], substeps: 4",
+                            "rows: 2, columns: 3, shackles: {n_particles: 12}",
+                            "  lattices:\n"
+                            "    - {group: grains, origin: [-0.2, -0.1, 0.07], count: [3, 2, 1], "
+                            "spacing: 0.2, particle_radius: 0.05, material: rock, "
+                            "velocity: [0.1, 0, -2]}\n"
+                            "    - {group: grains, origin: [-0.17, -0.1, 0.18], count: [3, 2, 1], "
+                            "spacing: 0.2, particle_radius: 0.05, material: rock, "
+                            "velocity: [0.1, 0, -2]}\n"
+                            "    - {group: grains, origin: [-0.3, -0.15, 0.3], count: [8, 4, 2], "
+                            "spacing: 0.05, particle_radius: 0.02, material: rock, "
+                            "velocity: [0.1, 0, -2]}\n",
+                            "1.0e9"),
+      "substepped.yaml");
+  const auto r = run_both(c, 15000, /*imbalance_threshold=*/0.0);  // 0.12 s
+  expect_other_path(r);
+  expect_identical(r.reference, r.parallel);
+  EXPECT_GT(r.reference_energies.friction, 0.0);
+  expect_identical_energies(r.reference_energies, r.parallel_energies);
+}
+
+// Grains entering and leaving with every interaction slow (no net): the grain steps' ghosts,
+// inlets and outflow on any rank count.
+TEST(Equivalence, SubsteppedGrainsEnteringAndLeaving) {
+  CaseConfig c = testing::grains_entering_and_leaving();
+  c.simulation.substeps = 3;
+  const auto r = run_both(c, 1000, /*imbalance_threshold=*/0.0);
+  EXPECT_GT(r.reference.particles.size(), 300u);
+  expect_identical(r.reference, r.parallel);
+  EXPECT_GT(r.reference_energies.outflow, 0.0);
+  EXPECT_GT(r.reference_energies.inflow, 0.0);
+  expect_identical_energies(r.reference_energies, r.parallel_energies);
+}
+
 }  // namespace
 }  // namespace ringdem

@@ -1,0 +1,125 @@
+// Multi-rate stepping (docs/physics.md "Two time scales"): Simulation's steps when
+// settings().substeps > 1.
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "engine/PhaseTimer.hpp"
+#include "engine/Simulation.hpp"
+
+namespace ringdem {
+
+void Simulation::set_up_substeps() {
+  if (settings_.substeps <= 1) return;
+  const auto refuse = [](const std::string& why) {
+    throw std::runtime_error("simulation.substeps > 1: " + why);
+  };
+  for (const RigidBody& b : model_.bodies)
+    if (b.motion != Motion::kFixed)
+      refuse("every rigid body must be fixed (a free or driven body is stepped at one rate)");
+  if (!model_.brakes.empty() || !model_.ropes.empty())
+    refuse("brakes and support ropes are not sub-stepped; leave them out");
+  if (model_.particles.tracks_damping())
+    refuse("global (Cundall) damping is not sub-stepped; leave damping out");
+  model_.particles.set_tracks_slow_loads(true);
+  gather_.set_split_by_rate(true);
+  // A ledger per rate, each booked with its own step; the fast one books the held particles'
+  // drivers and the point loads, whose loads are all fast.
+  fast_ledger_.set_enabled(settings_.energy_ledger);
+  fast_ledger_.set_rate(ForceRate::kFast);
+  ledger_.set_rate(ForceRate::kSlow);
+  fast_momentum_ = MomentumLedger(model_.bodies.size(), settings_.momentum_ledger);
+}
+
+double Simulation::slow_particles_rayleigh_limit() const {
+  const ParticleStore& p = model_.particles;
+  double limit = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    if (is_fast_particle(p, k)) continue;
+    const Material& m = model_.materials[static_cast<std::size_t>(p.material[k])];
+    limit = std::min(
+        limit, rayleigh_time_step(p.radius[k], m.density, m.shear_modulus(), m.poisson_ratio));
+  }
+  return comm_.min(limit);
+}
+
+void Simulation::compute_initial_substep_forces() {
+  const double h = substep();
+  compute_forces(false, ForceRate::kFast, h);
+  book_momentum(/*initial=*/true, ForceRate::kFast);
+  fast_ledger_.accumulate(model_.particles, model_.bodies, slots_, gather_, h, /*initial=*/true);
+  compute_forces(false, ForceRate::kSlow, dt_);
+  book_momentum(/*initial=*/true, ForceRate::kSlow);
+  ledger_.accumulate(model_.particles, model_.bodies, slots_, gather_, dt_, /*initial=*/true);
+}
+
+void Simulation::substepped_step(const BodyObserver& observe_bodies) {
+  // Impulse r-RESPA: the slow loads kick half a grain step at each end of the step; between
+  // the kicks, `substeps` velocity-Verlet steps under the fast loads alone. A particle with no
+  // fast load drifts in a straight line meanwhile, as it would over the whole step.
+  ParticleStore& p = model_.particles;
+  exchange_grains_and_rebuild();
+  const double start = time_;
+  const std::int64_t r = settings_.substeps;
+  const double h = substep();
+  momentum_.book_first_half();
+  {
+    PhaseTimer t(phase_seconds_[kIntegrate]);
+    Integrator::kick(p, p.slow_force, p.slow_torque, 0.5 * dt_);
+  }
+  for (std::int64_t k = 0; k < r; ++k) {
+    fast_momentum_.book_first_half();
+    {
+      PhaseTimer t(phase_seconds_[kIntegrate]);
+      // No gravity in the fast loads: the slow ones carry it.
+      drift_ = Integrator::first_half(p, h, Vec3{}, kMaxStepFraction * settings_.skin, kMaxTurn,
+                                      turning());
+      drift_dt_ = h;
+    }
+    time_ = start + static_cast<double>(k + 1) * h;
+    bool rebuild_now = false;
+    {
+      PhaseTimer t(phase_seconds_[kComm]);
+      decomposition_.update_ghosts(p);
+      rebuild_now = needs_rebuild();
+    }
+    // A re-sort comes at the step numbers of grain steps, at their first sub-step.
+    const double sort_width = k == 0 ? sort_width_due() : 0.0;
+    if (rebuild_now || sort_width > 0.0) {
+      PhaseTimer t(phase_seconds_[kNeighbour]);
+      rebuild(sort_width);
+    }
+    compute_forces(/*loads_started=*/true, ForceRate::kFast, h);
+    book_momentum(/*initial=*/false, ForceRate::kFast);
+    {
+      PhaseTimer t(phase_seconds_[kIntegrate]);
+      Integrator::second_half(p, h);
+      // Grains an outflow box takes out before the next step end their trapezoids here.
+      EnergyLedger::LeavingTest leaving;
+      if (k + 1 == r && outflow_pending_)
+        leaving = [this, &p](std::size_t i) { return outflow_.leaving(p, i); };
+      fast_ledger_.accumulate(p, model_.bodies, slots_, gather_, h, /*initial=*/false, leaving);
+    }
+  }
+  time_ = start + dt_;
+  {
+    // The ghosts at their owners' velocities of the step's end: each slow contact then reads
+    // the same velocities on every rank that holds it.
+    PhaseTimer t(phase_seconds_[kComm]);
+    decomposition_.update_ghosts(p);
+  }
+  compute_forces(/*loads_started=*/false, ForceRate::kSlow, dt_);
+  book_momentum(/*initial=*/false, ForceRate::kSlow);
+  {
+    PhaseTimer t(phase_seconds_[kIntegrate]);
+    Integrator::kick(p, p.slow_force, p.slow_torque, 0.5 * dt_);
+    EnergyLedger::LeavingTest leaving;
+    if (outflow_pending_) leaving = [this, &p](std::size_t i) { return outflow_.leaving(p, i); };
+    ledger_.accumulate(p, model_.bodies, slots_, gather_, dt_, /*initial=*/false, leaving);
+  }
+  ++steps_;
+  if (observe_bodies) observe_bodies(model_.bodies, time_);
+}
+
+}  // namespace ringdem
