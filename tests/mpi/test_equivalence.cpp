@@ -398,14 +398,19 @@ TEST(Equivalence, PolydisperseGrainsSettleOnAnyRankCount) {
 // Grains entering through an inlet and leaving through an outflow box while they settle: the
 // same grains enter and leave at the same steps, and the rest ends the same bits, on any rank
 // count; what crossed is counted alike.
-TEST(Equivalence, GrainsEnteringAndLeaving) {
-  const CaseConfig c = testing::grains_entering_and_leaving();
-  const auto r = run_both(c, 3000, /*imbalance_threshold=*/0.0);
+/// Runs `c` (grains entering and leaving) for `steps` steps on both paths: more than 300 grains
+/// at the end, some in and some out, the same bits.
+void expect_grains_enter_and_leave_alike(const CaseConfig& c, std::int64_t steps) {
+  const auto r = run_both(c, steps, /*imbalance_threshold=*/0.0);
   EXPECT_GT(r.reference.particles.size(), 300u);
   expect_identical(r.reference, r.parallel);
   EXPECT_GT(r.reference_energies.outflow, 0.0);
   EXPECT_GT(r.reference_energies.inflow, 0.0);
   expect_identical_energies(r.reference_energies, r.parallel_energies);
+}
+
+TEST(Equivalence, GrainsEnteringAndLeaving) {
+  expect_grains_enter_and_leave_alike(testing::grains_entering_and_leaving(), 3000);
 }
 
 // Coarse grains falling onto a net whose rings carry a secondary mesh (engine/RingMeshTerm):
@@ -447,20 +452,12 @@ TEST(Equivalence, AMeshedNetCatchesGrainsOnAnyRankCount) {
 // grains' contacts with each other at every fourth, with their ghosts refreshed at both rates:
 // the same bits on any rank count.
 TEST(Equivalence, ASubsteppedNetCatchesGrainsOnAnyRankCount) {
+  // A third layer of finer grains lands on the two of coarse ones.
   const CaseConfig c = load_case_from_string(
-      testing::net_free_run("dt: 2.0e-6, end_time: 1.0, gravity: [0, 0, -9.81], substeps: 4",
-                            "rows: 2, columns: 3, shackles: {n_particles: 12}",
-                            "  lattices:\n"
-                            "    - {group: grains, origin: [-0.2, -0.1, 0.07], count: [3, 2, 1], "
-                            "spacing: 0.2, particle_radius: 0.05, material: rock, "
-                            "velocity: [0.1, 0, -2]}\n"
-                            "    - {group: grains, origin: [-0.17, -0.1, 0.18], count: [3, 2, 1], "
-                            "spacing: 0.2, particle_radius: 0.05, material: rock, "
-                            "velocity: [0.1, 0, -2]}\n"
-                            "    - {group: grains, origin: [-0.3, -0.15, 0.3], count: [8, 4, 2], "
-                            "spacing: 0.05, particle_radius: 0.02, material: rock, "
-                            "velocity: [0.1, 0, -2]}\n",
-                            "1.0e9"),
+      testing::grains_landing_on_a_net(4,
+                                       "    - {group: grains, origin: [-0.3, -0.15, 0.3], "
+                                       "count: [8, 4, 2], spacing: 0.05, particle_radius: "
+                                       "0.02, material: rock, velocity: [0.1, 0, -2]}\n"),
       "substepped.yaml");
   const auto r = run_both(c, 15000, /*imbalance_threshold=*/0.0);  // 0.12 s
   expect_other_path(r);
@@ -474,12 +471,7 @@ TEST(Equivalence, ASubsteppedNetCatchesGrainsOnAnyRankCount) {
 TEST(Equivalence, SubsteppedGrainsEnteringAndLeaving) {
   CaseConfig c = testing::grains_entering_and_leaving();
   c.simulation.substeps = 3;
-  const auto r = run_both(c, 1000, /*imbalance_threshold=*/0.0);
-  EXPECT_GT(r.reference.particles.size(), 300u);
-  expect_identical(r.reference, r.parallel);
-  EXPECT_GT(r.reference_energies.outflow, 0.0);
-  EXPECT_GT(r.reference_energies.inflow, 0.0);
-  expect_identical_energies(r.reference_energies, r.parallel_energies);
+  expect_grains_enter_and_leave_alike(c, 1000);
 }
 
 }  // namespace

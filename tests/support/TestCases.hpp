@@ -153,6 +153,23 @@ inline std::string net_free_run(const std::string& simulation, const std::string
          net + "}\n" + grains + "scenario: {type: free_run}\n";
 }
 
+/// A 2 x 3 net with its shackles, and two layers of 3 x 2 rock grains of 50 mm (E = 1 GPa), the
+/// upper one 0.11 m above the lower and 30 mm aside, falling at 2 m/s onto it (the lower layer
+/// meets the net after about 10 ms, the upper one the lower after that), plus `more_lattices`
+/// (entries of `particles.lattices`). The net's step is 2 us, in `substeps` sub-steps of each
+/// grain step (simulation.substeps).
+inline std::string grains_landing_on_a_net(int substeps, const std::string& more_lattices = "") {
+  const std::string layer =
+      "count: [3, 2, 1], spacing: 0.2, particle_radius: 0.05, material: rock, "
+      "velocity: [0.1, 0, -2]}\n";
+  return net_free_run(
+      "dt: 2.0e-6, end_time: 1.0, gravity: [0, 0, -9.81], substeps: " + std::to_string(substeps),
+      "rows: 2, columns: 3, shackles: {n_particles: 12}",
+      "  lattices:\n    - {group: grains, origin: [-0.2, -0.1, 0.07], " + layer +
+          "    - {group: grains, origin: [-0.17, -0.1, 0.18], " + layer + more_lattices,
+      "1.0e9");
+}
+
 /// A rockfall case of a 2 x 3 net and a 5 kg boulder: the sag ends after t = 0.01 s, the
 /// impact 2 ms after the first contact (a second takes about as long, `impacts: 2`).
 inline constexpr const char* kTinyRockfall = R"(schema_version: 1

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "CaseLoaderFixtures.hpp"
 #include "TestCases.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
@@ -18,23 +19,8 @@
 namespace ringdem {
 namespace {
 
-/// A 2 x 3 net, and 3 x 2 x 2 rock grains of 50 mm (the upper layer 0.11 m above the lower)
-/// falling at 2 m/s onto it: the lower layer meets the net after about 10 ms, the upper layer
-/// the lower one after that. The net's step is 2 us; the grains' is `substeps` times that.
 CaseConfig grains_on_a_net(int substeps) {
-  return load_case_from_string(
-      testing::net_free_run("dt: 2.0e-6, end_time: 1.0, gravity: [0, 0, -9.81], substeps: " +
-                                std::to_string(substeps),
-                            "rows: 2, columns: 3, shackles: {n_particles: 12}",
-                            "  lattices:\n"
-                            "    - {group: grains, origin: [-0.2, -0.1, 0.07], count: [3, 2, 1], "
-                            "spacing: 0.2, particle_radius: 0.05, material: rock, "
-                            "velocity: [0.1, 0, -2]}\n"
-                            "    - {group: grains, origin: [-0.17, -0.1, 0.18], count: [3, 2, 1], "
-                            "spacing: 0.2, particle_radius: 0.05, material: rock, "
-                            "velocity: [0.1, 0, -2]}\n",
-                            "1.0e9"),
-      "substeps.yaml");
+  return load_case_from_string(testing::grains_landing_on_a_net(substeps), "substeps.yaml");
 }
 
 struct RunEnd {
@@ -119,7 +105,24 @@ TEST(Substeps, GrainsOnANetConvergeToTheSingleRateRun) {
   EXPECT_LT(2.0 * distance[0], distance[1]);
 }
 
-// What the sub-steps cannot take yet is refused before the run starts, with the reason.
+// What the sub-steps cannot take yet is refused before the run starts, with the reason: by the
+// loader (checkpoints, which could not be restarted; a scenario other than a free run) ...
+TEST(Substeps, TheLoaderRefusesCheckpointsAndOtherScenarios) {
+  using case_fixture::errors_of;
+  const std::string yaml =
+      testing::net_free_run("dt: 2.0e-6, end_time: 1.0, substeps: 4", "rows: 2, columns: 3", "") +
+      "output: {checkpoint_interval: 0.01}\n";
+  auto diags = errors_of(yaml);
+  ASSERT_EQ(diags.size(), 1u) << case_fixture::all(diags);
+  EXPECT_EQ(diags[0].key_path, "output.checkpoint_interval");
+  std::string rockfall = testing::kTinyRockfall;
+  rockfall.replace(rockfall.find("progress_interval"), 0, "substeps: 4, ");
+  diags = errors_of(rockfall);
+  ASSERT_EQ(diags.size(), 1u) << case_fixture::all(diags);
+  EXPECT_EQ(diags[0].key_path, "simulation.substeps");
+}
+
+// ... and by the simulation (global damping, free bodies, brakes and ropes).
 TEST(Substeps, ACaseWithGlobalDampingIsRefused) {
   CaseConfig c = grains_on_a_net(4);
   const Communicator self = testing::self_comm();
