@@ -23,7 +23,7 @@ CaseConfig grains_on_a_net(int substeps) {
   return load_case_from_string(testing::grains_landing_on_a_net(substeps), "substeps.yaml");
 }
 
-struct RunEnd {
+struct SubsteppedRunEnd {
   std::vector<Vec3> grain_positions;  ///< by gid order
   double lowest_net_z = 0.0;          ///< the net particles' lowest z over the run's samples
   double peak_net_force = 0.0;        ///< largest |load on the held particles| over the samples (N)
@@ -32,11 +32,11 @@ struct RunEnd {
 };
 
 /// Runs the case for `duration` seconds, sampling the net's sag every 0.5 ms.
-RunEnd run(int substeps, double duration) {
+SubsteppedRunEnd run_grains_on_a_net(int substeps, double duration) {
   const CaseConfig c = grains_on_a_net(substeps);
   const Communicator self = testing::self_comm();
   Simulation sim(build_scenario_model(c, self), self, settings_from_case(c));
-  RunEnd end;
+  SubsteppedRunEnd end;
   end.initial = sim.energies();
   const std::int64_t per_sample = sim.steps_until(5e-4);
   while (sim.time() < duration - 1e-9) {
@@ -63,7 +63,7 @@ RunEnd run(int substeps, double duration) {
   return end;
 }
 
-double largest_distance(const RunEnd& a, const RunEnd& b) {
+double largest_grain_distance(const SubsteppedRunEnd& a, const SubsteppedRunEnd& b) {
   double d = 0.0;
   for (std::size_t k = 0; k < a.grain_positions.size(); ++k)
     d = std::max(d, norm(a.grain_positions[k] - b.grain_positions[k]));
@@ -77,14 +77,14 @@ double largest_distance(const RunEnd& a, const RunEnd& b) {
 // its shackles with to a few parts in 10^4.
 TEST(Substeps, GrainsOnANetConvergeToTheSingleRateRun) {
   constexpr double kDuration = 0.15;
-  const RunEnd one = run(1, kDuration);
+  const SubsteppedRunEnd one = run_grains_on_a_net(1, kDuration);
   ASSERT_EQ(one.grain_positions.size(), 12u);
   EXPECT_LT(one.lowest_net_z, -0.3);  // the net caught the grains
   std::vector<double> distance;
   for (const int r : {2, 10}) {
-    const RunEnd many = run(r, kDuration);
+    const SubsteppedRunEnd many = run_grains_on_a_net(r, kDuration);
     ASSERT_EQ(many.grain_positions.size(), 12u);
-    distance.push_back(largest_distance(one, many));
+    distance.push_back(largest_grain_distance(one, many));
     EXPECT_LT(distance.back(), 1e-3) << "r = " << r;
     EXPECT_NEAR(many.lowest_net_z, one.lowest_net_z, 3e-4) << "r = " << r;
     // The barrier force: the net's largest pull on its shackles (815 N) within 0.1 %, and its
