@@ -421,7 +421,7 @@ bool Simulation::needs_rebuild() {
   // step, when the state is synchronised (OutflowSink); they ride on the same reduction.
   // The particles moved at most the bound since the outflow noted them, plus this drift.
   const bool leaving = outflow_.any_leaving(
-      model_.particles, move_bound_ - move_bound_at_outflow_note_ + drift_.max_speed * drift_dt_);
+      model_.particles, move_bound_ - move_bound_at_outflow_note_ + drift_.max_speed * substep());
   const auto global = comm_.max(
       std::array<double, 5>{drift_.max_speed, topology_changed ? 1.0 : 0.0,
                             static_cast<double>(stop_local_), runaway, leaving ? 1.0 : 0.0});
@@ -431,7 +431,7 @@ bool Simulation::needs_rebuild() {
   // each drift times dt: a bound that needs no column of reference positions, read every
   // step, and is the same on any rank count. It rebuilds somewhat earlier than the largest
   // actual move would; the forces do not depend on when lists are rebuilt.
-  move_bound_ += global[0] * drift_dt_;
+  move_bound_ += global[0] * substep();  // the drift's step
   const double particle_move = move_bound_;
   const bool bond_broke = global[1] > 0.0;
   stop_agreed_ = static_cast<int>(global[2]);
@@ -461,7 +461,6 @@ void Simulation::start_step() {
     // The drift also starts the next loads (F = m g, T = 0): compute_forces() goes on from them.
     drift_ = Integrator::first_half(p, dt_, settings_.gravity, kMaxStepFraction * settings_.skin,
                                     kMaxTurn, turning());
-    drift_dt_ = dt_;
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);
   }
   time_ += dt_;
@@ -543,7 +542,6 @@ void Simulation::finish_step_and_start_next(const BodyObserver& observe_bodies) 
         [this, &p](std::size_t end) {
           ledger_.accumulate_below(end, p, model_.bodies, slots_, gather_);
         });
-    drift_dt_ = dt_;
     ledger_.finish_accumulation(gather_, dt_);
     momentum_.book_first_half();
     Integrator::first_half(model_.bodies, dt_, settings_.gravity);

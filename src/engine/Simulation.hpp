@@ -363,7 +363,6 @@ class Simulation {
   double move_bound_at_outflow_note_ = 0.0;
   bool track_orientations_ = true;  ///< some particle has a bond (Integrator::first_half)
   Integrator::Drift drift_;         ///< the last drift pass (this rank), for the divergence guard
-  double drift_dt_ = 0.0;           ///< the time step of that drift (dt_, or a sub-step)
   /// Multi-rate stepping: each body's contact load of the last fast evaluation (reduced), to
   /// which the slow evaluation's adds.
   std::vector<Vec3> fast_body_force_, fast_body_torque_;
@@ -371,9 +370,6 @@ class Simulation {
   /// its step (ledger_ and momentum_ book the slow ones at the grain step).
   EnergyLedger fast_ledger_;
   MomentumLedger fast_momentum_{0, false};
-  /// Each body's contact load of the evaluation just done, of its rate alone (the momentum
-  /// ledger of that rate books it).
-  std::vector<Vec3> rate_body_loads_;
   /// The ledger that books the interactions of `rate`.
   EnergyLedger& ledger_of(ForceRate rate) {
     return rate == ForceRate::kFast ? fast_ledger_ : ledger_;
@@ -388,7 +384,8 @@ class Simulation {
   /// Every owned particle is flagged: turning() passes no flags.
   bool all_turning_ = false;
   std::vector<Vec3> body_position_at_rebuild_;
-  /// Each rigid body's reduced contact load of the last evaluation, before brakes and ropes.
+  /// Each rigid body's reduced contact load of the last evaluation (with sub-steps, of its rate
+  /// alone), before brakes and ropes: what the momentum ledger of that rate books.
   std::vector<Vec3> body_contact_loads_;
   std::vector<Quat> body_orientation_at_rebuild_;
   std::array<double, kPhaseCount> phase_seconds_{};

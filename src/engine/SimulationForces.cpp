@@ -44,31 +44,27 @@ void Simulation::compute_forces(bool loads_started, ForceRate rate, double dt) {
     PhaseTimer t(phase_seconds_[kComm]);
     reduce_body_loads();
   }
-  if (rate != ForceRate::kAll) {
-    // Multi-rate stepping: a body's load is that of its fast contacts of the last sub-step plus
-    // that of its slow ones of the last grain step.
-    const std::size_t n = model_.bodies.size();
-    rate_body_loads_.resize(n);
-    for (std::size_t b = 0; b < n; ++b)
-      rate_body_loads_[b] = model_.bodies[b].force;
-    if (rate == ForceRate::kFast) {
-      fast_body_force_.resize(n);
-      fast_body_torque_.resize(n);
-      for (std::size_t b = 0; b < n; ++b) {
-        fast_body_force_[b] = model_.bodies[b].force;
-        fast_body_torque_[b] = model_.bodies[b].torque;
-      }
-    } else {
-      for (std::size_t b = 0; b < n; ++b) {
-        model_.bodies[b].force += fast_body_force_[b];
-        model_.bodies[b].torque += fast_body_torque_[b];
-      }
+  // The contact loads of this evaluation, for the momentum balance: the restraints' loads act
+  // on the bodies alone.
+  const std::size_t n_bodies = model_.bodies.size();
+  body_contact_loads_.resize(n_bodies);
+  for (std::size_t b = 0; b < n_bodies; ++b)
+    body_contact_loads_[b] = model_.bodies[b].force;
+  // Multi-rate stepping: a body's load is that of its fast contacts of the last sub-step plus
+  // that of its slow ones of the last grain step.
+  if (rate == ForceRate::kFast) {
+    fast_body_force_.resize(n_bodies);
+    fast_body_torque_.resize(n_bodies);
+    for (std::size_t b = 0; b < n_bodies; ++b) {
+      fast_body_force_[b] = model_.bodies[b].force;
+      fast_body_torque_[b] = model_.bodies[b].torque;
+    }
+  } else if (rate == ForceRate::kSlow) {
+    for (std::size_t b = 0; b < n_bodies; ++b) {
+      model_.bodies[b].force += fast_body_force_[b];
+      model_.bodies[b].torque += fast_body_torque_[b];
     }
   }
-  // The contact loads, for the momentum balance: the restraints' loads act on the bodies alone.
-  body_contact_loads_.resize(model_.bodies.size());
-  for (std::size_t b = 0; b < model_.bodies.size(); ++b)
-    body_contact_loads_[b] = model_.bodies[b].force;
   if (rate == ForceRate::kAll)
     apply_restraints(model_);  // on the reduced loads, alike on every rank
   {
@@ -107,11 +103,11 @@ void Simulation::book_momentum(bool initial, ForceRate rate) {
                                 0.5 * dt_, comm_.is_root(), initial);
       break;
     case ForceRate::kFast:  // no gravity; the held particles' loads and the point loads
-      fast_momentum_.book_evaluation(p, rate_body_loads_, model_.point_loads, Vec3{},
+      fast_momentum_.book_evaluation(p, body_contact_loads_, model_.point_loads, Vec3{},
                                      0.5 * substep(), comm_.is_root(), initial);
       break;
     case ForceRate::kSlow:  // gravity; a held particle's slow load is its weight alone
-      momentum_.book_evaluation(p, rate_body_loads_, {}, settings_.gravity, 0.5 * dt_,
+      momentum_.book_evaluation(p, body_contact_loads_, {}, settings_.gravity, 0.5 * dt_,
                                 comm_.is_root(), initial, &p.slow_force);
       break;
   }

@@ -75,7 +75,6 @@ void Simulation::substepped_step(const BodyObserver& observe_bodies) {
       // No gravity in the fast loads: the slow ones carry it.
       drift_ = Integrator::first_half(p, h, Vec3{}, kMaxStepFraction * settings_.skin, kMaxTurn,
                                       turning());
-      drift_dt_ = h;
     }
     time_ = start + static_cast<double>(k + 1) * h;
     bool rebuild_now = false;
