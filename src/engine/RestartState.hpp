@@ -54,6 +54,15 @@ struct RestartState {
   /// The energy ledger's exact tallies (EnergyLedger::state) totalled over the ranks, as exact
   /// sums' words (empty: the ledger was off).
   std::vector<std::int64_t> energy_ledger;
+  /// Multi-rate stepping (simulation.substeps > 1; docs/physics.md "Two time scales"): whether
+  /// the run that wrote the state was sub-stepped, and the fast rate's momentum and energy
+  /// ledgers as `momentum` and `energy_ledger` hold the slow (grain-step) ones. The slow loads
+  /// of the last grain step travel with the particles (ParticleStore::slow_force). A checkpoint
+  /// is written between grain steps, where nothing else of the sub-steps is pending: the fast
+  /// loads of the last sub-step are the particles' force and torque.
+  bool substepped = false;
+  std::vector<std::int64_t> fast_momentum;
+  std::vector<std::int64_t> fast_energy_ledger;
 };
 
 }  // namespace ringdem

@@ -140,8 +140,13 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
       decomposition_(comm, block_size(), settings.imbalance_threshold) {
   find_typed_terms();
   add_far_ghosts();
-  if (settings_.substeps > 1)
-    throw std::runtime_error("simulation.substeps > 1: restarts are not supported yet");
+  // The sub-steps are part of the trajectory (RestartChanges refuses a change of
+  // simulation.substeps); this guards a checkpoint written without their state.
+  if (restart.substepped != (settings_.substeps > 1))
+    throw std::runtime_error(
+        restart.substepped ? "restart state is of a sub-stepped run, the settings step one rate"
+                           : "restart state is of a single-rate run, the settings sub-step it "
+                             "(simulation.substeps)");
   ledger_.set_enabled(settings_.energy_ledger);
   model_.particles.set_tracks_ledger(settings_.energy_ledger);
   ParticleStore& p = model_.particles;
@@ -163,12 +168,19 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
                   comm_.is_root());
   momentum_ = MomentumLedger(model_.bodies.size(), settings_.momentum_ledger);
   momentum_.import_state(restart.momentum, comm_.is_root());
+  // The slow loads came in with the particles; the fast ledgers go on from their totals.
+  set_up_substeps();
+  if (restart.substepped) fast_momentum_.import_state(restart.fast_momentum, comm_.is_root());
   // A ledger switched on at this restart starts from zero (no words); one switched off keeps
   // none.
   if (ledger_.enabled())
     ledger_.restore(
         sums_of_words(restart.energy_ledger, EnergyLedger::kStateSums, "energy ledger state"),
         comm_.is_root());
+  if (restart.substepped && fast_ledger_.enabled())
+    fast_ledger_.restore(sums_of_words(restart.fast_energy_ledger, EnergyLedger::kStateSums,
+                                       "fast energy ledger state"),
+                         comm_.is_root());
   if (!(dt_ > 0.0) || !std::isfinite(dt_))
     throw std::runtime_error("restart state has no valid time step");
   std::vector<RigidBody>& bodies = model_.bodies;
@@ -233,6 +245,12 @@ RestartState Simulation::restart_state() const {
   s.inflow_totals = inflow_.export_totals(comm_);
   s.momentum = momentum_.export_state(comm_);
   if (ledger_.enabled()) s.energy_ledger = words_of_sums(comm_.reduce_exact(ledger_.state()));
+  s.substepped = settings_.substeps > 1;
+  if (s.substepped) {
+    s.fast_momentum = fast_momentum_.export_state(comm_);
+    if (fast_ledger_.enabled())
+      s.fast_energy_ledger = words_of_sums(comm_.reduce_exact(fast_ledger_.state()));
+  }
   return s;
 }
 

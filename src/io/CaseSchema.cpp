@@ -84,9 +84,9 @@ const Table<SimulationConfig>& simulation_table() {
               "Multi-rate stepping (docs/physics.md \"Two time scales\"): the net's bonds and "
               "every contact of a net particle step dt, the grains' contacts with each other "
               "and with rigid bodies, and gravity, once every `substeps` steps of dt, as "
-              "impulses (r-RESPA). Rows and frames come at those grain steps. Free runs only, "
-              "without checkpoints (not restarted yet), free or driven bodies, brakes, ropes or "
-              "damping. 1: one rate"),
+              "impulses (r-RESPA). Rows, frames and checkpoints come at those grain steps; a "
+              "restart keeps this value. Free runs only, without free or driven bodies, "
+              "brakes, ropes or damping. 1: one rate"),
       }};
   return table;
 }

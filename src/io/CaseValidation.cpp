@@ -312,21 +312,11 @@ void validate_scenario(CaseConfig& c, Context& ctx, bool bodies_ok) {
                           "energy ledger",
                           c.scenario.type));
   // Multi-rate stepping runs free runs only (a rockfall's boulder is a free body, a tensile
-  // test's calibration asks for one rate) and writes no checkpoint it could not restart from.
-  if (c.simulation.substeps > 1) {
-    if (c.scenario.type != "free_run" && !ctx.failed("scenario.type"))
-      ctx.error(ctx.where("simulation.substeps", "simulation"), "simulation.substeps",
-                fmt::format("more than 1 applies to scenario type free_run only, not {}",
-                            c.scenario.type));
-    const std::pair<const char*, double> intervals[] = {
-        {"output.checkpoint_interval", c.output.checkpoint_interval},
-        {"output.checkpoint_wall_interval", c.output.checkpoint_wall_interval}};
-    for (const auto& [key, interval] : intervals)
-      if (interval > 0.0)
-        ctx.error(ctx.where(key, "output"), key,
-                  "a run with simulation.substeps > 1 cannot be restarted yet, so it writes no "
-                  "checkpoints: leave this out (docs/physics.md \"Two time scales\")");
-  }
+  // test's calibration asks for one rate).
+  if (c.simulation.substeps > 1 && c.scenario.type != "free_run" && !ctx.failed("scenario.type"))
+    ctx.error(
+        ctx.where("simulation.substeps", "simulation"), "simulation.substeps",
+        fmt::format("more than 1 applies to scenario type free_run only, not {}", c.scenario.type));
   if (c.scenario.type != "tensile_test" || ctx.failed("scenario.type")) return;
   const std::string p = "scenario.tensile_test";
   if (!ctx.given(p)) {

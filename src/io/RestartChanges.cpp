@@ -62,7 +62,8 @@ const std::vector<RestartKeyRule>& restart_key_rules() {
       {"simulation.sort_every", K::kApplied, E::kNone,
        "the grains' re-sorts from the restart on (the order of summation, at round-off)"},
       {"simulation.substeps", K::kFixed, E::kNone,
-       "multi-rate stepping is not restarted yet (docs/physics.md \"Two time scales\")"},
+       "the grain step is part of the trajectory, and the checkpoint holds the slow loads of "
+       "the last one (docs/physics.md \"Two time scales\")"},
       {"simulation.energy_ledger", K::kApplied, E::kNone,
        "the ledger books from the restart on; a free run's energy balance then counts from the "
        "restart"},

@@ -482,7 +482,7 @@ TEST(Equivalence, GrainsPressedTogetherOnASubsteppedNet) {
                             "velocity: [0.1, 0, -2]}\n",
                             "1.0e9"),
       "pressed.yaml");
-  const auto r = run_both(c, 15000, /*imbalance_threshold=*/0.0);  // 0.12 s
+  const auto r = run_both(c, 6000, /*imbalance_threshold=*/0.0);  // 0.048 s
   expect_other_path(r);
   EXPECT_GT(r.reference_energies.friction, 0.0);
   expect_identical(r.reference, r.parallel);

@@ -11,10 +11,14 @@
 #   out and brought in).
 # - Without the ledger (simulation.energy_ledger: false, 2 ranks) the flow is the same bits: the
 #   ledger only watches. Its columns are then null, the others the same.
-# usage: debris_ranks_restart.sh RINGDEM_BINARY SOURCE_DIR
+# With a third argument, every run takes it as one more override (--set KEY=VALUE), such as
+# simulation.substeps=3 (multi-rate stepping: every interaction of this flow is then slow).
+# usage: debris_ranks_restart.sh RINGDEM_BINARY SOURCE_DIR [KEY=VALUE]
 set -euo pipefail
 ringdem=$1
 src=$2
+extra=()
+[ -z "${3:-}" ] || extra=(--set "$3")
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 py=/usr/bin/python3
 work=$(mktemp -d)
@@ -51,7 +55,8 @@ YAML
 run() {  # run RANKS OUTDIR [ARGS...]
   local n=$1 out=$2
   shift 2
-  timeout 120 mpirun -np "$n" "$ringdem" run "$work/case.yaml" -o "$work/$out" --quiet "$@" \
+  timeout 120 mpirun -np "$n" "$ringdem" run "$work/case.yaml" -o "$work/$out" --quiet \
+    ${extra[@]+"${extra[@]}"} "$@" \
     > "$work/$out.log" 2>&1 || { echo "FAIL: $out (rc $?)"; cat "$work/$out.log"; exit 1; }
 }
 run 1 np1

@@ -106,18 +106,19 @@ TEST(Substeps, GrainsOnANetConvergeToTheSingleRateRun) {
 }
 
 // What the sub-steps cannot take yet is refused before the run starts, with the reason: by the
-// loader (checkpoints, which could not be restarted; a scenario other than a free run) ...
-TEST(Substeps, TheLoaderRefusesCheckpointsAndOtherScenarios) {
+// loader (a scenario other than a free run; checkpoints are written, a sub-stepped run restarts:
+// tests/mpi/test_output.cpp) ...
+TEST(Substeps, TheLoaderRefusesOtherScenariosAndTakesCheckpoints) {
   using case_fixture::errors_of;
   const std::string yaml =
       testing::net_free_run("dt: 2.0e-6, end_time: 1.0, substeps: 4", "rows: 2, columns: 3", "") +
       "output: {checkpoint_interval: 0.01}\n";
-  auto diags = errors_of(yaml);
-  ASSERT_EQ(diags.size(), 1u) << case_fixture::all(diags);
-  EXPECT_EQ(diags[0].key_path, "output.checkpoint_interval");
+  const CaseConfig c = load_case_from_string(yaml, "checkpointed.yaml");
+  EXPECT_EQ(c.simulation.substeps, 4);
+  EXPECT_EQ(c.output.checkpoint_interval, 0.01);
   std::string rockfall = testing::kTinyRockfall;
   rockfall.replace(rockfall.find("progress_interval"), 0, "substeps: 4, ");
-  diags = errors_of(rockfall);
+  const auto diags = errors_of(rockfall);
   ASSERT_EQ(diags.size(), 1u) << case_fixture::all(diags);
   EXPECT_EQ(diags[0].key_path, "simulation.substeps");
 }
