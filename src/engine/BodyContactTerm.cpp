@@ -90,7 +90,7 @@ void BodyContactTerm::compute(ComputeContext& ctx) {
         const std::uint32_t slot = slots_.begin + static_cast<std::uint32_t>(w);
         spring[w] = {};
         slots.set(slot, {}, {});
-        ledger.record(slot) = {};
+        ledger.clear_record(slot);
         continue;
       }
       const Vec3 n = -outward;  // from the particle to the body

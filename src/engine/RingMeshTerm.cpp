@@ -214,7 +214,7 @@ void RingMeshTerm::compute(ComputeContext& ctx) {
                              bead_damping_.data())) {
         if (touching_[contact]) {  // (slots and records start at zero at a rebuild)
           ctx.slots.set(slot, {}, {});
-          ctx.ledger.record(slot) = {};
+          ctx.ledger.clear_record(slot);
           touching_[contact] = 0;
         }
         continue;
