@@ -453,12 +453,8 @@ TEST(Equivalence, AMeshedNetCatchesGrainsOnAnyRankCount) {
 // the same bits on any rank count.
 TEST(Equivalence, ASubsteppedNetCatchesGrainsOnAnyRankCount) {
   // A third layer of finer grains lands on the two of coarse ones.
-  const CaseConfig c = load_case_from_string(
-      testing::grains_landing_on_a_net(4,
-                                       "    - {group: grains, origin: [-0.3, -0.15, 0.3], "
-                                       "count: [8, 4, 2], spacing: 0.05, particle_radius: "
-                                       "0.02, material: rock, velocity: [0.1, 0, -2]}\n"),
-      "substepped.yaml");
+  const CaseConfig c =
+      load_case_from_string(testing::three_layers_landing_on_a_net(4), "substepped.yaml");
   const auto r = run_both(c, 15000, /*imbalance_threshold=*/0.0);  // 0.12 s
   expect_other_path(r);
   expect_identical(r.reference, r.parallel);

@@ -374,12 +374,8 @@ TEST(Checkpoint, InflowAndOutflowRestartBitwiseOnAnyRankCount) {
 // step and the fast rate's ledgers; the restart goes on as the run never interrupted. (Seen
 // failing without each of the three.)
 TEST(Checkpoint, SubsteppedRunRestartsBitwiseOnAnyRankCount) {
-  const CaseConfig c = load_case_from_string(
-      testing::grains_landing_on_a_net(4,
-                                       "    - {group: grains, origin: [-0.3, -0.15, 0.3], "
-                                       "count: [8, 4, 2], spacing: 0.05, particle_radius: "
-                                       "0.02, material: rock, velocity: [0.1, 0, -2]}\n"),
-      "substepped.yaml");
+  const CaseConfig c =
+      load_case_from_string(testing::three_layers_landing_on_a_net(4), "substepped.yaml");
   expect_restarts_bitwise(c, 6000, "substepped", /*crossing=*/false);
 }
 

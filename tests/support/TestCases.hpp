@@ -170,6 +170,15 @@ inline std::string grains_landing_on_a_net(int substeps, const std::string& more
       "1.0e9");
 }
 
+/// grains_landing_on_a_net(substeps) with a third layer of finer grains (8 x 4 x 2 of 20 mm
+/// radius, 50 mm apart, 0.3 m up) that lands on the two coarse ones.
+inline std::string three_layers_landing_on_a_net(int substeps) {
+  return grains_landing_on_a_net(substeps,
+                                 "    - {group: grains, origin: [-0.3, -0.15, 0.3], "
+                                 "count: [8, 4, 2], spacing: 0.05, particle_radius: "
+                                 "0.02, material: rock, velocity: [0.1, 0, -2]}\n");
+}
+
 /// A rockfall case of a 2 x 3 net and a 5 kg boulder: the sag ends after t = 0.01 s, the
 /// impact 2 ms after the first contact (a second takes about as long, `impacts: 2`).
 inline constexpr const char* kTinyRockfall = R"(schema_version: 1
