@@ -159,8 +159,8 @@ class EnergyLedger {
   }
   /// The record of a slot with no load in this evaluation (a candidate apart): idle, as a
   /// DissipationRecord{} is. Member by member: a zero record built on the stack and copied
-  /// went through a store-forwarding stall, a third of a debris channel's body contacts' time
-  /// (docs/performance.md, thirty-eighth round).
+  /// went through a store-forwarding stall, a third of the samples of a debris channel's body
+  /// contacts (docs/performance.md, thirty-eighth round).
   void clear_record(std::uint32_t slot) {
     DissipationRecord& r = record(slot);
     // Each member from constants: a chained assignment read back the member it had just
