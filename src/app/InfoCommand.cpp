@@ -122,16 +122,19 @@ int print_file_info(const std::string& path, std::ostream& out) {
       const CheckpointInfo info = read_checkpoint_info(path);
       out << fmt::format(
           "{}: ringdem checkpoint (written by ringdem {} on {} rank{})\n"
-          "  case {}, t = {:.9g} s, step {}, dt = {:.6g} s, {} neighbour rebuilds, frame "
+          "  case {}, t = {:.9g} s, step {}, dt = {:.6g} s{}, {} neighbour rebuilds, frame "
           "segment {}\n"
           "  {} particles, {} bonds, {} rigid bodies, {} contact springs\n"
           "  model fingerprint {} ({} case keys in /case/text)\n",
           path, info.version, info.ranks, info.ranks == 1 ? "" : "s", info.case_name, info.time,
-          info.step, info.dt, info.rebuilds, info.segment, info.particles, info.bonds, info.bodies,
+          info.step, info.dt,
+          info.substeps > 1 ? fmt::format(" (a grain step of {} sub-steps)", info.substeps) : "",
+          info.rebuilds, info.segment, info.particles, info.bonds, info.bodies,
           info.history_entries, info.model_fingerprint, case_text_keys(info.case_text).size());
       const auto checked = verify_checkpoint(path);
       out << fmt::format("  checksums: {} datasets verified\n", checked.size());
-      for (const char* g : {"/particles", "/bonds", "/history", "/bodies", "/driver", "/case"})
+      for (const char* g :
+           {"/particles", "/bonds", "/history", "/bodies", "/substeps", "/driver", "/case"})
         print_datasets(f, g, out);
       return 0;
     }

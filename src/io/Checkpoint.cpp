@@ -359,6 +359,8 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     f.set_attribute("/", "particles", n_particles);
     f.set_attribute("/", "bonds", n_bonds);
     f.set_attribute("/", "bodies", static_cast<std::int64_t>(model.bodies.size()));
+    if (state.substepped)
+      f.set_attribute("/", "substeps", static_cast<std::int64_t>(config.simulation.substeps));
 
     f.create_group("/particles");
     const std::vector<std::int64_t> gids(p.gid.begin(),
@@ -497,6 +499,7 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   info.particles = f.attribute_int("/", "particles");
   info.bonds = f.attribute_int("/", "bonds");
   info.bodies = f.attribute_int("/", "bodies");
+  if (f.has_attribute("/", "substeps")) info.substeps = f.attribute_int("/", "substeps");
   for (const std::string& term : spring_terms(f)) {
     const auto d = f.dims(spring_dataset(term, "gid"));
     info.history_entries += d.empty() ? 0 : d[0];
@@ -669,8 +672,9 @@ std::vector<std::string> verify_checkpoint(const std::string& path) {
   read_checkpoint_info(path);
   const Hdf5File f = Hdf5File::open_read(path);
   std::vector<std::string> checked;
-  for (const char* group : {"/particles", "/bonds", "/history", "/bodies", "/brakes", "/ropes",
-                            "/outflow", "/inflow", "/momentum", "/ledger", "/driver", "/case"}) {
+  for (const char* group :
+       {"/particles", "/bonds", "/history", "/bodies", "/brakes", "/ropes", "/outflow", "/inflow",
+        "/momentum", "/ledger", "/substeps", "/driver", "/case"}) {
     for (const std::string& name : f.list(group)) {
       const std::string full = std::string(group) + "/" + name;
       std::size_t row_bytes = 0;

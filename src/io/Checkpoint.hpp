@@ -36,6 +36,9 @@ struct CheckpointInfo {
   std::int64_t bonds = 0;
   std::int64_t bodies = 0;
   std::int64_t history_entries = 0;
+  /// Sub-steps of dt (simulation.substeps) in a sub-stepped run's checkpoint, whose dt is the
+  /// grain step; 1 for one rate.
+  std::int64_t substeps = 1;
   std::int64_t dt_origin_step = 0;  ///< RestartState::dt_origin_step
   double dt_origin_time = 0.0;
   /// The case it was written by, as canonical text (io/CaseText), checked against its

@@ -7,14 +7,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "CaseLoaderFixtures.hpp"
 #include "TestCases.hpp"
+#include "app/InfoCommand.hpp"
+#include "app/ScenarioDriver.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
 #include "io/CaseLoader.hpp"
+#include "io/Checkpoint.hpp"
 
 namespace ringdem {
 namespace {
@@ -121,6 +126,37 @@ TEST(Substeps, TheLoaderRefusesOtherScenariosAndTakesCheckpoints) {
   const auto diags = errors_of(rockfall);
   ASSERT_EQ(diags.size(), 1u) << case_fixture::all(diags);
   EXPECT_EQ(diags[0].key_path, "simulation.substeps");
+}
+
+// A sub-stepped run's checkpoint says so: `ringdem info` gives its dt as a grain step of so many
+// sub-steps and lists the fast ledgers' datasets, whose checksums it verifies with the rest.
+TEST(Substeps, InfoTellsASubsteppedCheckpoint) {
+  const std::string dir = ::testing::TempDir() + "/ringdem_substeps_info";
+  std::filesystem::remove_all(dir);
+  std::string path[2];
+  for (int r : {1, 4}) {
+    const CaseConfig c = grains_on_a_net(r);
+    const Communicator self = testing::self_comm();
+    Simulation sim(build_scenario_model(c, self), self, settings_from_case(c));
+    sim.run_steps(10);
+    path[r > 1] = CheckpointStore(dir + "/r" + std::to_string(r))
+                      .write(self, sim.model(), sim.restart_state(), DriverState{}, 0, c);
+  }
+  EXPECT_EQ(read_checkpoint_info(path[0]).substeps, 1);
+  EXPECT_EQ(read_checkpoint_info(path[1]).substeps, 4);
+  std::ostringstream one, four;
+  ASSERT_EQ(print_file_info(path[0], one), 0);
+  ASSERT_EQ(print_file_info(path[1], four), 0);
+  EXPECT_EQ(one.str().find("sub-steps"), std::string::npos) << one.str();
+  EXPECT_EQ(one.str().find("/substeps/"), std::string::npos) << one.str();
+  EXPECT_NE(four.str().find("dt = 8e-06 s (a grain step of 4 sub-steps)"), std::string::npos)
+      << four.str();
+  for (const char* name : {"/particles/slow_force", "/substeps/momentum", "/substeps/ledger"})
+    EXPECT_NE(four.str().find(name), std::string::npos) << name << " in\n" << four.str();
+  // The fast ledgers' datasets are checksummed like the others: two more than one rate's file,
+  // besides the slow loads' two particle columns.
+  EXPECT_EQ(verify_checkpoint(path[1]).size(), verify_checkpoint(path[0]).size() + 4);
+  std::filesystem::remove_all(dir);
 }
 
 // ... and by the simulation (global damping, free bodies, brakes and ropes).
