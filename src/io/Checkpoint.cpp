@@ -40,12 +40,12 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // held by leaving grains) instead of two particle columns (tangential_energy, contact_energy);
 // 12: the particles' sort bins (/particles/sort_bin, the spatial order of the last re-sort);
 // 13: the support ropes' state per segment (/ropes/segment_rest, segment_tension,
-// friction_work; work is brake_work); 14: multi-rate stepping's fast ledgers (/substeps/momentum,
-// /substeps/ledger, only in a sub-stepped run's file, with the particles' slow_force and
-// slow_torque). This version, 13, 12 and 11 are read: a file of 11 restarts every
-// particle at bin 0, the gid order that format's writer kept, and so goes on as its run did until
-// the next re-sort; one of 11 or 12 with support ropes is refused (read_checkpoint). Older files
-// lack what this one needs to go on bit for bit.
+// friction_work; work is brake_work); 14: multi-rate stepping, only in a sub-stepped run's file:
+// the root attribute substeps, the fast ledgers (/substeps/momentum, /substeps/ledger) and the
+// particles' slow_force and slow_torque. This version, 13, 12 and 11 are read: a file of 11
+// restarts every particle at bin 0, the gid order that format's writer kept, and so goes on as its
+// run did until the next re-sort; one of 11 or 12 with support ropes is refused (read_checkpoint).
+// Older files lack what this one needs to go on bit for bit.
 constexpr std::int64_t kFormatVersion = 14;
 constexpr std::int64_t kOldestReadFormatVersion = 11;
 
@@ -555,7 +555,7 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
   // the case damps nothing: its coefficients and tallies come back (the same on every rank).
   if (f.exists("/particles/damping")) p.set_tracks_damping(true);
   // A sub-stepped run's slow loads of its last grain step.
-  if (f.exists("/particles/slow_force")) p.set_tracks_slow_loads(true);
+  if (info.substeps > 1) p.set_tracks_slow_loads(true);
   p.resize_local(static_cast<std::size_t>(p_end - p_first));
   p.for_each_field([&](const FieldInfo& field, auto& v) {
     if (!field.has(field_flag::kCheckpoint)) return;
@@ -607,7 +607,7 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
   read_whole("/inflow/totals", &state.inflow_totals);
   read_whole("/momentum/state", &state.momentum);
   read_whole("/ledger/state", &state.energy_ledger);
-  state.substepped = f.exists("/substeps");
+  state.substepped = info.substeps > 1;
   if (state.substepped) {
     read_whole("/substeps/momentum", &state.fast_momentum);
     read_whole("/substeps/ledger", &state.fast_energy_ledger);
