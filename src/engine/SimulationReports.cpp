@@ -243,29 +243,30 @@ Energies Simulation::energies() {
     kBoundarySubsteps,
     kColumns
   };
+  static_assert(kFrictionSteps - kDampingSteps == EnergyLedger::kFriction &&
+                    kBoundarySteps - kDampingSteps == EnergyLedger::kBoundary &&
+                    kBoundarySubsteps - kDampingSubsteps == EnergyLedger::kBoundary,
+                "each ledger's step columns in the order of its tallies");
   std::vector<ExactSum> partial(kColumns);
-  // The contact terms' tallies, this rank's part (EnergyLedger::tally).
-  const auto& steps = ledger_.intervals();
-  const auto& direct = ledger_.direct();
-  partial[kDampingSteps] += steps[EnergyLedger::kDamping];
-  partial[kFrictionSteps] += steps[EnergyLedger::kFriction];
-  partial[kBoundarySteps] += steps[EnergyLedger::kBoundary];
-  partial[kDamping] += direct[EnergyLedger::kDamping];
-  partial[kFriction] += direct[EnergyLedger::kFriction];
-  partial[kBoundary] += direct[EnergyLedger::kBoundary];
-  if (settings_.substeps > 1) {
-    const auto& fast_steps = fast_ledger_.intervals();
-    const auto& fast_direct = fast_ledger_.direct();
-    partial[kDampingSubsteps] += fast_steps[EnergyLedger::kDamping];
-    partial[kFrictionSubsteps] += fast_steps[EnergyLedger::kFriction];
-    partial[kBoundarySubsteps] += fast_steps[EnergyLedger::kBoundary];
-    partial[kDamping] += fast_direct[EnergyLedger::kDamping];
-    partial[kFriction] += fast_direct[EnergyLedger::kFriction];
-    partial[kBoundary] += fast_direct[EnergyLedger::kBoundary];
-    const auto& fast_held = fast_ledger_.held();
-    partial[kFriction] += fast_held[EnergyLedger::kTangentialHeld].negated();
-    partial[kContact] += fast_held[EnergyLedger::kContactHeld];
-  }
+  // The contact terms' tallies, this rank's part (EnergyLedger::tally), of a ledger whose
+  // trapezoidal sums go to the three columns from `first_steps` (each ledger's own step). What
+  // the contacts hold now: friction counts the tangential springs' energy as not yet dissipated
+  // (EnergyLedger::held()).
+  const auto book_ledger = [&partial](const EnergyLedger& ledger, int first_steps) {
+    const auto& steps = ledger.intervals();
+    const auto& direct = ledger.direct();
+    for (const int t : {EnergyLedger::kDamping, EnergyLedger::kFriction, EnergyLedger::kBoundary})
+      partial[static_cast<std::size_t>(first_steps + t)] += steps[t];
+    partial[kDamping] += direct[EnergyLedger::kDamping];
+    partial[kFriction] += direct[EnergyLedger::kFriction];
+    partial[kBoundary] += direct[EnergyLedger::kBoundary];
+    const auto& held = ledger.held();
+    partial[kFriction] += held[EnergyLedger::kTangentialHeld].negated();
+    partial[kContact] += held[EnergyLedger::kContactHeld];
+  };
+  book_ledger(ledger_, kDampingSteps);
+  // Multi-rate stepping: the fast ledger's, of the sub-step.
+  if (settings_.substeps > 1) book_ledger(fast_ledger_, kDampingSubsteps);
   // What left through outflow boxes: the dissipation it had booked stays in the ledger, the
   // tangential energy its springs held went out with it (friction counts what they hold).
   const std::vector<ExactSum>& gone = outflow_.partial();
@@ -273,11 +274,6 @@ Energies Simulation::energies() {
   partial[kFriction] += gone[OutflowSink::kTangentialEnergy].negated();
   partial[kOutflow] += gone[OutflowSink::kEnergy];
   partial[kInflow] += inflow_.partial()[InflowSource::kEnergy];
-  // What the contacts hold now: friction counts the tangential springs' energy as not yet
-  // dissipated (EnergyLedger::held()).
-  const auto& held = ledger_.held();
-  partial[kFriction] += held[EnergyLedger::kTangentialHeld].negated();
-  partial[kContact] += held[EnergyLedger::kContactHeld];
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     if (p.books_global_damping()) partial[kGlobal].add(p.global_damping_tally(k, dt_));
     if (p.motion[k] == Motion::kFree) {
