@@ -533,6 +533,7 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
 void DomainDecomposition::build_ghosts(ParticleStore& p) {
   const auto n_ranks = static_cast<std::size_t>(comm_.size());
   ghost_send_.assign(n_ranks, {});
+  ghost_subset_.clear();
   std::vector<std::vector<char>> send(n_ranks);
   // With one rank every block is this rank's: nobody to send a ghost to.
   const std::size_t n_senders = n_ranks > 1 ? p.n_local() : 0;

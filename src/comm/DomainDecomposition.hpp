@@ -9,6 +9,7 @@
 #include "comm/CellGraph.hpp"
 #include "comm/Communicator.hpp"
 #include "comm/FarGhosts.hpp"
+#include "comm/GhostSubset.hpp"
 #include "domain/BondStore.hpp"
 #include "domain/PairStore.hpp"
 #include "domain/ParticleStore.hpp"
@@ -64,6 +65,14 @@ class DomainDecomposition {
 
   /// Refreshes the per-step ghost fields (field_flag::kGhostStep) from their owners.
   void update_ghosts(ParticleStore& p);
+  /// Selects the ghosts of the owned particles k with `selected[k] != 0` for
+  /// update_ghost_subset(), until the ghost layer next changes (GhostSubset). Collective.
+  void select_ghost_subset(const ParticleStore& p, const std::vector<std::uint8_t>& selected) {
+    ghost_subset_.select(comm_, p, ghost_send_, ghost_recv_count_, selected);
+  }
+  /// update_ghosts() of the selected ghosts alone. Collective.
+  void update_ghost_subset(ParticleStore& p) { ghost_subset_.update(comm_, p); }
+  const GhostSubset& ghost_subset() const { return ghost_subset_; }
 
   double block_size() const { return block_size_; }
   std::int64_t repartitions() const { return repartitions_; }
@@ -145,6 +154,7 @@ class DomainDecomposition {
   std::vector<std::vector<char>> ghost_send_buffers_;   ///< per-step scratch of update_ghosts
   std::vector<int> ghost_recv_bytes_;
   std::vector<char> ghost_recv_buffer_;
+  GhostSubset ghost_subset_;  ///< select_ghost_subset()
   std::int64_t repartitions_ = 0;
 };
 

@@ -122,6 +122,13 @@ class ForceTerm {
   /// those of the evaluation's rate. A term without (bonds, a net's mesh) is fast throughout:
   /// a slow evaluation skips it, and its slots are gathered with the fast loads.
   virtual bool has_slow_interactions() const { return false; }
+  /// Multi-rate stepping: sets fast[k] = 1 for each owned particle k (k < fast.size()) that
+  /// this term's fast interactions may load or read, other than through its slots, which the
+  /// gather map lists (SubstepParticles): the sub-steps move only such particles. A term that
+  /// adds loads directly (ParticleLoads) and has fast interactions must mark their particles,
+  /// candidates that do not touch included: the sub-steps leave the others where they were.
+  virtual void mark_fast_particles(const ParticleStore& /*p*/,
+                                   std::vector<std::uint8_t>& /*fast*/) {}
 };
 
 }  // namespace ringdem

@@ -50,6 +50,13 @@ class GatherMap {
   void gather(ParticleStore& p, const ForceSlots& slots, const Vec3& gravity,
               ForceRate rate = ForceRate::kAll, const ParticleLoads* loads = nullptr);
 
+  /// The owned particles with slots of `rate` (ascending; of fast or slow only where the gather
+  /// is split by rate).
+  const std::vector<std::uint32_t>& particles_with_slots(ForceRate rate) const {
+    return rate == ForceRate::kFast   ? fast_.particle
+           : rate == ForceRate::kSlow ? slow_.particle
+                                      : all_.particle;
+  }
   /// The owned particles with ledger slots, with those slots in gather order (those of one
   /// rate where the gather is split by rate: each rate's ledger books its own).
   const std::vector<std::uint32_t>& ledger_particles(ForceRate rate = ForceRate::kAll) const {

@@ -1,6 +1,7 @@
 #include "engine/PairContactTerm.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "engine/ContactKeys.hpp"
@@ -86,6 +87,18 @@ void PairContactTerm::classify_rates(const ParticleStore& p) {
   for (std::size_t c = 0; c < fast_mask_.size(); ++c)
     if (fast_mask_[c] != 0) fast_chunks_.push_back(static_cast<std::uint32_t>(c));
   rates_current_ = true;
+}
+
+void PairContactTerm::mark_fast_particles(const ParticleStore& p, std::vector<std::uint8_t>& fast) {
+  if (!rates_current_) classify_rates(p);
+  constexpr std::size_t kChunk = PairContactChunk::kSize;
+  const std::size_t n = fast.size();
+  for (const std::uint32_t c : fast_chunks_)
+    for (std::uint64_t bits = fast_mask_[c]; bits != 0; bits &= bits - 1) {
+      const std::size_t m = c * kChunk + static_cast<std::size_t>(std::countr_zero(bits));
+      if (pairs_.i[m] < n) fast[pairs_.i[m]] = 1;
+      if (pairs_.j[m] < n) fast[pairs_.j[m]] = 1;
+    }
 }
 
 void PairContactTerm::carry_springs(const ParticleStore& p) {

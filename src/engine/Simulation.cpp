@@ -387,6 +387,7 @@ void Simulation::build_lists(double sort_width) {
   const double total_free_mass = momentum_.enabled() ? comm_.sum_exact({free_mass})[0] : 0.0;
   momentum_.rebuild(p, total_free_mass);
   fast_momentum_.rebuild(p, total_free_mass);
+  movers_.invalidate();
 }
 
 void Simulation::flag_turning_particles() {

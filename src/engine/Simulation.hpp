@@ -20,6 +20,7 @@
 #include "engine/MomentumLedger.hpp"
 #include "engine/OutflowSink.hpp"
 #include "engine/RestartState.hpp"
+#include "engine/SubstepParticles.hpp"
 #include "io/CaseConfig.hpp"
 #include "physics/Integrator.hpp"
 #include "physics/TimeStep.hpp"
@@ -182,6 +183,15 @@ class Simulation {
   const SimulationSettings& settings() const { return settings_; }
   Model& model() { return model_; }
   const Model& model() const { return model_; }
+  /// Multi-rate stepping: whether the sub-steps move every owned particle (tests) or only
+  /// those that fast interactions can load (SubstepParticles, the default); the same bits.
+  void set_substeps_move_all(bool all) {
+    movers_.set_move_all(all);
+    movers_.invalidate();
+  }
+  /// Owned particles the sub-steps move (multi-rate stepping; this rank, at the last grain
+  /// step's classification).
+  std::size_t n_substep_movers() const { return movers_.n_movers(); }
   /// The energy ledger's bookkeeping (tests set its choices; energies() reports it).
   EnergyLedger& energy_ledger() { return ledger_; }
   /// Contact candidates of the particle-pair term at the last rebuild (this rank).
@@ -290,6 +300,8 @@ class Simulation {
   /// One step of dt_: the slow half kick, substeps fast velocity-Verlet steps, the slow
   /// evaluation and its half kick.
   void substepped_step(const BodyObserver& observe_bodies);
+  /// movers_ from the current lists and loads.
+  void classify_movers();
   /// Takes the grains out and in that are due at the start of a step, and rebuilds if that
   /// changed the particles (start_step()).
   void exchange_grains_and_rebuild();
@@ -370,6 +382,8 @@ class Simulation {
   /// its step (ledger_ and momentum_ book the slow ones at the grain step).
   EnergyLedger fast_ledger_;
   MomentumLedger fast_momentum_{0, false};
+  /// Multi-rate stepping: the particles the sub-steps move (the others catch up).
+  SubstepParticles movers_;
   /// The ledger that books the interactions of `rate`.
   EnergyLedger& ledger_of(ForceRate rate) {
     return rate == ForceRate::kFast ? fast_ledger_ : ledger_;

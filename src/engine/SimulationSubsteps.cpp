@@ -54,6 +54,13 @@ void Simulation::compute_initial_substep_forces() {
   ledger_.accumulate(model_.particles, model_.bodies, slots_, gather_, dt_, /*initial=*/true);
 }
 
+void Simulation::classify_movers() {
+  movers_.classify(model_.particles, gather_, terms_, model_.point_loads);
+  // A ghost that a fast interaction reads is one of a particle that the interaction loads, on
+  // its owner too: the owners' flags select every ghost the sub-steps read.
+  decomposition_.select_ghost_subset(model_.particles, movers_.read_by_fast());
+}
+
 void Simulation::substepped_step(const BodyObserver& observe_bodies) {
   // Impulse r-RESPA: the slow loads kick half a grain step at each end of the step; between
   // the kicks, `substeps` velocity-Verlet steps under the fast loads alone. A particle with no
@@ -67,6 +74,9 @@ void Simulation::substepped_step(const BodyObserver& observe_bodies) {
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     Integrator::kick(p, p.slow_force, p.slow_torque, 0.5 * dt_);
+    // After the slow kick: the velocities of the particles that the sub-steps do not move stay
+    // as they are now until the grain step's end (SubstepParticles).
+    if (!movers_.current()) classify_movers();
   }
   for (std::int64_t k = 0; k < r; ++k) {
     fast_momentum_.book_first_half();
@@ -74,26 +84,32 @@ void Simulation::substepped_step(const BodyObserver& observe_bodies) {
       PhaseTimer t(phase_seconds_[kIntegrate]);
       // No gravity in the fast loads: the slow ones carry it.
       drift_ = Integrator::first_half(p, h, Vec3{}, kMaxStepFraction * settings_.skin, kMaxTurn,
-                                      turning());
+                                      turning(), movers_.mover_runs(), movers_.others_speeds());
+      movers_.note_drift();
+      // Every position is read from here to the step's end: the ghosts, the outflow's test,
+      // the slow evaluation.
+      if (k + 1 == r) movers_.catch_up(p, h);
     }
     time_ = start + static_cast<double>(k + 1) * h;
     bool rebuild_now = false;
     {
       PhaseTimer t(phase_seconds_[kComm]);
-      decomposition_.update_ghosts(p);
+      decomposition_.update_ghost_subset(p);  // those the fast interactions read
       rebuild_now = needs_rebuild();
     }
     // A re-sort comes at the step numbers of grain steps, at their first sub-step.
     const double sort_width = k == 0 ? sort_width_due() : 0.0;
     if (rebuild_now || sort_width > 0.0) {
       PhaseTimer t(phase_seconds_[kNeighbour]);
+      movers_.catch_up(p, h);  // the search reads every position
       rebuild(sort_width);
+      classify_movers();
     }
     compute_forces(/*loads_started=*/true, ForceRate::kFast, h);
     book_momentum(/*initial=*/false, ForceRate::kFast);
     {
       PhaseTimer t(phase_seconds_[kIntegrate]);
-      Integrator::second_half(p, h);
+      Integrator::second_half(p, h, movers_.mover_runs());
       // Grains an outflow box takes out before the next step end their trapezoids here.
       EnergyLedger::LeavingTest leaving;
       if (k + 1 == r && outflow_pending_)

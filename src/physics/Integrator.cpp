@@ -491,6 +491,50 @@ Integrator::Drift Integrator::first_half(ParticleStore& p, double dt, const Vec3
   return drift_result(p, m, dt, max_step, max_turn);
 }
 
+Integrator::Drift Integrator::first_half(ParticleStore& p, double dt, const Vec3& gravity,
+                                         double max_step, double max_turn, Turning turning,
+                                         const std::vector<Run>& runs,
+                                         const SquaredSpeeds& others) {
+  // Maxima are order-free: the runs' pass raised from the others' speeds gives the bits of
+  // one pass over all of them.
+  DriftMaxima m{others.v2, others.w2};
+  for (const Run& run : runs)
+    drift_range(p, run.begin, run.end, dt, gravity, turning, nullptr, m);
+  return drift_result(p, m, dt, max_step, max_turn);
+}
+
+Integrator::SquaredSpeeds Integrator::squared_speeds(const ParticleStore& p,
+                                                     const std::vector<Run>& runs) {
+  // As FourLanes::raise(): a NaN counts as infinite.
+  const auto raise = [](double& max, double a) {
+    max = a <= max ? max : (a == a ? a : std::numeric_limits<double>::infinity());
+  };
+  SquaredSpeeds s;
+  for (const Run& run : runs)
+    for (std::size_t k = run.begin; k < run.end; ++k) {
+      raise(s.v2, norm2(p.velocity[k]));
+      raise(s.w2, norm2(p.omega[k]));
+    }
+  return s;
+}
+
+void Integrator::drift_unloaded(ParticleStore& p, double dt, const std::vector<Run>& runs,
+                                int drifts) {
+  // drift() and kick_four() of a free particle whose loads are zero: v + 0 dt/2m (which
+  // leaves v, but for a -0 component, as those passes do), x + v dt for each drift.
+  const Vec3 zero{};
+  for (const Run& run : runs)
+    for (std::size_t k = run.begin; k < run.end; ++k) {
+      const Vec3 v = p.velocity[k] + zero;
+      p.velocity[k] = v;
+      p.omega[k] = p.omega[k] + zero;
+      Vec3 x = p.position[k];
+      for (int d = 0; d < drifts; ++d)
+        x = x + v * dt;
+      p.position[k] = x;
+    }
+}
+
 namespace {
 
 inline V4 magnitude(const V4& a) {
@@ -616,6 +660,13 @@ void Integrator::second_half(ParticleStore& p, double dt) {
   const std::size_t n = p.n_local();
   for (std::size_t begin = 0; begin < n; begin += kChunk)
     second_half_chunk(p, begin, std::min(n, begin + kChunk), dt, nullptr);
+}
+
+void Integrator::second_half(ParticleStore& p, double dt, const std::vector<Run>& runs) {
+  // Which particles share a chunk does not change their bits (second_half_chunk()).
+  for (const Run& run : runs)
+    for (std::size_t begin = run.begin; begin < run.end; begin += kChunk)
+      second_half_chunk(p, begin, std::min(run.end, begin + kChunk), dt, nullptr);
 }
 
 Integrator::Drift Integrator::second_then_first_half(

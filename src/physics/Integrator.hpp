@@ -68,6 +68,32 @@ struct Integrator {
   /// break the memory streams too often.
   static constexpr std::size_t kBlock = 256 * kChunk;
 
+  /// A run of owned particles [begin, end): multi-rate stepping drifts and kicks only the runs
+  /// of particles that its fast loads can move (SubstepParticles).
+  struct Run {
+    std::size_t begin, end;
+  };
+  /// The largest squared speeds |v|^2 and |omega|^2 of some particles (infinite for a
+  /// non-finite one), as a drift pass raises them.
+  struct SquaredSpeeds {
+    double v2 = 0.0, w2 = 0.0;
+  };
+  /// first_half() of the particles in `runs` alone. The others are particles that no load
+  /// kicks (drift_unloaded() moves them later): their velocities do not change, so `others`,
+  /// their squared speeds, enter the Drift as this pass over them would have seen them.
+  static Drift first_half(ParticleStore& p, double dt, const Vec3& gravity, double max_step,
+                          double max_turn, Turning turning, const std::vector<Run>& runs,
+                          const SquaredSpeeds& others);
+  /// second_half() of the particles in `runs` alone.
+  static void second_half(ParticleStore& p, double dt, const std::vector<Run>& runs);
+  /// `drifts` steps of first_half() and second_half() of the free particles in `runs`, whose
+  /// loads are all zero and stay so (no gravity: multi-rate stepping's fast loads): each
+  /// velocity plus the zero kick, then x += v dt `drifts` times. The same operations on them as
+  /// those passes, so the same bits, in one pass instead of 2 x `drifts`.
+  static void drift_unloaded(ParticleStore& p, double dt, const std::vector<Run>& runs, int drifts);
+  /// The largest squared speeds of the particles in `runs`.
+  static SquaredSpeeds squared_speeds(const ParticleStore& p, const std::vector<Run>& runs);
+
   /// v += F/m half_dt, omega += T/I half_dt for owned free particles, from the loads given
   /// (multi-rate stepping's slow kicks: ParticleStore::slow_force).
   static void kick(ParticleStore& p, const std::vector<Vec3>& force,

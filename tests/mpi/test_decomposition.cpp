@@ -123,6 +123,53 @@ void expect_rank_encoded_refresh(const Communicator& c, ParticleStore& p, Domain
   }
 }
 
+// Multi-rate stepping refreshes some ghosts alone (GhostSubset): the owners select every third
+// particle by gid; rank-encoded values written after the selection reach the selected ghosts,
+// and the others keep what they held. A new ghost layer forgets the selection.
+TEST_F(Decomposition, AGhostSubsetRefreshesTheSelectedGhostsAlone) {
+  const Communicator c(comm_);
+  ParticleStore p;
+  BondStore bonds;
+  make_lattice(p, bonds, c.rank(), c.size());
+  const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
+  DomainDecomposition d(c, kBlock, 0.1);
+  d.distribute_initial(p, {&bonds});
+  const auto owner = owners(c, p, n_total);
+  std::vector<std::uint8_t> selected(p.n_local());
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    selected[k] = p.gid[k] % 3 == 0 ? 1 : 0;
+  d.select_ghost_subset(p, selected);
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    const auto gid = static_cast<double>(p.gid[k]);
+    p.velocity[k] = {c.rank() + 1.0, gid, 0.5};
+    p.omega[k] = {-gid, 2.0, c.rank() + 1.0};
+  }
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
+    p.velocity[k] = p.omega[k] = {-1, -1, -1};
+  d.update_ghost_subset(p);
+  std::int64_t refreshed = 0;
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k) {
+    const auto gid = static_cast<double>(p.gid[k]);
+    const double encoded = owner.at(p.gid[k]) + 1.0;
+    if (p.gid[k] % 3 == 0) {
+      EXPECT_EQ(p.velocity[k], (Vec3{encoded, gid, 0.5})) << "ghost gid " << p.gid[k];
+      EXPECT_EQ(p.omega[k], (Vec3{-gid, 2.0, encoded})) << "ghost gid " << p.gid[k];
+      ++refreshed;
+    } else {
+      EXPECT_EQ(p.velocity[k], (Vec3{-1, -1, -1})) << "ghost gid " << p.gid[k];
+      EXPECT_EQ(p.omega[k], (Vec3{-1, -1, -1})) << "ghost gid " << p.gid[k];
+    }
+  }
+  EXPECT_EQ(static_cast<std::size_t>(refreshed), d.ghost_subset().n_received());
+  // What the owners sent is what the others received, and on more ranks than one, some.
+  EXPECT_EQ(c.sum(static_cast<std::int64_t>(d.ghost_subset().n_sent())), c.sum(refreshed));
+  if (c.size() > 1) {
+    EXPECT_GT(c.sum(refreshed), 0);
+  }
+  d.redistribute(p, {&bonds});
+  EXPECT_THROW(d.update_ghost_subset(p), std::logic_error);
+}
+
 TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
   const Communicator c(comm_);
   ParticleStore p;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -108,6 +109,90 @@ TEST(Substeps, GrainsOnANetConvergeToTheSingleRateRun) {
   // Converging: a grain step five times shorter comes at least twice as close.
   EXPECT_GT(distance[0], 0.0);
   EXPECT_LT(2.0 * distance[0], distance[1]);
+}
+
+/// Every owned particle's position, velocity and angular velocity, in gid order.
+struct ParticleBits {
+  std::int64_t gid;
+  Vec3 x, v, w;
+};
+std::vector<ParticleBits> particle_bits(const Simulation& sim) {
+  const ParticleStore& p = sim.model().particles;
+  std::vector<ParticleBits> out;
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    out.push_back({p.gid[k], p.position[k], p.velocity[k], p.omega[k]});
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.gid < b.gid; });
+  return out;
+}
+
+/// The fewest and most particles the sub-steps moved, as fractions of those owned.
+struct MoverShares {
+  double fewest = 1.0, most = 0.0;
+};
+
+/// Runs `c` twice in lockstep, `batches` batches of `grain_steps` grain steps: the sub-steps
+/// moving only the particles that fast interactions can load (the default), and moving every
+/// particle. Both must hold the same bits after every batch.
+MoverShares expect_movers_alone_step_alike(const CaseConfig& c, int batches,
+                                           std::int64_t grain_steps) {
+  const Communicator self = testing::self_comm();
+  Simulation movers(build_scenario_model(c, self), self, settings_from_case(c));
+  Simulation all(build_scenario_model(c, self), self, settings_from_case(c));
+  all.set_substeps_move_all(true);
+  MoverShares shares;
+  for (int b = 0; b < batches; ++b) {
+    movers.run_steps(grain_steps);
+    all.run_steps(grain_steps);
+    const std::size_t n = movers.model().particles.n_local();
+    EXPECT_EQ(all.n_substep_movers(), n);
+    const double share = static_cast<double>(movers.n_substep_movers()) / static_cast<double>(n);
+    shares.fewest = std::min(shares.fewest, share);
+    shares.most = std::max(shares.most, share);
+    const auto a = particle_bits(movers), e = particle_bits(all);
+    EXPECT_EQ(movers.rebuilds(), all.rebuilds()) << "batch " << b;
+    if (a.size() != e.size()) {
+      ADD_FAILURE() << "batch " << b << ": " << a.size() << " particles against " << e.size();
+      return shares;
+    }
+    std::size_t differ = 0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      const bool same = a[k].gid == e[k].gid && std::memcmp(&a[k].x, &e[k].x, sizeof(Vec3)) == 0 &&
+                        std::memcmp(&a[k].v, &e[k].v, sizeof(Vec3)) == 0 &&
+                        std::memcmp(&a[k].w, &e[k].w, sizeof(Vec3)) == 0;
+      differ += same ? 0 : 1;
+    }
+    EXPECT_EQ(differ, 0u) << "particles of other bits after batch " << b << " of " << a.size();
+    if (differ != 0) return shares;
+  }
+  const Energies ea = movers.energies(), ee = all.energies();
+  EXPECT_EQ(ea.kinetic, ee.kinetic);
+  EXPECT_EQ(ea.friction, ee.friction);
+  EXPECT_EQ(ea.contact_damping, ee.contact_damping);
+  EXPECT_EQ(norm(movers.momentum_balance().residual()), norm(all.momentum_balance().residual()));
+  return shares;
+}
+
+// The sub-steps move only the net, the particles held and the grains that a fast interaction
+// can load before the next rebuild; the others take their sub-steps' drifts together when
+// their positions are next read (SubstepParticles). That is the same operations on the same
+// values: the same bits as moving every particle at every sub-step, while the grains fall
+// towards the net (few move), strike it and land on each other (rebuilds inside grain steps).
+TEST(Substeps, MovingOnlyWhatFastLoadsReachGivesTheSameBits) {
+  const MoverShares shares = expect_movers_alone_step_alike(
+      load_case_from_string(testing::three_layers_landing_on_a_net(4), "movers.yaml"), 40, 300);
+  // The net and its shackles (180 of 256 particles) move throughout; the coarse grains that
+  // strike the net join them (measured: 186 at most).
+  EXPECT_LT(shares.fewest, 0.75);
+  EXPECT_GT(shares.most, shares.fewest);
+}
+
+// With no net every grain's loads are slow: the sub-steps move none, and the outflow's test,
+// the inlets' batches and the rebuilds read the grains after they caught up.
+TEST(Substeps, GrainsWithoutANetCatchUpBeforeTheyAreRead) {
+  CaseConfig c = testing::grains_entering_and_leaving();
+  c.simulation.substeps = 3;
+  const MoverShares shares = expect_movers_alone_step_alike(c, 10, 100);
+  EXPECT_EQ(shares.most, 0.0);
 }
 
 // What the sub-steps cannot take yet is refused before the run starts, with the reason: by the
