@@ -113,8 +113,9 @@ std::vector<CellLoad> DomainDecomposition::global_cells(
     ++mine.back().particles;
   }
   std::vector<std::uint64_t>().swap(keys);
-  // A row of a weighing store (a bond) counts its store's weight in the cell of its first end,
-  // on the rank that counts it (an owned particle here: its cell is in `mine`).
+  // A row of a weighing store (a bond) counts its store's weight (times the scale) in the cell
+  // of its first end, on the rank that counts it (an owned particle here: its cell is in
+  // `mine`).
   for (const PairStore& handle : stores)
     visit_store(handle, [&](const auto& s) {
       constexpr int weight = std::remove_cvref_t<decltype(s)>::kBlockWeight;
@@ -128,7 +129,7 @@ std::vector<CellLoad> DomainDecomposition::global_cells(
                                [](const CellLoad& b, std::uint64_t k) { return b.key < k; });
           if (it == mine.end() || it->key != key)
             throw std::logic_error("a counted bond whose first end is in no occupied cell here");
-          it->rows += weight;
+          it->rows += weight * row_weight_scale_;
         }
       }
     });

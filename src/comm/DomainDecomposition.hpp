@@ -63,6 +63,11 @@ class DomainDecomposition {
   /// the same rules.
   void add_far_ghosts(FarGhostRule rule) { far_.emplace_back(std::move(rule), block_size_); }
 
+  /// Each row of a weighing store (PairStore's kBlockWeight: bonds) weighs `scale` times its
+  /// store's weight in the partition (default 1): multi-rate stepping evaluates the bonds at
+  /// every one of a grain step's `scale` sub-steps, the grains' contacts once.
+  void set_row_weight_scale(int scale) { row_weight_scale_ = scale; }
+
   /// Refreshes the per-step ghost fields (field_flag::kGhostStep) from their owners.
   void update_ghosts(ParticleStore& p);
   /// Selects the ghosts of the owned particles k with `selected[k] != 0` for
@@ -130,6 +135,7 @@ class DomainDecomposition {
   std::int64_t last_rounds_ = 0;
   double block_size_;
   double imbalance_threshold_;
+  int row_weight_scale_ = 1;                      ///< set_row_weight_scale()
   int fixed_cell_blocks_ = 0;                     ///< 0: k is chosen at each partition
   int cell_blocks_ = 1;                           ///< k: blocks per cell edge
   std::unordered_map<std::uint64_t, int> owner_;  ///< cell -> rank; empty on one rank

@@ -23,6 +23,10 @@ void Simulation::set_up_substeps() {
   if (model_.particles.tracks_damping())
     refuse("global (Cundall) damping is not sub-stepped; leave damping out");
   model_.particles.set_tracks_slow_loads(true);
+  // A bond is evaluated at every sub-step, a grain's contacts once a grain step: weighed so, a
+  // net is shared by the ranks instead of sitting on one while the others wait out its
+  // sub-steps (the debris demo on 2 ranks: docs/debris.md).
+  decomposition_.set_row_weight_scale(static_cast<int>(settings_.substeps));
   gather_.set_split_by_rate(true);
   // A ledger per rate, each booked with its own step; the fast one books the held particles'
   // drivers and the point loads, whose loads are all fast.
