@@ -102,11 +102,9 @@ void expect_one_block_ghost_layer(const ParticleStore& p, const Vec3& shift) {
   }
 }
 
-/// Rank-encoded refresh: owners write rank + 1 and their particles' gids into two of the
-/// fields refreshed each step, ghosts (poisoned first) must read their owner's rank + 1 and
-/// their own gid in each, so that neither ghosts nor fields are mixed up on the way.
-void expect_rank_encoded_refresh(const Communicator& c, ParticleStore& p, DomainDecomposition& d,
-                                 const std::map<std::int64_t, int>& owner) {
+/// Owners write rank + 1 and their particles' gids into two of the fields refreshed each
+/// step; the ghosts' are poisoned (-1).
+void encode_owned_and_poison_ghosts(const Communicator& c, ParticleStore& p) {
   for (std::size_t k = 0; k < p.n_local(); ++k) {
     const auto gid = static_cast<double>(p.gid[k]);
     p.velocity[k] = {c.rank() + 1.0, gid, 0.5};
@@ -114,13 +112,35 @@ void expect_rank_encoded_refresh(const Communicator& c, ParticleStore& p, Domain
   }
   for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
     p.velocity[k] = p.omega[k] = {-1, -1, -1};
+}
+
+/// Ghost k holds its owner's rank + 1 and its own gid in each field that
+/// encode_owned_and_poison_ghosts() wrote, so that neither ghosts nor fields were mixed up on
+/// the way.
+void expect_encoded_ghost(const ParticleStore& p, std::size_t k,
+                          const std::map<std::int64_t, int>& owner) {
+  const auto gid = static_cast<double>(p.gid[k]);
+  const double encoded = owner.at(p.gid[k]) + 1.0;
+  EXPECT_EQ(p.velocity[k], (Vec3{encoded, gid, 0.5})) << "ghost gid " << p.gid[k];
+  EXPECT_EQ(p.omega[k], (Vec3{-gid, 2.0, encoded})) << "ghost gid " << p.gid[k];
+}
+
+/// Rank-encoded refresh: every ghost reads its owner's encoded values after update_ghosts().
+void expect_rank_encoded_refresh(const Communicator& c, ParticleStore& p, DomainDecomposition& d,
+                                 const std::map<std::int64_t, int>& owner) {
+  encode_owned_and_poison_ghosts(c, p);
   d.update_ghosts(p);
-  for (std::size_t k = p.n_local(); k < p.n_total(); ++k) {
-    const auto gid = static_cast<double>(p.gid[k]);
-    const double encoded = owner.at(p.gid[k]) + 1.0;
-    EXPECT_EQ(p.velocity[k], (Vec3{encoded, gid, 0.5})) << "ghost gid " << p.gid[k];
-    EXPECT_EQ(p.omega[k], (Vec3{-gid, 2.0, encoded})) << "ghost gid " << p.gid[k];
-  }
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
+    expect_encoded_ghost(p, k, owner);
+}
+
+/// make_lattice() spread over the ranks and distributed by `d`: the owner of each gid.
+std::map<std::int64_t, int> distribute_lattice(const Communicator& c, ParticleStore& p,
+                                               BondStore& bonds, DomainDecomposition& d) {
+  make_lattice(p, bonds, c.rank(), c.size());
+  const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
+  d.distribute_initial(p, {&bonds});
+  return owners(c, p, n_total);
 }
 
 // Multi-rate stepping refreshes some ghosts alone (GhostSubset): the owners select every third
@@ -130,30 +150,18 @@ TEST_F(Decomposition, AGhostSubsetRefreshesTheSelectedGhostsAlone) {
   const Communicator c(comm_);
   ParticleStore p;
   BondStore bonds;
-  make_lattice(p, bonds, c.rank(), c.size());
-  const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
   DomainDecomposition d(c, kBlock, 0.1);
-  d.distribute_initial(p, {&bonds});
-  const auto owner = owners(c, p, n_total);
+  const auto owner = distribute_lattice(c, p, bonds, d);
   std::vector<std::uint8_t> selected(p.n_local());
   for (std::size_t k = 0; k < p.n_local(); ++k)
     selected[k] = p.gid[k] % 3 == 0 ? 1 : 0;
   d.select_ghost_subset(p, selected);
-  for (std::size_t k = 0; k < p.n_local(); ++k) {
-    const auto gid = static_cast<double>(p.gid[k]);
-    p.velocity[k] = {c.rank() + 1.0, gid, 0.5};
-    p.omega[k] = {-gid, 2.0, c.rank() + 1.0};
-  }
-  for (std::size_t k = p.n_local(); k < p.n_total(); ++k)
-    p.velocity[k] = p.omega[k] = {-1, -1, -1};
+  encode_owned_and_poison_ghosts(c, p);
   d.update_ghost_subset(p);
   std::int64_t refreshed = 0;
   for (std::size_t k = p.n_local(); k < p.n_total(); ++k) {
-    const auto gid = static_cast<double>(p.gid[k]);
-    const double encoded = owner.at(p.gid[k]) + 1.0;
     if (p.gid[k] % 3 == 0) {
-      EXPECT_EQ(p.velocity[k], (Vec3{encoded, gid, 0.5})) << "ghost gid " << p.gid[k];
-      EXPECT_EQ(p.omega[k], (Vec3{-gid, 2.0, encoded})) << "ghost gid " << p.gid[k];
+      expect_encoded_ghost(p, k, owner);
       ++refreshed;
     } else {
       EXPECT_EQ(p.velocity[k], (Vec3{-1, -1, -1})) << "ghost gid " << p.gid[k];
@@ -231,11 +239,8 @@ TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
   const Communicator c(comm_);
   ParticleStore p;
   BondStore bonds;
-  make_lattice(p, bonds, c.rank(), c.size());
-  const std::int64_t n_total = c.sum(static_cast<std::int64_t>(p.n_local()));
   DomainDecomposition d(c, kBlock, 0.1);
-  d.distribute_initial(p, {&bonds});
-  const auto owner = owners(c, p, n_total);
+  const auto owner = distribute_lattice(c, p, bonds, d);
   expect_rank_encoded_refresh(c, p, d, owner);
   // Gid-encoded once-only field came with the ghost.
   for (std::size_t k = 0; k < p.n_total(); ++k)
