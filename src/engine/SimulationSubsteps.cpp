@@ -78,9 +78,13 @@ void Simulation::substepped_step(const BodyObserver& observe_bodies) {
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     Integrator::kick(p, p.slow_force, p.slow_torque, 0.5 * dt_);
+  }
+  if (!movers_.current()) {
     // After the slow kick: the velocities of the particles that the sub-steps do not move stay
-    // as they are now until the grain step's end (SubstepParticles).
-    if (!movers_.current()) classify_movers();
+    // as they are now until the grain step's end (SubstepParticles). Counted with the rebuild
+    // that made the lists it reads.
+    PhaseTimer t(phase_seconds_[kNeighbour]);
+    classify_movers();
   }
   for (std::int64_t k = 0; k < r; ++k) {
     fast_momentum_.book_first_half();
