@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/DivergenceError.hpp"
 #include "engine/PhaseTimer.hpp"
 #include "engine/Simulation.hpp"
 
@@ -78,6 +79,9 @@ void Simulation::substepped_step(const BodyObserver& observe_bodies) {
   {
     PhaseTimer t(phase_seconds_[kIntegrate]);
     Integrator::kick(p, p.slow_force, p.slow_torque, 0.5 * dt_);
+    // The kick changed every velocity: the speeds of the particles the sub-steps leave behind
+    // enter each sub-step's rebuild test and divergence guard as they are now.
+    if (movers_.current()) movers_.measure_others(p);
   }
   if (!movers_.current()) {
     // After the slow kick: the velocities of the particles that the sub-steps do not move stay
@@ -103,7 +107,13 @@ void Simulation::substepped_step(const BodyObserver& observe_bodies) {
     {
       PhaseTimer t(phase_seconds_[kComm]);
       decomposition_.update_ghost_subset(p);  // those the fast interactions read
-      rebuild_now = needs_rebuild();
+      try {
+        rebuild_now = needs_rebuild();
+      } catch (const DivergenceError&) {
+        // The diverged state goes into a frame for inspection: every particle where it is.
+        movers_.catch_up(p, h);
+        throw;
+      }
     }
     // A re-sort comes at the step numbers of grain steps, at their first sub-step.
     const double sort_width = k == 0 ? sort_width_due() : 0.0;

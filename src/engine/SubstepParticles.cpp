@@ -66,7 +66,7 @@ void SubstepParticles::classify(const ParticleStore& p, const GatherMap& gather,
     begin = run.end;
   }
   if (begin < n) others_.push_back({begin, n});
-  others_speeds_ = Integrator::squared_speeds(p, others_);
+  measure_others(p);
   current_ = true;
 }
 

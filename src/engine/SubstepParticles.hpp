@@ -42,6 +42,11 @@ class SubstepParticles {
   void classify(const ParticleStore& p, const GatherMap& gather,
                 const std::vector<std::unique_ptr<ForceTerm>>& terms,
                 const std::vector<PointLoad>& point_loads);
+  /// The others' squared speeds from their velocities now: at each grain step, after its slow
+  /// kick (classify() does it at a classification).
+  void measure_others(const ParticleStore& p) {
+    others_speeds_ = Integrator::squared_speeds(p, others_);
+  }
   /// The runs the sub-steps' drift and kicks visit, and the others' squared speeds for the
   /// drift's maxima (Integrator::first_half()).
   const std::vector<Integrator::Run>& mover_runs() const { return movers_; }
