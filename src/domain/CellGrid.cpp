@@ -6,7 +6,7 @@
 namespace ringdem {
 
 void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::uint32_t>& members,
-                     double h) {
+                     double h, std::size_t dense_cell_floor) {
   inv_h_ = 1.0 / h;
   constexpr double kBig = std::numeric_limits<double>::max();
   Vec3 lo{kBig, kBig, kBig}, hi{-kBig, -kBig, -kBig};
@@ -20,7 +20,9 @@ void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::u
   const double extent[3] = {std::floor((hi.x - lo.x) * inv_h_) + 1.0,
                             std::floor((hi.y - lo.y) * inv_h_) + 1.0,
                             std::floor((hi.z - lo.z) * inv_h_) + 1.0};
-  dense_ = n > 0 && extent[0] * extent[1] * extent[2] <= 2.0 * static_cast<double>(n) + 64.0;
+  const double box_cells = extent[0] * extent[1] * extent[2];
+  dense_ = n > 0 && (box_cells <= 2.0 * static_cast<double>(n) + 64.0 ||
+                     box_cells <= static_cast<double>(dense_cell_floor));
   n_cells_ = 0;
   for (int d = 0; d < 3; ++d)  // no cells without members
     dims_[d] = n > 0 ? static_cast<std::int64_t>(extent[d]) : 0;

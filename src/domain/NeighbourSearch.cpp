@@ -66,7 +66,8 @@ void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclu
   active_.clear();
   for (std::size_t l = 0; l < kMaxLevels; ++l)
     if (!levels_[l].members.empty()) {
-      levels_[l].grid.build(p.position, levels_[l].members, 2.0 * levels_[l].r_max + skin);
+      levels_[l].grid.build(p.position, levels_[l].members, 2.0 * levels_[l].r_max + skin,
+                            dense_cell_floor_);
       active_.push_back(&levels_[l]);
     }
 

@@ -44,6 +44,9 @@ class NeighbourSearch {
   /// The size levels of the last build, and whether a level's grid was dense (else hashed).
   std::size_t n_levels() const { return active_.size(); }
   bool used_dense_grid(std::size_t level = 0) const { return active_.at(level)->grid.dense(); }
+  /// Boxes of up to `cells` cells take the dense grid (CellGrid::kDenseCellFloor by default;
+  /// tests set 0 to reach the hashed cells with few particles).
+  void set_dense_cell_floor(std::size_t cells) { dense_cell_floor_ = cells; }
 
  private:
   struct Level {
@@ -55,6 +58,7 @@ class NeighbourSearch {
   std::vector<const Level*> active_;   ///< the levels with members, finest first
   std::vector<std::uint32_t> by_key_;  ///< all particles in key order (scratch)
   std::size_t last_pairs_ = 0;         ///< pairs of the last build (the next one's reserve)
+  std::size_t dense_cell_floor_ = CellGrid::kDenseCellFloor;
 };
 
 /// O(N^2) reference with the same criterion, for tests.

@@ -75,6 +75,7 @@ TEST(NeighbourSearch, EqualsBruteForceForPolydisperseCloud) {
   const ParticleStore p = random_cloud(2000, 0.2, 0.002, 0.006, 42, 0.01);
   PairExclusions none;
   NeighbourSearch search;
+  search.set_dense_cell_floor(0);
   PairCandidates cells;
   const double skin = 0.001;
   search.build(p, skin, none, cells);
@@ -82,6 +83,21 @@ TEST(NeighbourSearch, EqualsBruteForceForPolydisperseCloud) {
   const PairCandidates brute = brute_force_pairs(p, skin, none);
   ASSERT_GT(brute.size(), 100u) << "the cloud must be dense enough to test anything";
   EXPECT_EQ(cells.size(), brute.size());  // no duplicates
+  EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
+  EXPECT_GT(expect_key_order(p, cells), cells.size() / 10) << "the bins must reorder the pairs";
+}
+
+// The same sparse cloud at the default floor: its box of 4096 cells is under the floor, so it
+// takes the dense grid, and finds the pairs of the O(N^2) search in key order all the same.
+TEST(NeighbourSearch, SparseBoxUnderTheFloorTakesTheDenseGrid) {
+  const ParticleStore p = random_cloud(2000, 0.2, 0.002, 0.006, 42, 0.01);
+  NeighbourSearch search;
+  PairCandidates cells;
+  search.build(p, 0.001, PairExclusions{}, cells);
+  EXPECT_TRUE(search.used_dense_grid()) << "4096 cells, under CellGrid::kDenseCellFloor";
+  const PairCandidates brute = brute_force_pairs(p, 0.001, PairExclusions{});
+  ASSERT_GT(brute.size(), 100u);
+  EXPECT_EQ(cells.size(), brute.size());
   EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
   EXPECT_GT(expect_key_order(p, cells), cells.size() / 10) << "the bins must reorder the pairs";
 }
@@ -189,6 +205,7 @@ TEST(NeighbourSearch, HashedRowsOfManyCellsEqualBruteForce) {
   SpatialBins::assign(p, 0.01);
   p.rebuild_index();
   NeighbourSearch search;
+  search.set_dense_cell_floor(0);
   PairCandidates cells;
   search.build(p, 0.001, PairExclusions{}, cells);
   ASSERT_GE(search.n_levels(), 2u);
@@ -258,13 +275,14 @@ TEST(NeighbourSearch, ExcludesBondedPairs) {
 }
 
 // A 0.4 m sphere is a rigid body, not a particle: a single very large particle would make
-// every cell huge. Here: particles far apart (sparse domain) cost nothing extra.
+// every cell huge. Here: particles far apart (sparse domain, 7 million cells of a box) cost
+// nothing extra: they take the hashed cells.
 TEST(NeighbourSearch, SparseDomainUsesHashedCells) {
   ParticleStore p;
   for (int k = 0; k < 4; ++k) {
     ParticleStore::NewParticle np;
     np.gid = k;
-    np.position = {k * 100.0, 0.0, (k % 2) * 0.0085};
+    np.position = {k * 10000.0, 0.0, (k % 2) * 0.0085};
     np.radius = 0.0045;
     np.density = 7800;
     p.add(np);
@@ -279,6 +297,7 @@ TEST(NeighbourSearch, SparseDomainUsesHashedCells) {
   NeighbourSearch search;
   PairCandidates c;
   search.build(p, 0.0, PairExclusions{}, c);
+  EXPECT_FALSE(search.used_dense_grid());
   ASSERT_EQ(c.size(), 1u);
   EXPECT_EQ(p.gid[c.i[0]], 0);
   EXPECT_EQ(p.gid[c.j[0]], 4);
