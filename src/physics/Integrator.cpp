@@ -522,16 +522,33 @@ void Integrator::drift_unloaded(ParticleStore& p, double dt, const std::vector<R
                                 int drifts) {
   // drift() and kick_four() of a free particle whose loads are zero: v + 0 dt/2m (which
   // leaves v, but for a -0 component, as those passes do), x + v dt for each drift.
+  // The drifts of a block of particles at once, each step over the whole block: a particle's
+  // drifts are a chain of dependent additions, and chained one particle at a time they waited
+  // on each other's latency (a tenth of a 10^5-grain channel's run on one rank).
+  constexpr std::size_t kBlock = 16;
   const Vec3 zero{};
+  double x[3 * kBlock] = {}, step[3 * kBlock] = {};  // a short block leaves old values past n
   for (const Run& run : runs)
-    for (std::size_t k = run.begin; k < run.end; ++k) {
-      const Vec3 v = p.velocity[k] + zero;
-      p.velocity[k] = v;
-      p.omega[k] = p.omega[k] + zero;
-      Vec3 x = p.position[k];
+    for (std::size_t first = run.begin; first < run.end; first += kBlock) {
+      const std::size_t n = std::min(kBlock, run.end - first);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t k = first + i;
+        const Vec3 v = p.velocity[k] + zero;
+        p.velocity[k] = v;
+        p.omega[k] = p.omega[k] + zero;
+        const Vec3 vdt = v * dt;  // each drift's v dt, the same product every time
+        x[3 * i] = p.position[k].x;
+        x[3 * i + 1] = p.position[k].y;
+        x[3 * i + 2] = p.position[k].z;
+        step[3 * i] = vdt.x;
+        step[3 * i + 1] = vdt.y;
+        step[3 * i + 2] = vdt.z;
+      }
       for (int d = 0; d < drifts; ++d)
-        x = x + v * dt;
-      p.position[k] = x;
+        for (std::size_t c = 0; c < 3 * kBlock; ++c)
+          x[c] = x[c] + step[c];
+      for (std::size_t i = 0; i < n; ++i)
+        p.position[first + i] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
     }
 }
 
