@@ -526,29 +526,27 @@ void Integrator::drift_unloaded(ParticleStore& p, double dt, const std::vector<R
   // drifts are a chain of dependent additions, and chained one particle at a time they waited
   // on each other's latency (a tenth of a 10^5-grain channel's run on one rank).
   constexpr std::size_t kBlock = 16;
-  const Vec3 zero{};
   double x[3 * kBlock] = {}, step[3 * kBlock] = {};  // a short block leaves old values past n
   for (const Run& run : runs)
     for (std::size_t first = run.begin; first < run.end; first += kBlock) {
       const std::size_t n = std::min(kBlock, run.end - first);
-      for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t k = first + i;
-        const Vec3 v = p.velocity[k] + zero;
-        p.velocity[k] = v;
-        p.omega[k] = p.omega[k] + zero;
-        const Vec3 vdt = v * dt;  // each drift's v dt, the same product every time
-        x[3 * i] = p.position[k].x;
-        x[3 * i + 1] = p.position[k].y;
-        x[3 * i + 2] = p.position[k].z;
-        step[3 * i] = vdt.x;
-        step[3 * i + 1] = vdt.y;
-        step[3 * i + 2] = vdt.z;
+      // Component by component through flat arrays: a Vec3 built in a register pair and read
+      // back whole stalled on store forwarding at every particle.
+      double* const v = &p.velocity[first].x;
+      double* const w = &p.omega[first].x;
+      const double* const x0 = &p.position[first].x;
+      for (std::size_t c = 0; c < 3 * n; ++c) {
+        v[c] = v[c] + 0.0;
+        w[c] = w[c] + 0.0;
+        x[c] = x0[c];
+        step[c] = v[c] * dt;  // each drift's v dt, the same product every time
       }
       for (int d = 0; d < drifts; ++d)
         for (std::size_t c = 0; c < 3 * kBlock; ++c)
           x[c] = x[c] + step[c];
-      for (std::size_t i = 0; i < n; ++i)
-        p.position[first + i] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+      double* const x1 = &p.position[first].x;
+      for (std::size_t c = 0; c < 3 * n; ++c)
+        x1[c] = x[c];
     }
 }
 
