@@ -27,9 +27,13 @@ void BodyContactTerm::rebuild(RebuildContext& ctx) {
   body_.clear();
   fast_.clear();
   springs_.resize(0);
+  // A held particle and a held body never touch (compute() below): no candidate, so that a
+  // net's fixed shackles beside its posts leave a sub-stepped run without fast body contacts
+  // (whose loads every sub-step would reduce over the ranks).
   for (std::size_t b = 0; b < ctx.bodies.size(); ++b)
     for (std::size_t k = 0; k < p.n_local(); ++k)
-      if (ctx.bodies[b].closest(p.position[k]).distance < p.radius[k] + ctx.skin) {
+      if (!(ctx.bodies[b].motion != Motion::kFree && p.motion[k] != Motion::kFree) &&
+          ctx.bodies[b].closest(p.position[k]).distance < p.radius[k] + ctx.skin) {
         particle_.push_back(static_cast<std::uint32_t>(k));
         body_.push_back(static_cast<std::uint32_t>(b));
         fast_.push_back(is_fast_particle(p, k) ? 1 : 0);

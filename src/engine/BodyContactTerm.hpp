@@ -33,6 +33,8 @@ class BodyContactTerm final : public ForceTerm {
   const std::vector<ExactSum>& body_load_sums() const { return body_load_sums_; }
   /// The particle–body pairs within reach since the last rebuild (on this rank).
   std::size_t n_candidates() const { return particle_.size(); }
+  /// Those of them whose particle is fast (multi-rate stepping: evaluated at every sub-step).
+  std::size_t n_fast_candidates() const { return fast_list_.size(); }
   bool has_slow_interactions() const override { return true; }
 
  private:

@@ -377,8 +377,13 @@ void Simulation::build_lists(double sort_width) {
   ledger_.rebuild(gather_, allocator_.size());
   fast_ledger_.rebuild(gather_, allocator_.size());
   // A rebuild is collective (every rank rebuilds at the same step): so is this flag.
-  if (!model_.bodies.empty() && body_term_ != nullptr)
-    bodies_in_reach_ = comm_.any(body_term_->n_candidates() > 0);
+  if (!model_.bodies.empty() && body_term_ != nullptr) {
+    const auto in_reach = comm_.max(
+        std::array<double, 2>{body_term_->n_candidates() > 0 ? 1.0 : 0.0,
+                              body_term_->n_fast_candidates() > 0 ? 1.0 : 0.0});
+    bodies_in_reach_ = in_reach[0] > 0.0;
+    fast_bodies_in_reach_ = in_reach[1] > 0.0;
+  }
   // The mass that gravity pulls on changes only when particles come or go, which rebuilds.
   ExactSum free_mass;
   if (momentum_.enabled())

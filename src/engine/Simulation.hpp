@@ -196,6 +196,10 @@ class Simulation {
   EnergyLedger& energy_ledger() { return ledger_; }
   /// Contact candidates of the particle-pair term at the last rebuild (this rank).
   std::size_t n_contact_candidates() const;
+  /// Particle–rigid-body contact candidates at the last rebuild (this rank).
+  std::size_t n_body_contact_candidates() const {
+    return body_term_ != nullptr ? body_term_->n_candidates() : 0;
+  }
   const Communicator& comm() const { return comm_; }
   const DomainDecomposition& decomposition() const { return decomposition_; }
 
@@ -305,7 +309,7 @@ class Simulation {
   /// Takes the grains out and in that are due at the start of a step, and rebuilds if that
   /// changed the particles (start_step()).
   void exchange_grains_and_rebuild();
-  void reduce_body_loads();
+  void reduce_body_loads(ForceRate rate);
   /// Books the loads of the evaluation just done in the momentum ledger (after the bodies'
   /// loads are reduced, before global damping changes the particles' loads).
   void book_momentum(bool initial, ForceRate rate = ForceRate::kAll);
@@ -366,6 +370,9 @@ class Simulation {
   /// Whether some rank has a particle within reach of a rigid body since the last rebuild:
   /// where none has, every body's contact load is zero and needs no reduction.
   bool bodies_in_reach_ = true;
+  /// The same for the fast particles alone (BodyContactTerm::n_fast_candidates): a sub-step's
+  /// evaluation reduces the bodies' loads only where some rank has one.
+  bool fast_bodies_in_reach_ = true;
   /// The bodies' load sums over the ranks, every step: in the few words their magnitudes need.
   ExactSumReducer body_load_reducer_;
   int stop_local_ = 0;

@@ -42,7 +42,7 @@ void Simulation::compute_forces(bool loads_started, ForceRate rate, double dt) {
   {
     // An all-reduce: it waits for the slowest rank, which is the comm phase's to show.
     PhaseTimer t(phase_seconds_[kComm]);
-    reduce_body_loads();
+    reduce_body_loads(rate);
   }
   // The contact loads of this evaluation, for the momentum balance: the restraints' loads act
   // on the bodies alone.
@@ -73,16 +73,17 @@ void Simulation::compute_forces(bool loads_started, ForceRate rate, double dt) {
   }
 }
 
-void Simulation::reduce_body_loads() {
+void Simulation::reduce_body_loads(ForceRate rate) {
   if (model_.bodies.empty() || body_term_ == nullptr) return;
   // Each body's load is the exact sum of its contacts' loads: the same bits on any rank count,
   // in one all-reduce of a few words per body whatever the number of contacts (only the limbs
   // their magnitudes need: ExactSumReducer). No rank gathers the others' contacts (a debris
   // flow's bed touches every grain that rests on it).
   using L = BodyContactTerm::LoadColumn;
-  if (!bodies_in_reach_) {
+  if (!(rate == ForceRate::kFast ? fast_bodies_in_reach_ : bodies_in_reach_)) {
     // No particle within reach of any body on any rank: each load is the sum of no terms, +0
-    // (a body waiting out of play, such as the rockfall's boulder while the net sags).
+    // (a body waiting out of play, such as the rockfall's boulder while the net sags; a debris
+    // channel's bodies in a sub-step, which evaluates the fast particles' contacts alone).
     for (RigidBody& b : model_.bodies)
       b.force = b.torque = Vec3{};
     return;
