@@ -444,8 +444,15 @@ bool Simulation::needs_rebuild() {
   // Grains out of an outflow box at the positions this drift reached leave before the next
   // step, when the state is synchronised (OutflowSink); they ride on the same reduction.
   // The particles moved at most the bound since the outflow noted them, plus this drift.
-  const bool leaving = outflow_.any_leaving(
-      model_.particles, move_bound_ - move_bound_at_outflow_note_ + drift_.max_speed * substep());
+  // Their removal rebuilds the lists, so they leave only once the lists are half way to a
+  // rebuild of their own (the bound past a quarter of the skin): a removal then brings a
+  // rebuild forward by at most half its interval. Looked for at every step, a steady outflow
+  // rebuilt at nearly every step (a 10^5-grain channel: 1 325 rebuilds in 1 058 grain steps).
+  const bool outflow_due = 4.0 * move_bound_ >= settings_.skin;
+  const bool leaving =
+      outflow_due &&
+      outflow_.any_leaving(model_.particles, move_bound_ - move_bound_at_outflow_note_ +
+                                                 drift_.max_speed * substep());
   const auto global = comm_.max(
       std::array<double, 5>{drift_.max_speed, topology_changed ? 1.0 : 0.0,
                             static_cast<double>(stop_local_), runaway, leaving ? 1.0 : 0.0});
