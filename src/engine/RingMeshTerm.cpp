@@ -98,11 +98,14 @@ void RingMeshTerm::rebuild(RebuildContext& ctx) {
   // Candidates, ring by ring and by grain gid: grains (particles of no ring) of at least the
   // opening's diameter whose centre lies within the ring's reach, their radius and twice the
   // skin of its centroid (the beads and the grain each move at most half the skin before the
-  // next rebuild), evaluated here when the grain or a bead is owned.
+  // next rebuild), and within the band about the ring's plane that the plane can reach before
+  // then (RingMesh::band), evaluated here when the grain or a bead is owned.
   std::vector<std::pair<std::int64_t, std::uint32_t>> near;  // (gid, index)
   std::uint32_t n_slots = 0;
   std::vector<RingMesh::Plane> planes;
+  std::vector<RingMesh::Band> bands;
   planes.reserve(rings_.size());
+  bands.reserve(rings_.size());
   double widest = 0.0, opening = std::numeric_limits<double>::infinity();
   for (const MeshRing& ring : rings_) {
     const auto n = static_cast<std::size_t>(meshes_[ring.mesh].beads_per_ring);
@@ -110,6 +113,8 @@ void RingMeshTerm::rebuild(RebuildContext& ctx) {
     for (std::size_t i = 0; i < n; ++i)
       position_[i] = p.position[bead_[ring.first_bead + i]];
     planes.push_back(RingMesh::plane(position_.data(), n));
+    // Every particle moves at most half the skin before the next rebuild.
+    bands.push_back(RingMesh::band(position_.data(), n, planes.back(), 0.5 * ctx.skin));
     widest = std::max(widest, planes.back().reach);
     opening = std::min(opening, meshes_[ring.mesh].params.opening);
   }
@@ -135,6 +140,7 @@ void RingMeshTerm::rebuild(RebuildContext& ctx) {
     const std::size_t r = static_cast<std::size_t>(&ring - rings_.data());
     const RingMesh::Plane& plane = planes[r];
     const bool owned = ring_owned[r];
+    const RingMesh::Band& band = bands[r];
     near.clear();
     cell_keys::for_each_neighbour(cube_of(plane.centre), [&](std::uint64_t key) {
       const auto it = grains_in.find(key);
@@ -143,7 +149,10 @@ void RingMeshTerm::rebuild(RebuildContext& ctx) {
         if (2.0 * p.radius[k] < mesh.params.opening) continue;
         if (k >= p.n_local() && !owned) continue;
         const double reach = plane.reach + p.radius[k] + 2.0 * ctx.skin;
-        if (norm2(p.position[k] - plane.centre) < reach * reach) near.emplace_back(p.gid[k], k);
+        const Vec3 e = p.position[k] - plane.centre;
+        if (norm2(e) < reach * reach &&
+            std::abs(dot(e, plane.normal)) < p.radius[k] + band.offset + band.tilt * norm(e))
+          near.emplace_back(p.gid[k], k);
       }
     });
     std::sort(near.begin(), near.end());

@@ -27,6 +27,23 @@ RingMesh::Plane RingMesh::plane(const Vec3* bead, std::size_t n) {
   return pl;
 }
 
+RingMesh::Band RingMesh::band(const Vec3* bead, std::size_t n, const Plane& plane, double move) {
+  Band b;
+  if (!(plane.area > 0.0)) {
+    b.offset = 2.0 * move;
+    b.tilt = 2.0;  // a unit normal turns by at most 2
+    return b;
+  }
+  double spans = 0.0;  // sum_i |b_(i+1) - b_(i-1)|
+  for (std::size_t i = 0; i < n; ++i)
+    spans += norm(bead[(i + 1) % n] - bead[(i + n - 1) % n]);
+  const double area_change = 0.5 * move * spans + 0.5 * static_cast<double>(n) * move * move;
+  // A thousandth more for the rounding of the sums above.
+  b.offset = 2.0 * move * 1.001;
+  b.tilt = std::min(2.0, 2.0 * area_change / plane.area) * 1.001;
+  return b;
+}
+
 bool RingMesh::compute(const Params& params, const Plane& plane, const Input& in, Output& out,
                        Vec3* bead_force, Vec3* bead_damping) {
   if (!(plane.area > 0.0)) return false;

@@ -35,6 +35,19 @@ struct RingMesh {
   };
   static Plane plane(const Vec3* bead, std::size_t n);
 
+  /// How far a grain's signed distance to the plane, d = (x - c).n (Eq. M1), can change while
+  /// every bead and the grain move at most `move`: by at most offset + tilt |x - c|, with x - c
+  /// taken now. The grain and the centroid c each move at most `move` (offset 2 move); the
+  /// normal n = A / |A| turns by at most 2 |dA| / |A| (as |a/|a| - b/|b|| <= 2 |a - b| / |a|),
+  /// where for bead moves u_i the vector area A = 1/2 sum_i b_i x b_(i+1) changes by
+  /// dA = 1/2 sum_i u_i x (b_(i+1) - b_(i-1)) + 1/2 sum_i u_i x u_(i+1). A grain farther from
+  /// the plane than its radius plus that cannot touch the mesh meanwhile: a ring's candidates
+  /// are a slab about its plane, not the whole sphere of its reach.
+  struct Band {
+    double offset = 0.0, tilt = 0.0;
+  };
+  static Band band(const Vec3* bead, std::size_t n, const Plane& plane, double move);
+
   struct Input {
     const Vec3* bead_position = nullptr;
     const Vec3* bead_velocity = nullptr;
