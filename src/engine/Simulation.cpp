@@ -378,9 +378,9 @@ void Simulation::build_lists(double sort_width) {
   fast_ledger_.rebuild(gather_, allocator_.size());
   // A rebuild is collective (every rank rebuilds at the same step): so is this flag.
   if (!model_.bodies.empty() && body_term_ != nullptr) {
-    const auto in_reach = comm_.max(
-        std::array<double, 2>{body_term_->n_candidates() > 0 ? 1.0 : 0.0,
-                              body_term_->n_fast_candidates() > 0 ? 1.0 : 0.0});
+    const auto in_reach =
+        comm_.max(std::array<double, 2>{body_term_->n_candidates() > 0 ? 1.0 : 0.0,
+                                        body_term_->n_fast_candidates() > 0 ? 1.0 : 0.0});
     bodies_in_reach_ = in_reach[0] > 0.0;
     fast_bodies_in_reach_ = in_reach[1] > 0.0;
   }
@@ -444,11 +444,11 @@ bool Simulation::needs_rebuild() {
   // Grains out of an outflow box at the positions this drift reached leave before the next
   // step, when the state is synchronised (OutflowSink); they ride on the same reduction.
   // The particles moved at most the bound since the outflow noted them, plus this drift.
-  // Their removal rebuilds the lists, so they leave only once the lists are half way to a
-  // rebuild of their own (the bound past a quarter of the skin): a removal then brings a
-  // rebuild forward by at most half its interval. Looked for at every step, a steady outflow
-  // rebuilt at nearly every step (a 10^5-grain channel: 1 325 rebuilds in 1 058 grain steps).
-  const bool outflow_due = 4.0 * move_bound_ >= settings_.skin;
+  // Their removal rebuilds the lists, so they are looked for only at every kOutflowStride-th
+  // step (at fixed step numbers, as the re-sorts: the same steps on any rank count, with any
+  // skin, and after a restart). Looked for at every step, a steady outflow rebuilt at nearly
+  // every step (a 10^5-grain channel: 1 325 rebuilds in 1 058 grain steps).
+  const bool outflow_due = steps_ % kOutflowStride == 0;
   const bool leaving =
       outflow_due &&
       outflow_.any_leaving(model_.particles, move_bound_ - move_bound_at_outflow_note_ +

@@ -361,6 +361,9 @@ class Simulation {
   double dt_ = 0.0;
   double time_ = 0.0;
   std::int64_t steps_ = 0;
+  /// Grains outside an outflow box are looked for at the steps that are multiples of this
+  /// (needs_rebuild): each removal rebuilds the lists.
+  static constexpr std::int64_t kOutflowStride = 16;
   std::int64_t rebuilds_ = 0;
   std::int64_t dt_origin_step_ = 0;  ///< RestartState::dt_origin_step
   double dt_origin_time_ = 0.0;
