@@ -24,8 +24,8 @@ class CellGrid {
   static constexpr std::size_t kDenseCellFloor = std::size_t{1} << 20;
   /// Bins `members` (particle indices into `position`) by cells of edge `h`: dense when the
   /// members' box has at most max(2 n + 64, `dense_cell_floor`) cells.
-  void build(const std::vector<Vec3>& position, const std::vector<std::uint32_t>& members,
-             double h, std::size_t dense_cell_floor = kDenseCellFloor);
+  void build(const std::vector<Vec3>& position, const std::vector<std::uint32_t>& members, double h,
+             std::size_t dense_cell_floor = kDenseCellFloor);
   /// Calls f(index) for every member in a cell that meets the cube [x - reach, x + reach].
   template <class F>
   void for_each_near(const Vec3& x, double reach, F&& f) const;

@@ -28,9 +28,9 @@ void Simulation::set_up_substeps() {
   // net is shared by the ranks instead of sitting on one while the others wait out its
   // sub-steps (the debris demo on 2 ranks: docs/debris.md). A bond then weighs r particles
   // (its store's weight 2 times r / 2), not 2 r: a grain in a flow costs a grain step about
-  // what a net particle's r sub-steps cost (docs/debris.md's c_g and c_n), and at 2 r the fine
-  // demo's rank with the net held a sixth of the grains and the other rank was the one waited
-  // for (docs/performance.md, fortieth round).
+  // what a net particle's r sub-steps cost (docs/debris.md's c_g and c_n), and at 2 r the rank
+  // with the net of a 10^5-grain channel held a sixth of the grains and the other rank was the
+  // one waited for (docs/performance.md, fortieth round).
   decomposition_.set_row_weight_scale(std::max(1, static_cast<int>(settings_.substeps) / 2));
   gather_.set_split_by_rate(true);
   // A ledger per rate, each booked with its own step; the fast one books the held particles'
