@@ -87,6 +87,17 @@ TEST(NeighbourSearch, EqualsBruteForceForPolydisperseCloud) {
   EXPECT_GT(expect_key_order(p, cells), cells.size() / 10) << "the bins must reorder the pairs";
 }
 
+/// The cell search's pairs are exactly those of the O(N^2) search (each once), more than
+/// `at_least`, and in key order with the bins reordering a tenth of them or more.
+void expect_brute_force_pairs_binned(const ParticleStore& p, const PairCandidates& cells,
+                                     double skin, std::size_t at_least) {
+  const PairCandidates brute = brute_force_pairs(p, skin, PairExclusions{});
+  ASSERT_GT(brute.size(), at_least);
+  EXPECT_EQ(cells.size(), brute.size());  // no duplicates
+  EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
+  EXPECT_GT(expect_key_order(p, cells), cells.size() / 10) << "the bins must reorder the pairs";
+}
+
 // The same sparse cloud at the default floor: its box of 4096 cells is under the floor, so it
 // takes the dense grid, and finds the pairs of the O(N^2) search in key order all the same.
 TEST(NeighbourSearch, SparseBoxUnderTheFloorTakesTheDenseGrid) {
@@ -95,11 +106,7 @@ TEST(NeighbourSearch, SparseBoxUnderTheFloorTakesTheDenseGrid) {
   PairCandidates cells;
   search.build(p, 0.001, PairExclusions{}, cells);
   EXPECT_TRUE(search.used_dense_grid()) << "4096 cells, under CellGrid::kDenseCellFloor";
-  const PairCandidates brute = brute_force_pairs(p, 0.001, PairExclusions{});
-  ASSERT_GT(brute.size(), 100u);
-  EXPECT_EQ(cells.size(), brute.size());
-  EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
-  EXPECT_GT(expect_key_order(p, cells), cells.size() / 10) << "the bins must reorder the pairs";
+  expect_brute_force_pairs_binned(p, cells, 0.001, 100);
 }
 
 // A cloud that fills its box takes the dense grid; it must find the same pairs as the O(N^2)
@@ -110,11 +117,7 @@ TEST(NeighbourSearch, DenseGridEqualsBruteForce) {
   PairCandidates cells;
   search.build(p, 0.001, PairExclusions{}, cells);
   EXPECT_TRUE(search.used_dense_grid()) << "512 cells for 3000 particles: dense";
-  const PairCandidates brute = brute_force_pairs(p, 0.001, PairExclusions{});
-  ASSERT_GT(brute.size(), 1000u);
-  EXPECT_EQ(cells.size(), brute.size());
-  EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
-  EXPECT_GT(expect_key_order(p, cells), cells.size() / 10) << "the bins must reorder the pairs";
+  expect_brute_force_pairs_binned(p, cells, 0.001, 1000);
 }
 
 // As the store is after a migration (DomainDecomposition::migrate): the owned particles in
