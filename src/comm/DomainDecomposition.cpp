@@ -113,6 +113,17 @@ std::vector<CellLoad> DomainDecomposition::global_cells(
     ++mine.back().particles;
   }
   std::vector<std::uint64_t>().swap(keys);
+  const auto cell_here = [&](std::size_t k) {
+    const std::uint64_t key = cell_of(p.position[k]);
+    return std::lower_bound(mine.begin(), mine.end(), key,
+                            [](const CellLoad& b, std::uint64_t c) { return b.key < c; });
+  };
+  // Multi-rate stepping: a grain in contact with the net has every contact evaluated at every
+  // sub-step, as a bond is: it weighs as a bond does (the rank with the net and the grains
+  // against it had waited for by the others for most of a 10^5-grain channel's pile phase).
+  if (!p.net_contact.empty() && row_weight_scale_ > 1)
+    for (std::size_t k = 0; k < p.n_local(); ++k)
+      if (p.net_contact[k] != 0) cell_here(k)->rows += row_weight_scale_;
   // A row of a weighing store (a bond) counts its store's weight (times the scale) in the cell
   // of its first end, on the rank that counts it (an owned particle here: its cell is in
   // `mine`).
@@ -123,11 +134,8 @@ std::vector<CellLoad> DomainDecomposition::global_cells(
         for (std::size_t r = 0; r < s.size(); ++r) {
           if (!counted_here(p, s, r)) continue;
           const auto a = static_cast<std::size_t>(p.index_of(s.ends(r)[0]));
-          const std::uint64_t key = cell_of(p.position[a]);
-          const auto it =
-              std::lower_bound(mine.begin(), mine.end(), key,
-                               [](const CellLoad& b, std::uint64_t k) { return b.key < k; });
-          if (it == mine.end() || it->key != key)
+          const auto it = cell_here(a);
+          if (it == mine.end() || it->key != cell_of(p.position[a]))
             throw std::logic_error("a counted bond whose first end is in no occupied cell here");
           it->rows += weight * row_weight_scale_;
         }

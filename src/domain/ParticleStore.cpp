@@ -76,6 +76,10 @@ void ParticleStore::set_tracks_slow_loads(bool on) {
       v->assign(n_total(), Vec3{});
     else
       std::vector<Vec3>().swap(*v);
+  if (on)
+    net_contact.assign(n_total(), 0);
+  else
+    std::vector<std::uint8_t>().swap(net_contact);
 }
 
 void ParticleStore::resize_ledger_columns() {

@@ -94,6 +94,12 @@ class ParticleStore {
   /// tracks_slow_loads().
   std::vector<Vec3> slow_force;
   std::vector<Vec3> slow_torque;
+  /// Multi-rate stepping: 1 where a grain touched the net (a ring's bead, a held particle or a
+  /// net's mesh) at the last check (Simulation::note_net_contacts()). Every interaction of such
+  /// a grain is fast (is_fast_particle()): a grain pinched between a ring and the bed, its
+  /// bed contact at the grains' step, had the ring's sub-steps pump energy into it (r-RESPA
+  /// resonance; docs/physics.md "Two time scales"). Only while tracks_slow_loads().
+  std::vector<std::uint8_t> net_contact;
 
   /// The trapezoidal tally of an accumulator and its last power (see dissipated_global).
   static double ledger_value(double accumulated, double last_power, double dt) {
@@ -143,6 +149,9 @@ class ParticleStore {
     if (tracks_slow_loads_) {
       f(FieldInfo{"slow_force", kState}, slow_force);
       f(FieldInfo{"slow_torque", kState}, slow_torque);
+      // Ghosts need it: a pair's rate is decided on every rank that holds it. A checkpoint
+      // written before the column existed restarts with none (the next check sets them).
+      f(FieldInfo{"net_contact", kState | kGhostOnce | kZeroIfAbsent}, net_contact);
     }
   }
 

@@ -36,10 +36,18 @@ struct RebuildContext {
   std::uint32_t term_number;  ///< position in the term list: the gather order's tie-break
 };
 
-/// Whether particle k steps at the fast rate wherever it takes part: a ring's bead (body >= 0)
-/// or a held particle (a net's shackle). Its interactions are all fast.
-inline bool is_fast_particle(const ParticleStore& p, std::size_t k) {
+/// Whether particle k is part of a net: a ring's bead (body >= 0) or a held particle (a net's
+/// shackle, a frame). Its interactions are all fast, and so are those of a grain it touches
+/// (is_fast_particle()).
+inline bool is_net_particle(const ParticleStore& p, std::size_t k) {
   return p.body[k] >= 0 || p.motion[k] != Motion::kFree;
+}
+
+/// Whether particle k steps at the fast rate wherever it takes part: a net particle, or a grain
+/// that touched the net at the last check (ParticleStore::net_contact). Its interactions are all
+/// fast.
+inline bool is_fast_particle(const ParticleStore& p, std::size_t k) {
+  return is_net_particle(p, k) || (!p.net_contact.empty() && p.net_contact[k] != 0);
 }
 
 /// What a force term reads and writes in one force evaluation.
@@ -129,6 +137,12 @@ class ForceTerm {
   /// candidates that do not touch included: the sub-steps leave the others where they were.
   virtual void mark_fast_particles(const ParticleStore& /*p*/,
                                    std::vector<std::uint8_t>& /*fast*/) {}
+  /// Multi-rate stepping: sets touching[k] = 1 for each owned particle k (k < touching.size())
+  /// that is not a net particle (is_net_particle()) and that one of this term's interactions
+  /// with a net particle or a net's mesh loaded in the last evaluation (positions unchanged
+  /// since). Simulation::note_net_contacts() makes those grains' interactions fast.
+  virtual void mark_net_contacts(const ParticleStore& /*p*/,
+                                 std::vector<std::uint8_t>& /*touching*/) const {}
 };
 
 }  // namespace ringdem

@@ -101,6 +101,31 @@ void PairContactTerm::mark_fast_particles(const ParticleStore& p, std::vector<st
     }
 }
 
+void PairContactTerm::mark_net_contacts(const ParticleStore& p,
+                                        std::vector<std::uint8_t>& touching) const {
+  const std::size_t n = touching.size();
+  const auto visit = [&](std::size_t m) {
+    const std::uint32_t a = pairs_.i[m];
+    const std::uint32_t b = pairs_.j[m];
+    const bool net_a = is_net_particle(p, a);
+    if (net_a == is_net_particle(p, b)) return;  // two grains, or two net particles
+    const double reach = p.radius[a] + p.radius[b];
+    if (norm2(p.position[b] - p.position[a]) >= reach * reach) return;  // (the law's test)
+    const std::uint32_t grain = net_a ? b : a;
+    if (grain < n) touching[grain] = 1;
+  };
+  if (!rates_current_) {
+    for (std::size_t m = 0; m < pairs_.size(); ++m)
+      visit(m);
+    return;
+  }
+  // A pair with a net particle is fast: among the fast candidates.
+  constexpr std::size_t kChunk = PairContactChunk::kSize;
+  for (const std::uint32_t c : fast_chunks_)
+    for (std::uint64_t bits = fast_mask_[c]; bits != 0; bits &= bits - 1)
+      visit(c * kChunk + static_cast<std::size_t>(std::countr_zero(bits)));
+}
+
 void PairContactTerm::carry_springs(const ParticleStore& p) {
   // The keyed rows (the touching springs packed before the migration, or a checkpoint's)
   // become the new candidates' springs, in the rows' own memory: at the rebuild of a packing

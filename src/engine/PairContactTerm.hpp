@@ -34,6 +34,8 @@ class PairContactTerm final : public ForceTerm {
   std::size_t n_candidates() const { return pairs_.size(); }
   bool has_slow_interactions() const override { return true; }
   void mark_fast_particles(const ParticleStore& p, std::vector<std::uint8_t>& fast) override;
+  void mark_net_contacts(const ParticleStore& p,
+                         std::vector<std::uint8_t>& touching) const override;
 
  private:
   /// compute() with the energy ledger's ContactMoments (kBook) or without.

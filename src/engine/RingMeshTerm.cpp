@@ -261,4 +261,12 @@ void RingMeshTerm::compute(ComputeContext& ctx) {
   }
 }
 
+void RingMeshTerm::mark_net_contacts(const ParticleStore& p,
+                                     std::vector<std::uint8_t>& touching) const {
+  for (std::size_t c = 0; c < grain_.size(); ++c) {
+    const std::uint32_t k = grain_[c];
+    if (touching_[c] != 0 && k < touching.size() && !is_net_particle(p, k)) touching[k] = 1;
+  }
+}
+
 }  // namespace ringdem

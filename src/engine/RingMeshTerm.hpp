@@ -31,6 +31,8 @@ class RingMeshTerm final : public ForceTerm {
   std::optional<FarGhostRule> far_ghosts(const ParticleStore& p) const override;
   void rebuild(RebuildContext& ctx) override;
   void compute(ComputeContext& ctx) override;
+  void mark_net_contacts(const ParticleStore& p,
+                         std::vector<std::uint8_t>& touching) const override;
 
   /// The smallest stability limit of the case's meshes (RingMesh::time_step_limit), for the
   /// lightest grain a mesh can hold: a sphere of the opening's diameter of the least dense

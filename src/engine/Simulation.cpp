@@ -337,6 +337,7 @@ void Simulation::rebuild(double sort_width) {
     body_orientation_at_rebuild_.push_back(b.orientation);
   }
   force_rebuild_ = false;
+  net_contacts_changed_ = false;
   ++rebuilds_;
 }
 
@@ -498,16 +499,15 @@ void Simulation::start_step() {
 }
 
 void Simulation::exchange_grains_and_rebuild() {
+  // A grain's contact with the net changed (on some rank): the rates change at this rebuild.
+  bool changed = net_contacts_changed_;
   if (outflow_pending_ || !inflow_.empty()) {
-    bool changed = false;
-    {
-      PhaseTimer t(phase_seconds_[kComm]);
-      changed = exchange_grains();
-    }
-    if (changed) {  // owned indices changed (on some rank): every rank rebuilds
-      PhaseTimer t(phase_seconds_[kNeighbour]);
-      rebuild();
-    }
+    PhaseTimer t(phase_seconds_[kComm]);
+    changed = exchange_grains() || changed;
+  }
+  if (changed) {  // owned indices changed (on some rank): every rank rebuilds
+    PhaseTimer t(phase_seconds_[kNeighbour]);
+    rebuild();
   }
 }
 

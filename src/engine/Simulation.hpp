@@ -1,5 +1,6 @@
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -192,6 +193,14 @@ class Simulation {
   /// Owned particles the sub-steps move (multi-rate stepping; this rank, at the last grain
   /// step's classification).
   std::size_t n_substep_movers() const { return movers_.n_movers(); }
+  /// Owned grains in contact with the net at the last check (multi-rate stepping: their
+  /// interactions are fast; ParticleStore::net_contact).
+  std::size_t n_net_contact_grains() const {
+    const auto& flags = model_.particles.net_contact;
+    return flags.empty() ? 0
+                         : static_cast<std::size_t>(std::count(
+                               flags.begin(), flags.begin() + model_.particles.n_local(), 1));
+  }
   /// The energy ledger's bookkeeping (tests set its choices; energies() reports it).
   EnergyLedger& energy_ledger() { return ledger_; }
   /// Contact candidates of the particle-pair term at the last rebuild (this rank).
@@ -199,6 +208,10 @@ class Simulation {
   /// Particle–rigid-body contact candidates at the last rebuild (this rank).
   std::size_t n_body_contact_candidates() const {
     return body_term_ != nullptr ? body_term_->n_candidates() : 0;
+  }
+  /// Those of them evaluated at the fast rate (multi-rate stepping).
+  std::size_t n_fast_body_contact_candidates() const {
+    return body_term_ != nullptr ? body_term_->n_fast_candidates() : 0;
   }
   const Communicator& comm() const { return comm_; }
   const DomainDecomposition& decomposition() const { return decomposition_; }
@@ -306,6 +319,11 @@ class Simulation {
   void substepped_step(const BodyObserver& observe_bodies);
   /// movers_ from the current lists and loads.
   void classify_movers();
+  /// Multi-rate stepping, at the end of every kOutflowStride-th grain step: sets each owned
+  /// grain's net_contact to whether the net touched it in the last evaluation (ForceTerm::
+  /// mark_net_contacts()); where that changed on some rank, the next step starts with a rebuild,
+  /// which sends the flags to the ghosts and decides the rates from them.
+  void note_net_contacts();
   /// Takes the grains out and in that are due at the start of a step, and rebuilds if that
   /// changed the particles (start_step()).
   void exchange_grains_and_rebuild();
@@ -368,7 +386,11 @@ class Simulation {
   std::int64_t dt_origin_step_ = 0;  ///< RestartState::dt_origin_step
   double dt_origin_time_ = 0.0;
   bool force_rebuild_ = false;
-  bool bonds_broke_before_restart_ = false;  ///< RestartState::bonds_broke, for the next step
+  /// Some grain's net_contact changed at the last check (on some rank): the next step starts
+  /// with a rebuild (note_net_contacts()).
+  bool net_contacts_changed_ = false;
+  std::vector<std::uint8_t> net_contact_scratch_;  ///< note_net_contacts()'s marks
+  bool bonds_broke_before_restart_ = false;        ///< RestartState::bonds_broke, for the next step
   bool bonds_broke_anywhere_ = false;
   /// Whether some rank has a particle within reach of a rigid body since the last rebuild:
   /// where none has, every body's contact load is zero and needs no reduction.

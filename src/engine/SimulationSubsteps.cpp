@@ -45,7 +45,7 @@ double Simulation::slow_particles_rayleigh_limit() const {
   const ParticleStore& p = model_.particles;
   double limit = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < p.n_local(); ++k) {
-    if (is_fast_particle(p, k)) continue;
+    if (is_net_particle(p, k)) continue;
     const Material& m = model_.materials[static_cast<std::size_t>(p.material[k])];
     limit = std::min(
         limit, rayleigh_time_step(p.radius[k], m.density, m.shear_modulus(), m.poisson_ratio));
@@ -68,6 +68,27 @@ void Simulation::classify_movers() {
   // A ghost that a fast interaction reads is one of a particle that the interaction loads, on
   // its owner too: the owners' flags select every ghost the sub-steps read.
   decomposition_.select_ghost_subset(model_.particles, movers_.read_by_fast());
+}
+
+void Simulation::note_net_contacts() {
+  // The grains that touch the net step all their interactions at the fast rate from the next
+  // step on. A grain pinched between a ring and the bed had its bed contact at the grains'
+  // step while the ring moved it at every sub-step: the bed's impulses, read at positions the
+  // sub-steps had moved, pumped energy into it (r-RESPA resonance; docs/physics.md "Two time
+  // scales"). Decided from the contacts themselves, at fixed step numbers: the same grains on
+  // any rank count, with any skin, and after a restart.
+  ParticleStore& p = model_.particles;
+  std::vector<std::uint8_t>& touching = net_contact_scratch_;
+  touching.assign(p.n_local(), 0);
+  for (const auto& term : terms_)
+    term->mark_net_contacts(p, touching);
+  bool changed = false;
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    if (p.net_contact[k] != touching[k]) {
+      p.net_contact[k] = touching[k];
+      changed = true;
+    }
+  net_contacts_changed_ = comm_.any(changed);
 }
 
 void Simulation::substepped_step(const BodyObserver& observe_bodies) {
@@ -154,6 +175,10 @@ void Simulation::substepped_step(const BodyObserver& observe_bodies) {
     EnergyLedger::LeavingTest leaving;
     if (outflow_pending_) leaving = [this, &p](std::size_t i) { return outflow_.leaving(p, i); };
     ledger_.accumulate(p, model_.bodies, slots_, gather_, dt_, /*initial=*/false, leaving);
+  }
+  if (steps_ % kOutflowStride == 0) {  // the steps the outflow's test looks at: one rebuild
+    PhaseTimer t(phase_seconds_[kNeighbour]);
+    note_net_contacts();
   }
   ++steps_;
   if (observe_bodies) observe_bodies(model_.bodies, time_);

@@ -42,11 +42,13 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // 13: the support ropes' state per segment (/ropes/segment_rest, segment_tension,
 // friction_work; work is brake_work); 14: multi-rate stepping, only in a sub-stepped run's file:
 // the root attribute substeps, the fast ledgers (/substeps/momentum, /substeps/ledger) and the
-// particles' slow_force and slow_torque. This version, 13, 12 and 11 are read: a file of 11
+// particles' slow_force and slow_torque; 15: a sub-stepped run's grains in contact with the net
+// (/particles/net_contact: their interactions are fast; a file of 14 restarts with none, and the
+// next check finds them). This version, 14, 13, 12 and 11 are read: a file of 11
 // restarts every particle at bin 0, the gid order that format's writer kept, and so goes on as its
 // run did until the next re-sort; one of 11 or 12 with support ropes is refused (read_checkpoint).
 // Older files lack what this one needs to go on bit for bit.
-constexpr std::int64_t kFormatVersion = 14;
+constexpr std::int64_t kFormatVersion = 15;
 constexpr std::int64_t kOldestReadFormatVersion = 11;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
