@@ -119,8 +119,7 @@ std::vector<CellLoad> DomainDecomposition::global_cells(
                             [](const CellLoad& b, std::uint64_t c) { return b.key < c; });
   };
   // Multi-rate stepping: a grain in contact with the net has every contact evaluated at every
-  // sub-step, as a bond is: it weighs as a bond does (the rank with the net and the grains
-  // against it had waited for by the others for most of a 10^5-grain channel's pile phase).
+  // sub-step, as a bond is, and weighs as a bond does (Simulation::note_net_contacts).
   if (!p.net_contact.empty() && row_weight_scale_ > 1)
     for (std::size_t k = 0; k < p.n_local(); ++k)
       if (p.net_contact[k] != 0) cell_here(k)->rows += row_weight_scale_;

@@ -1,6 +1,5 @@
 #pragma once
 
-#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -193,14 +192,6 @@ class Simulation {
   /// Owned particles the sub-steps move (multi-rate stepping; this rank, at the last grain
   /// step's classification).
   std::size_t n_substep_movers() const { return movers_.n_movers(); }
-  /// Owned grains in contact with the net at the last check (multi-rate stepping: their
-  /// interactions are fast; ParticleStore::net_contact).
-  std::size_t n_net_contact_grains() const {
-    const auto& flags = model_.particles.net_contact;
-    return flags.empty() ? 0
-                         : static_cast<std::size_t>(std::count(
-                               flags.begin(), flags.begin() + model_.particles.n_local(), 1));
-  }
   /// The energy ledger's bookkeeping (tests set its choices; energies() reports it).
   EnergyLedger& energy_ledger() { return ledger_; }
   /// Contact candidates of the particle-pair term at the last rebuild (this rank).
