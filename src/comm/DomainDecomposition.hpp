@@ -89,6 +89,12 @@ class DomainDecomposition {
   std::vector<RankReport> report(const ParticleStore& p, const BondStore& bonds) const;
   /// max(local particles) / mean - 1 over the ranks.
   double imbalance(const ParticleStore& p) const;
+  /// max / mean - 1 of the ranks' partition weights: particles and weighted rows (bonds, and
+  /// with sub-steps their scale) per cell, as the partition and its repartition test weigh
+  /// them. Collective.
+  double weighted_imbalance(const ParticleStore& p, const std::vector<PairStore>& stores) const {
+    return cell_imbalance(global_cells(p, stores));
+  }
 
   /// Block key of a position (exposed for tests).
   std::uint64_t block_of(const Vec3& x) const;

@@ -309,7 +309,7 @@ std::vector<RestartState::TermSprings> Simulation::owned_springs() const {
   return out;
 }
 
-std::vector<PairStore> Simulation::pair_stores() {
+std::vector<PairStore> Simulation::pair_stores() const {
   std::vector<PairStore> stores;
   for (auto& t : terms_)
     if (const auto s = t->pair_store()) stores.push_back(*s);

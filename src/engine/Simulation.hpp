@@ -206,6 +206,11 @@ class Simulation {
   }
   const Communicator& comm() const { return comm_; }
   const DomainDecomposition& decomposition() const { return decomposition_; }
+  /// The ranks' imbalance in the weights the partition balances (particles, and bonds weighed
+  /// as they cost: DomainDecomposition::weighted_imbalance). Collective.
+  double partition_imbalance() const {
+    return decomposition_.weighted_imbalance(model_.particles, pair_stores());
+  }
 
   /// True on every rank when a bond broke on any rank in the force evaluation of the
   /// previous step (known from the step's one reduction, so it costs no communication).
@@ -291,7 +296,7 @@ class Simulation {
   /// comes at set-up, before the initial evaluation (see the constructor).
   double sort_width_due();
   /// Every term's pair store (bonds, contact springs), in term order: what migration moves.
-  std::vector<PairStore> pair_stores();
+  std::vector<PairStore> pair_stores() const;
   /// One force evaluation of the interactions of `rate`, over a step of `dt`. `loads_started`:
   /// the drift pass already set F = m g, T = 0 (Integrator::first_half); otherwise this does.
   /// A slow evaluation (multi-rate stepping) writes the particles' slow loads (slow_force,

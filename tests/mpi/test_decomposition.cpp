@@ -215,6 +215,18 @@ double most_bonds_share(const Communicator& c, int scale) {
   for (const std::int64_t n : all)
     total += n;
   EXPECT_EQ(total, 264);  // every bond counted once
+  // The imbalance the pre-flight report prints, against the ranks' weights summed here: each
+  // rank's particles, its counted bonds at their store's weight (2) times the scale, and one
+  // for each cell it owns.
+  const auto ranks = d.report(p, bonds);
+  std::vector<double> weight;
+  for (std::size_t r = 0; r < ranks.size(); ++r)
+    weight.push_back(static_cast<double>(ranks[r].particles + 2 * scale * all[r] + ranks[r].cells));
+  double sum = 0.0;
+  for (const double w : weight)
+    sum += w;
+  const double expected = *std::max_element(weight.begin(), weight.end()) / (sum / c.size()) - 1.0;
+  EXPECT_NEAR(d.weighted_imbalance(p, {&bonds}), expected, 1e-12) << "scale " << scale;
   return static_cast<double>(*std::max_element(all.begin(), all.end())) /
          static_cast<double>(total);
 }
