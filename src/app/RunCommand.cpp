@@ -44,7 +44,7 @@ void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64
     const DomainDecomposition& d = sim.decomposition();
     fmt::print(
         "partition: {} ranks, block size {:.4g} m, cells of {}^3 blocks, imbalance {:.1f} % by "
-        "weight (particles and bonds as they cost), {:.1f} % by particles\n",
+        "weight, {:.1f} % by particles\n",
         ranks.size(), d.block_size(), d.cell_blocks(), 100.0 * weighted, 100.0 * imbalance);
     fmt::print("  {:>4} {:>10} {:>10} {:>10} {:>10} {:>8}\n", "rank", "particles", "ghosts",
                "bonds", "cut bonds", "cells");
