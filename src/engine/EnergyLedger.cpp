@@ -59,8 +59,8 @@ void EnergyLedger::clear_moments() {
 
 void EnergyLedger::accumulate(const ParticleStore& p, const std::vector<RigidBody>& bodies,
                               const ForceSlots& slots, const GatherMap& gather, double dt,
-                              bool initial, const LeavingTest& leaving) {
-  start_accumulation(p, gather);
+                              bool initial, const LeavingTest& leaving, bool book_held) {
+  start_accumulation(p, gather, book_held);
   accumulate_below(p.n_local(), p, bodies, slots, gather, initial, leaving);
   finish_accumulation(gather, dt, initial);
 }

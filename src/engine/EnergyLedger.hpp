@@ -214,10 +214,11 @@ class EnergyLedger {
 
   /// After the second half kick of particles and rigid bodies, with the velocities of the end
   /// of the step: adds the work of the last force evaluation to the tallies.
-  /// `initial`: the loads of the initial state, which begin the first interval.
+  /// `initial`: the loads of the initial state, which begin the first interval. `book_held`:
+  /// as for start_accumulation() below.
   void accumulate(const ParticleStore& p, const std::vector<RigidBody>& bodies,
                   const ForceSlots& slots, const GatherMap& gather, double dt, bool initial = false,
-                  const LeavingTest& leaving = {});
+                  const LeavingTest& leaving = {}, bool book_held = true);
 
   /// accumulate() in three parts, so that the integrator can book each particle between its
   /// two half kicks while the particle is in cache (Integrator::second_then_first_half): the

@@ -157,7 +157,10 @@ void Simulation::substepped_step(const BodyObserver& observe_bodies) {
       EnergyLedger::LeavingTest leaving;
       if (k + 1 == r && outflow_pending_)
         leaving = [this, &p](std::size_t i) { return outflow_.leaving(p, i); };
-      fast_ledger_.accumulate(p, model_.bodies, slots_, gather_, h, /*initial=*/false, leaving);
+      // The held energies are read at grain steps' ends only (reports, checkpoints): booked
+      // at the last sub-step, not with two exact additions a particle at every sub-step.
+      fast_ledger_.accumulate(p, model_.bodies, slots_, gather_, h, /*initial=*/false, leaving,
+                              /*book_held=*/k + 1 == r);
     }
   }
   time_ = start + dt_;
