@@ -200,10 +200,11 @@ void RingMeshTerm::compute(ComputeContext& ctx) {
       m_ring += p.mass[b];
     }
     const RingMesh::Plane plane = RingMesh::plane(position_.data(), n);
-    ring_force_.assign(n, Vec3{});
-    ring_damping_.assign(n, Vec3{});
-    bead_force_.resize(n);
-    bead_damping_.resize(n);
+    const RingMesh::Motion motion = RingMesh::motion(position_.data(), velocity_.data(), n);
+    // The beads' loads summed over the ring's contacts by grain gid, as the two vectors of
+    // Eq. M6 (a sum over the beads for each contact had been a seventh of the net's rank in the
+    // 10^5-grain channel: docs/performance.md, forty-third round).
+    RingMesh::BeadLoads ring_force, ring_damping;
     bool loaded = false;
     const std::uint32_t grain_slots = slots_.begin + ring.first_slot - ring.n_contacts;
     for (std::uint32_t c = 0; c < ring.n_contacts; ++c) {
@@ -211,16 +212,14 @@ void RingMeshTerm::compute(ComputeContext& ctx) {
       const std::uint32_t k = grain_[contact];
       const std::uint32_t slot = grain_slots + c;
       RingMesh::Input in;
-      in.bead_position = position_.data();
-      in.bead_velocity = velocity_.data();
       in.n = n;
       in.position = p.position[k];
       in.velocity = p.velocity[k];
       in.radius = p.radius[k];
       in.m_star = p.mass[k] * m_ring / (p.mass[k] + m_ring);
       RingMesh::Output out;
-      if (!RingMesh::compute(mesh.params, plane, in, out, bead_force_.data(),
-                             bead_damping_.data())) {
+      RingMesh::BeadLoads bead_force, bead_damping;
+      if (!RingMesh::compute(mesh.params, plane, motion, in, out, bead_force, bead_damping)) {
         if (touching_[contact]) {  // (slots and records start at zero at a rebuild)
           ctx.slots.set(slot, {}, {});
           ctx.ledger.clear_record(slot);
@@ -238,25 +237,22 @@ void RingMeshTerm::compute(ComputeContext& ctx) {
       record.damping = out.damping;
       record.arm = out.outward * (-in.radius);  // along the viscous load: no moment
       record.elastic_energy = out.elastic_energy;
-      // The beads' loads (Eq. M4), summed over the ring's contacts by grain gid.
-      for (std::size_t i = 0; i < n; ++i) {
-        ring_force_[i] += bead_force_[i];
-        ring_damping_[i] += bead_damping_[i];
-      }
+      ring_force += bead_force;
+      ring_damping += bead_damping;
     }
     if (!loaded && !ring.loaded) continue;  // its bead slots hold zeros already
     ring.loaded = loaded;
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint32_t slot = slots_.begin + ring.first_slot + static_cast<std::uint32_t>(i);
-      ctx.slots.set(slot, ring_force_[i], {});
+      ctx.slots.set(slot, ring_force.at(position_.data(), n, i), {});
       DissipationRecord& record = ctx.ledger.record(slot);
       record = {};
       // The viscous load acts at the bead's centre: the record's arm lies along it, so that it
       // has no moment (a zero arm would mark the record idle).
-      record.damping = ring_damping_[i];
-      const double length = norm(ring_damping_[i]);
+      record.damping = ring_damping.at(position_.data(), n, i);
+      const double length = norm(record.damping);
       if (length > 0.0)
-        record.arm = ring_damping_[i] * (p.radius[bead_[ring.first_bead + i]] / length);
+        record.arm = record.damping * (p.radius[bead_[ring.first_bead + i]] / length);
     }
   }
 }

@@ -54,9 +54,8 @@ class RingMeshTerm final : public ForceTerm {
   std::vector<std::uint32_t> grain_;  ///< contact c: the grain's particle index (ring by ring)
   std::vector<char> touching_;        ///< contact c touched in the last compute()
   SlotRange slots_;                   ///< each ring's contacts' grain slots, then its beads'
-  // compute scratch: a ring's bead positions and velocities, one contact's loads on its beads
-  // and their sums over its contacts
-  std::vector<Vec3> position_, velocity_, bead_force_, bead_damping_, ring_force_, ring_damping_;
+  // compute scratch: a ring's bead positions and velocities
+  std::vector<Vec3> position_, velocity_;
 };
 
 }  // namespace ringdem

@@ -24,7 +24,20 @@ RingMesh::Plane RingMesh::plane(const Vec3* bead, std::size_t n) {
   pl.area = norm(area);
   pl.normal = pl.area > 0.0 ? area / pl.area : Vec3{};
   pl.reach = std::sqrt(reach2);
+  pl.radius = std::sqrt(pl.area / M_PI);
   return pl;
+}
+
+RingMesh::Motion RingMesh::motion(const Vec3* bead_position, const Vec3* bead_velocity,
+                                  std::size_t n) {
+  Motion m;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& before = bead_position[i == 0 ? n - 1 : i - 1];
+    const Vec3& after = bead_position[i + 1 == n ? 0 : i + 1];
+    m.velocity_sum += bead_velocity[i];
+    m.chord_moment += cross(before - after, bead_velocity[i]);
+  }
+  return m;
 }
 
 RingMesh::Band RingMesh::band(const Vec3* bead, std::size_t n, const Plane& plane, double move) {
@@ -44,8 +57,9 @@ RingMesh::Band RingMesh::band(const Vec3* bead, std::size_t n, const Plane& plan
   return b;
 }
 
-bool RingMesh::compute(const Params& params, const Plane& plane, const Input& in, Output& out,
-                       Vec3* bead_force, Vec3* bead_damping) {
+bool RingMesh::compute(const Params& params, const Plane& plane, const Motion& motion,
+                       const Input& in, Output& out, BeadLoads& bead_force,
+                       BeadLoads& bead_damping) {
   if (!(plane.area > 0.0)) return false;
   const Vec3& n = plane.normal;
   const Vec3 e = in.position - plane.centre;
@@ -54,25 +68,19 @@ bool RingMesh::compute(const Params& params, const Plane& plane, const Input& in
   if (overlap <= 0.0) return false;
   const Vec3 e_perp = e - n * d;
   const double rho = norm(e_perp);
-  const double a = std::sqrt(plane.area / M_PI);
+  const double a = plane.radius;
   const double width = std::min(in.radius, 0.5 * a);
   const double t = (a - rho) / width;
   if (t <= 0.0) return false;
   // The fade at the rim: s = S(t), S(t) = 3 t^2 - 2 t^3, and S'(t) (Eq. M1)
   const double weight = t >= 1.0 ? 1.0 : t * t * (3.0 - 2.0 * t);
   const double slope = t >= 1.0 ? 0.0 : 6.0 * t * (1.0 - t);
-  // Eq. M3: g_i = d(d)/d(p_i) = -n / N + 1/2 w x (p_(i-1) - p_(i+1)), w = e_perp / |A|; held
-  // in bead_force until the loads are known.
+  // Eq. M3: g_i = d(d)/d(p_i) = -n / N + 1/2 w x c_i, w = e_perp / |A|; with Eq. M6,
+  // d' = n . v + sum_i g_i . v_i = n . (v - V / N) + 1/2 w . K.
   const Vec3 w = e_perp / plane.area;
   const double inv_n = 1.0 / static_cast<double>(in.n);
-  Vec3* const gradient = bead_force;
-  double d_rate = dot(n, in.velocity);  // d' = n . v + sum_i g_i . v_i
-  for (std::size_t i = 0; i < in.n; ++i) {
-    const Vec3& before = in.bead_position[i == 0 ? in.n - 1 : i - 1];
-    const Vec3& after = in.bead_position[i + 1 == in.n ? 0 : i + 1];
-    gradient[i] = n * (-inv_n) + cross(w, before - after) * 0.5;
-    d_rate += dot(gradient[i], in.bead_velocity[i]);
-  }
+  const double d_rate =
+      dot(n, in.velocity - motion.velocity_sum * inv_n) + 0.5 * dot(w, motion.chord_moment);
   const double side = d >= 0.0 ? 1.0 : -1.0;
   const double overlap_rate = -side * d_rate;
   // Eq. M5: a spring and a dashpot along the gradient of delta, never pulling
@@ -81,29 +89,25 @@ bool RingMesh::compute(const Params& params, const Plane& plane, const Input& in
   const double elastic = k * weight * overlap;
   const double normal = std::max(0.0, elastic + viscous * weight * overlap_rate);
   const double damping = normal - elastic;
-  // Eq. M4: minus the gradient of E through s: L (d(rho) - d(a)) with L = k delta^2 S' / (2 w),
-  // d(rho)/dx = e_perp / rho, d(rho)/d(p_i) = -(e / N + d g_i) / rho,
-  // d(a)/d(p_i) = n x (p_(i-1) - p_(i+1)) / (4 pi a).
+  // Eq. M4: minus the gradient of E through s: L (d(rho) - d(a)) with L = k delta^2 S' / (2 w);
+  // L / rho is taken only in the fade, where rho > a - w > 0.
   const double fade = 0.5 * k * overlap * overlap * slope / width;
+  const double fade_per_rho = fade > 0.0 ? fade / rho : 0.0;
   out.overlap = overlap;
   out.weight = weight;
   out.elastic_energy = 0.5 * k * weight * overlap * overlap;
   out.outward = n * side;
   out.damping = n * (side * damping);
   out.force = n * (side * normal);
-  if (fade > 0.0) out.force += e_perp * (fade / rho);
-  for (std::size_t i = 0; i < in.n; ++i) {
-    const Vec3 g = gradient[i];
-    bead_damping[i] = g * (side * damping);
-    bead_force[i] = g * (side * normal);
-    if (fade > 0.0) {
-      const Vec3& before = in.bead_position[i == 0 ? in.n - 1 : i - 1];
-      const Vec3& after = in.bead_position[i + 1 == in.n ? 0 : i + 1];
-      const Vec3 rho_gradient = (e * inv_n + g * d) * (-1.0 / rho);
-      const Vec3 a_gradient = cross(n, before - after) * (1.0 / (4.0 * M_PI * a));
-      bead_force[i] += (rho_gradient - a_gradient) * fade;
-    }
-  }
+  if (fade > 0.0) out.force += e_perp * fade_per_rho;
+  // The beads' loads of Eq. M4 in the form of Eq. M6: f sigma g_i gives -f sigma n / N and
+  // 1/2 f sigma w x c_i; L d(rho)/d(p_i) gives -L (e_perp / N + 1/2 d w x c_i) / rho (its
+  // -n / N part cancels d n / N of e / N); L d(a)/d(p_i) gives n x c_i L / (4 pi a).
+  const double pushed = side * normal;
+  bead_force.uniform = (n * pushed + e_perp * fade_per_rho) * (-inv_n);
+  bead_force.turning = w * (0.5 * (pushed - fade_per_rho * d)) - n * (fade / (4.0 * M_PI * a));
+  bead_damping.uniform = n * (-side * damping * inv_n);
+  bead_damping.turning = w * (0.5 * side * damping);
   return true;
 }
 

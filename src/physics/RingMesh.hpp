@@ -28,10 +28,11 @@ struct RingMesh {
 
   /// The plane of a ring's beads (positions in order round the ring).
   struct Plane {
-    Vec3 centre;         ///< c: the beads' centroid
-    Vec3 normal;         ///< n = A / |A|
-    double area = 0.0;   ///< |A|
-    double reach = 0.0;  ///< max_i |q_i|: every bead lies within it of c
+    Vec3 centre;          ///< c: the beads' centroid
+    Vec3 normal;          ///< n = A / |A|
+    double area = 0.0;    ///< |A|
+    double radius = 0.0;  ///< a = sqrt(|A| / pi), the disc's (Eq. M1)
+    double reach = 0.0;   ///< max_i |q_i|: every bead lies within it of c
   };
   static Plane plane(const Vec3* bead, std::size_t n);
 
@@ -48,11 +49,37 @@ struct RingMesh {
   };
   static Band band(const Vec3* bead, std::size_t n, const Plane& plane, double move);
 
+  /// A load on each bead of a ring in the form that every bead load of Eq. M3-M4 takes:
+  /// F_i = uniform + turning x c_i, with c_i = p_(i-1) - p_(i+1) the chord across bead i.
+  /// A ring's loads from all its grains then sum as two vectors, spread over its beads once
+  /// (docs/physics.md "Secondary mesh", Eq. M6).
+  struct BeadLoads {
+    Vec3 uniform;
+    Vec3 turning;
+    BeadLoads& operator+=(const BeadLoads& o) {
+      uniform += o.uniform;
+      turning += o.turning;
+      return *this;
+    }
+    /// Bead i's load, for the ring's n beads in order.
+    Vec3 at(const Vec3* bead, std::size_t n, std::size_t i) const {
+      const Vec3& before = bead[i == 0 ? n - 1 : i - 1];
+      const Vec3& after = bead[i + 1 == n ? 0 : i + 1];
+      return uniform + cross(turning, before - after);
+    }
+  };
+
+  /// The sums over a ring's beads that a grain's overlap rate reads (Eq. M6): the beads'
+  /// velocity sum V = sum_i v_i and the chords' moment K = sum_i c_i x v_i.
+  struct Motion {
+    Vec3 velocity_sum;
+    Vec3 chord_moment;
+  };
+  static Motion motion(const Vec3* bead_position, const Vec3* bead_velocity, std::size_t n);
+
   struct Input {
-    const Vec3* bead_position = nullptr;
-    const Vec3* bead_velocity = nullptr;
-    std::size_t n = 0;
-    Vec3 position;  ///< the grain's centre
+    std::size_t n = 0;  ///< the ring's beads
+    Vec3 position;      ///< the grain's centre
     Vec3 velocity;
     double radius = 0.0;
     double m_star = 0.0;  ///< effective mass of Eq. M5: m_grain m_ring / (m_grain + m_ring)
@@ -65,11 +92,12 @@ struct RingMesh {
     Vec3 force;                   ///< the whole load on the grain
     Vec3 damping;                 ///< its viscous part, along n
   };
-  /// The mesh's loads on a grain from the ring's `plane`: false when they do not touch (the
-  /// outputs then untouched). Touching, writes each bead's whole load into `bead_force` and its
-  /// viscous part into `bead_damping` (n entries each).
-  static bool compute(const Params& params, const Plane& plane, const Input& in, Output& out,
-                      Vec3* bead_force, Vec3* bead_damping);
+  /// The mesh's loads on a grain from the ring's `plane` and `motion`: false when they do not
+  /// touch (the outputs then untouched). Touching, writes the beads' whole loads into
+  /// `bead_force` and their viscous part into `bead_damping`. Its cost does not grow with the
+  /// ring's beads (Eq. M6).
+  static bool compute(const Params& params, const Plane& plane, const Motion& motion,
+                      const Input& in, Output& out, BeadLoads& bead_force, BeadLoads& bead_damping);
 
   /// Stability limit sqrt(1 / (4 k (1 / m_grain + 3 / m_ring))): the normal frequency of one
   /// contact, omega^2 = k (1 / m_grain + sum_i |g_i|^2 / m_bead), with sum_i |g_i|^2 <= 3 / N

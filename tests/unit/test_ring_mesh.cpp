@@ -42,19 +42,21 @@ Loads mesh_loads(const RingMesh::Params& params, const std::vector<Vec3>& beads,
                  const std::vector<Vec3>& bead_velocity, const Vec3& x, const Vec3& v,
                  double radius, double m_star = 1.0) {
   RingMesh::Input in;
-  in.bead_position = beads.data();
-  in.bead_velocity = bead_velocity.data();
   in.n = beads.size();
   in.position = x;
   in.velocity = v;
   in.radius = radius;
   in.m_star = m_star;
   Loads l;
-  l.beads.resize(beads.size());
-  l.viscous.resize(beads.size());
-  l.touching = RingMesh::compute(params, RingMesh::plane(beads.data(), beads.size()), in, l.out,
-                                 l.beads.data(), l.viscous.data());
+  RingMesh::BeadLoads force, damping;
+  l.touching = RingMesh::compute(params, RingMesh::plane(beads.data(), beads.size()),
+                                 RingMesh::motion(beads.data(), bead_velocity.data(), beads.size()),
+                                 in, l.out, force, damping);
   l.grain = l.out.force;
+  for (std::size_t i = 0; i < beads.size(); ++i) {
+    l.beads.push_back(force.at(beads.data(), beads.size(), i));
+    l.viscous.push_back(damping.at(beads.data(), beads.size(), i));
+  }
   return l;
 }
 
