@@ -71,9 +71,11 @@ class DomainDecomposition {
   /// Refreshes the per-step ghost fields (field_flag::kGhostStep) from their owners.
   void update_ghosts(ParticleStore& p);
   /// Selects the ghosts of the owned particles k with `selected[k] != 0` for
-  /// update_ghost_subset(), until the ghost layer next changes (GhostSubset). Collective.
-  void select_ghost_subset(const ParticleStore& p, const std::vector<std::uint8_t>& selected) {
-    ghost_subset_.select(comm_, p, ghost_send_, ghost_recv_count_, selected);
+  /// update_ghost_subset(), until the ghost layer next changes, for the ranks that say
+  /// `reads_any` (GhostSubset). Collective.
+  void select_ghost_subset(const ParticleStore& p, const std::vector<std::uint8_t>& selected,
+                           bool reads_any = true) {
+    ghost_subset_.select(comm_, p, ghost_send_, ghost_recv_count_, selected, reads_any);
   }
   /// update_ghosts() of the selected ghosts alone. Collective.
   void update_ghost_subset(ParticleStore& p) { ghost_subset_.update(comm_, p); }

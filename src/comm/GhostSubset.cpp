@@ -8,7 +8,7 @@ namespace ringdem {
 void GhostSubset::select(const Communicator& comm, const ParticleStore& p,
                          const std::vector<std::vector<std::uint32_t>>& layer_send,
                          const std::vector<int>& layer_recv_count,
-                         const std::vector<std::uint8_t>& selected) {
+                         const std::vector<std::uint8_t>& selected, bool reads_any) {
   const auto n_ranks = static_cast<std::size_t>(comm.size());
   send_.assign(n_ranks, {});
   recv_.assign(n_ranks, {});
@@ -16,13 +16,15 @@ void GhostSubset::select(const Communicator& comm, const ParticleStore& p,
   n_local_ = p.n_local();
   n_ghost_ = p.n_ghost();
   if (n_ranks == 1) return;
+  const std::vector<std::uint8_t> reads =
+      comm.allgather(std::vector<std::uint8_t>{static_cast<std::uint8_t>(reads_any ? 1 : 0)});
   // A byte per ghost sent: each receiver learns which of the ghosts it holds are selected
   // (their sizes are the layer's, known at both ends).
   std::vector<std::vector<char>> flags(n_ranks);
   for (std::size_t r = 0; r < n_ranks; ++r) {
     flags[r].reserve(layer_send[r].size());
     for (const std::uint32_t k : layer_send[r]) {
-      const bool chosen = k >= selected.size() || selected[k] != 0;
+      const bool chosen = reads[r] != 0 && (k >= selected.size() || selected[k] != 0);
       flags[r].push_back(chosen ? 1 : 0);
       if (chosen) send_[r].push_back(k);
     }

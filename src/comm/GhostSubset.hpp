@@ -18,10 +18,14 @@ class GhostSubset {
   /// From the layer's send lists (per rank, owned indices in the order sent) and receive counts
   /// (per rank; the ghosts from a rank lie together after the owned particles, ranks in order,
   /// each in the order sent): selects the ghosts of the owned particles k with
-  /// `selected[k] != 0` (an index beyond `selected` counts as selected). Collective.
+  /// `selected[k] != 0` (an index beyond `selected` counts as selected), for the ranks that
+  /// say `reads_any`. A rank that reads none of its ghosts between two refreshes of the whole
+  /// layer (multi-rate stepping: one without movers) is sent none: a net's beads held as far
+  /// ghosts by the rank of the grains alone had gone to it at every sub-step. Collective.
   void select(const Communicator& comm, const ParticleStore& p,
               const std::vector<std::vector<std::uint32_t>>& layer_send,
-              const std::vector<int>& layer_recv_count, const std::vector<std::uint8_t>& selected);
+              const std::vector<int>& layer_recv_count, const std::vector<std::uint8_t>& selected,
+              bool reads_any);
   /// The layer changed (a new ghost layer): nothing is selected until the next select().
   void clear() { current_ = false; }
   /// Refreshes the per-step ghost fields (field_flag::kGhostStep) of the selected ghosts from

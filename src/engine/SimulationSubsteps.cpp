@@ -66,8 +66,10 @@ void Simulation::compute_initial_substep_forces() {
 void Simulation::classify_movers() {
   movers_.classify(model_.particles, gather_, terms_, model_.point_loads);
   // A ghost that a fast interaction reads is one of a particle that the interaction loads, on
-  // its owner too: the owners' flags select every ghost the sub-steps read.
-  decomposition_.select_ghost_subset(model_.particles, movers_.read_by_fast());
+  // its owner too: the owners' flags select every ghost the sub-steps read. Every interaction
+  // a rank computes loads a particle it owns, a mover then: a rank without movers reads none.
+  decomposition_.select_ghost_subset(model_.particles, movers_.read_by_fast(),
+                                     movers_.n_movers() > 0);
 }
 
 void Simulation::note_net_contacts() {

@@ -178,6 +178,42 @@ TEST_F(Decomposition, AGhostSubsetRefreshesTheSelectedGhostsAlone) {
   EXPECT_THROW(d.update_ghost_subset(p), std::logic_error);
 }
 
+// A rank that reads no ghost between two refreshes of the whole layer (multi-rate stepping:
+// one without movers) is sent none: here the first rank says so, and it keeps every ghost
+// poisoned while the others receive their selected ones, rank-encoded.
+TEST_F(Decomposition, AGhostSubsetSkipsTheRanksThatReadNone) {
+  const Communicator c(comm_);
+  ParticleStore p;
+  BondStore bonds;
+  DomainDecomposition d(c, kBlock, 0.1);
+  const auto owner = distribute_lattice(c, p, bonds, d);
+  std::vector<std::uint8_t> selected(p.n_local());
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    selected[k] = p.gid[k] % 3 == 0 ? 1 : 0;
+  const bool reads = c.rank() != 0;
+  d.select_ghost_subset(p, selected, reads);
+  encode_owned_and_poison_ghosts(c, p);
+  d.update_ghost_subset(p);
+  std::int64_t refreshed = 0;
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k) {
+    if (reads && p.gid[k] % 3 == 0) {
+      expect_encoded_ghost(p, k, owner);
+      ++refreshed;
+    } else {
+      EXPECT_EQ(p.velocity[k], (Vec3{-1, -1, -1})) << "ghost gid " << p.gid[k];
+    }
+  }
+  EXPECT_EQ(static_cast<std::size_t>(refreshed), d.ghost_subset().n_received());
+  EXPECT_EQ(c.sum(static_cast<std::int64_t>(d.ghost_subset().n_sent())), c.sum(refreshed));
+  if (c.size() > 1) {
+    EXPECT_GT(c.sum(refreshed), 0);  // the other ranks' ghosts of the first rank's
+    if (c.rank() == 0) {
+      EXPECT_GT(p.n_ghost(), 0u);  // it has ghosts, and none was refreshed
+      EXPECT_EQ(d.ghost_subset().n_received(), 0u);
+    }
+  }
+}
+
 /// The share of the bonds (counted by their first end's owner) that the rank holding the
 /// most holds, after distributing make_lattice()'s bonded 12 x 12 x 2 lattice beside a block
 /// of 3 200 unbonded particles (20 x 20 x 8, 6 mm apart, from x = 0.1 m on), with each bond
