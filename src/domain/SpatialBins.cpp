@@ -1,5 +1,6 @@
 #include "domain/SpatialBins.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -18,14 +19,36 @@ std::uint32_t wrapped_index(double c, double width, unsigned bits) {
 }
 }  // namespace
 
-std::uint32_t SpatialBins::bin_of(const Vec3& x, double width) {
-  return kBinned | wrapped_index(x.z, width, 10) << 21 | wrapped_index(x.y, width, 10) << 11 |
-         wrapped_index(x.x, width, 11);
+std::uint32_t SpatialBins::bin_of(const Vec3& x, const Order& order) {
+  const double c[3] = {x.x, x.y, x.z};
+  // The other two axes in x, y, z order: the first of them fastest.
+  const int fastest = order.slowest == kX ? kY : kX;
+  const int middle = order.slowest == kZ ? kY : kZ;
+  return kBinned | wrapped_index(c[order.slowest], order.width, 10) << 21 |
+         wrapped_index(c[middle], order.width, 10) << 11 |
+         wrapped_index(c[fastest], order.width, 11);
 }
 
-void SpatialBins::assign(ParticleStore& p, double width) {
+SpatialBins::Axis SpatialBins::slowest_axis(const Vec3& extent) {
+  if (extent.z >= extent.x && extent.z >= extent.y) return kZ;
+  return extent.y >= extent.x ? kY : kX;
+}
+
+void SpatialBins::assign(ParticleStore& p, const Order& order) {
   for (std::size_t k = 0; k < p.n_local(); ++k)
-    p.sort_bin[k] = p.body[k] < 0 ? bin_of(p.position[k], width) : 0;
+    p.sort_bin[k] = p.body[k] < 0 ? bin_of(p.position[k], order) : 0;
+}
+
+std::pair<Vec3, Vec3> SpatialBins::binned_box(const ParticleStore& p) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    if (p.body[k] >= 0) continue;
+    const Vec3& x = p.position[k];
+    lo = {std::min(lo.x, x.x), std::min(lo.y, x.y), std::min(lo.z, x.z)};
+    hi = {std::max(hi.x, x.x), std::max(hi.y, x.y), std::max(hi.z, x.z)};
+  }
+  return {lo, hi};
 }
 
 double SpatialBins::smallest_binned_radius(const ParticleStore& p) {

@@ -120,7 +120,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   // The lists of the initial evaluation are built with the grains already sorted by space (the
   // re-sort of step 0), as LAMMPS sorts at set-up: built in gid order and re-sorted at the first
   // step, every fresh run paid a second full rebuild (docs/performance.md, twenty-ninth round).
-  rebuild(settings_.sort_every > 0 ? sort_width() : 0.0);
+  rebuild(settings_.sort_every > 0 ? sort_order() : SpatialBins::Order{});
   if (settings_.substeps > 1) {
     compute_initial_substep_forces();
     return;
@@ -316,18 +316,25 @@ std::vector<PairStore> Simulation::pair_stores() const {
   return stores;
 }
 
-double Simulation::sort_width_due() {
-  if (settings_.sort_every <= 0 || steps_ == 0 || steps_ % settings_.sort_every != 0) return 0.0;
-  return sort_width();
+SpatialBins::Order Simulation::sort_order_due() {
+  if (settings_.sort_every <= 0 || steps_ == 0 || steps_ % settings_.sort_every != 0) return {};
+  return sort_order();
 }
 
-double Simulation::sort_width() {
-  const double r_min = comm_.min(SpatialBins::smallest_binned_radius(model_.particles));
-  return std::isfinite(r_min) ? 2.0 * r_min : 0.0;
+SpatialBins::Order Simulation::sort_order() {
+  const ParticleStore& p = model_.particles;
+  const auto [lo, hi] = SpatialBins::binned_box(p);
+  // Minima as maxima of the negatives: the radius and the box in one reduction.
+  const auto m = comm_.max(std::array<double, 7>{-SpatialBins::smallest_binned_radius(p), -lo.x,
+                                                 -lo.y, -lo.z, hi.x, hi.y, hi.z});
+  const double r_min = -m[0];
+  if (!std::isfinite(r_min)) return {};
+  const Vec3 extent{m[4] + m[1], m[5] + m[2], m[6] + m[3]};
+  return {2.0 * r_min, SpatialBins::slowest_axis(extent)};
 }
 
-void Simulation::rebuild(double sort_width) {
-  build_lists(sort_width);
+void Simulation::rebuild(const SpatialBins::Order& sort) {
+  build_lists(sort);
   move_bound_ = 0.0;
   move_bound_at_outflow_note_ = 0.0;
   body_position_at_rebuild_.clear();
@@ -348,7 +355,7 @@ std::size_t Simulation::n_contact_candidates() const {
   return 0;
 }
 
-void Simulation::build_lists(double sort_width) {
+void Simulation::build_lists(const SpatialBins::Order& sort) {
   ParticleStore& p = model_.particles;
   // Only touching contacts carry a spring across the rebuild; migration moves those rows with
   // their particles, and each term's rebuild() reads its own store back by key.
@@ -358,7 +365,7 @@ void Simulation::build_lists(double sort_width) {
     t->pack_springs(p);
   // Before the migration, which stores the owned particles in the new keys' order and sends
   // the ghosts theirs.
-  if (sort_width > 0.0) SpatialBins::assign(p, sort_width);
+  if (sort.width > 0.0) SpatialBins::assign(p, sort);
   decomposition_.redistribute(p, pair_stores());
   // Each term takes its slots and registers them with the gather map, in term order; bonded
   // terms first, so the contact terms see their exclusions.
@@ -522,10 +529,10 @@ void Simulation::evaluate_step() {
   // A re-sort comes at fixed step numbers, at a rebuild of its own: the forces do not depend on
   // when the lists are rebuilt, and a restart, whose lists are built afresh, re-sorts at the
   // same steps as the run never interrupted.
-  const double sort_width = sort_width_due();
-  if (rebuild_now || sort_width > 0.0) {
+  const SpatialBins::Order sort = sort_order_due();
+  if (rebuild_now || sort.width > 0.0) {
     PhaseTimer t(phase_seconds_[kNeighbour]);
-    rebuild(sort_width);
+    rebuild(sort);
   }
   compute_forces(/*loads_started=*/true);
   book_momentum(/*initial=*/false);

@@ -9,6 +9,7 @@
 #include "comm/Communicator.hpp"
 #include "comm/DomainDecomposition.hpp"
 #include "comm/ExactSumReducer.hpp"
+#include "domain/SpatialBins.hpp"
 #include "engine/BodyContactTerm.hpp"
 #include "engine/BondTerm.hpp"
 #include "engine/EnergyGuard.hpp"
@@ -279,22 +280,24 @@ class Simulation {
   void init_limits();
   /// A neighbour-list rebuild of the trajectory: lists from the current positions, which
   /// become the reference of the skin criterion.
-  /// `sort_width` > 0: a re-sort, each grain binned in cubes of that edge first.
-  void rebuild(double sort_width = 0.0);
+  /// `sort` with a width > 0: a re-sort, each grain binned in its order first.
+  void rebuild(const SpatialBins::Order& sort = {});
   /// Migration, lists, slots and gather map from the current positions and the terms'
-  /// spring stores; `sort_width` as rebuild()'s.
-  void build_lists(double sort_width = 0.0);
+  /// spring stores; `sort` as rebuild()'s.
+  void build_lists(const SpatialBins::Order& sort = {});
   /// Flags the owned particles that are ends of intact bonds (after the terms' rebuild).
   void flag_turning_particles();
   /// Which particles the drift turns: none without orientations, else the flagged ones.
   Integrator::Turning turning() const;
-  /// The width of a re-sort: twice the smallest radius of the grains it bins, over the ranks
-  /// (collective), or 0 where there is nothing to bin.
-  double sort_width();
-  /// sort_width() where a re-sort is due at this step's evaluation, else 0: at every positive
-  /// multiple of sort_every, the same step numbers on every rank and after a restart. Step 0's
-  /// comes at set-up, before the initial evaluation (see the constructor).
-  double sort_width_due();
+  /// The bins of a re-sort (collective, one reduction): twice the smallest radius of the grains
+  /// it bins wide, numbered slowest along the axis they reach farthest along
+  /// (SpatialBins::slowest_axis), all over the ranks; a width of 0 where there is nothing to
+  /// bin.
+  SpatialBins::Order sort_order();
+  /// sort_order() where a re-sort is due at this step's evaluation, else a width of 0: at every
+  /// positive multiple of sort_every, the same step numbers on every rank and after a restart. Step
+  /// 0's comes at set-up, before the initial evaluation (see the constructor).
+  SpatialBins::Order sort_order_due();
   /// Every term's pair store (bonds, contact springs), in term order: what migration moves.
   std::vector<PairStore> pair_stores() const;
   /// One force evaluation of the interactions of `rate`, over a step of `dt`. `loads_started`:

@@ -143,11 +143,11 @@ void Simulation::substepped_step(const BodyObserver& observe_bodies) {
       }
     }
     // A re-sort comes at the step numbers of grain steps, at their first sub-step.
-    const double sort_width = k == 0 ? sort_width_due() : 0.0;
-    if (rebuild_now || sort_width > 0.0) {
+    const SpatialBins::Order sort = k == 0 ? sort_order_due() : SpatialBins::Order{};
+    if (rebuild_now || sort.width > 0.0) {
       PhaseTimer t(phase_seconds_[kNeighbour]);
       movers_.catch_up(p, h);  // the search reads every position
-      rebuild(sort_width);
+      rebuild(sort);
       classify_movers();
     }
     compute_forces(/*loads_started=*/true, ForceRate::kFast, h);

@@ -4,6 +4,7 @@
 // matches a run that never re-sorts (gid order) to round-off, not bit for bit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "TestCases.hpp"
@@ -29,12 +30,28 @@ double smallest_radius(const ParticleStore& p) {
   return r_min;
 }
 
-/// Each owned grain holds the bin of its present position (cubes of twice the smallest radius),
-/// the grains are stored in key order, and that order is not the gid order.
-void expect_stored_by_bins(const ParticleStore& p, double r_min) {
+/// Each owned grain holds the bin of its present position (cubes of twice the smallest radius,
+/// numbered slowest along the longest side of the grains' box, here `slowest`), the grains are
+/// stored in key order, and that order is not the gid order.
+void expect_stored_by_bins(const ParticleStore& p, double r_min, SpatialBins::Axis slowest) {
+  Vec3 lo = p.position[0], hi = p.position[0];
+  for (std::size_t k = 0; k < p.n_local(); ++k) {
+    lo = {std::min(lo.x, p.position[k].x), std::min(lo.y, p.position[k].y),
+          std::min(lo.z, p.position[k].z)};
+    hi = {std::max(hi.x, p.position[k].x), std::max(hi.y, p.position[k].y),
+          std::max(hi.z, p.position[k].z)};
+  }
+  const Vec3 side = hi - lo;
+  const double sides[3] = {side.x, side.y, side.z};
+  for (int a = 0; a < 3; ++a) {
+    if (a != slowest) {
+      ASSERT_GT(sides[slowest], sides[a]) << "axis " << a;
+    }
+  }
+  const SpatialBins::Order order{2.0 * r_min, slowest};
   std::size_t out_of_gid_order = 0;
   for (std::size_t k = 0; k < p.n_local(); ++k) {
-    ASSERT_EQ(p.sort_bin[k], SpatialBins::bin_of(p.position[k], 2.0 * r_min)) << "grain " << k;
+    ASSERT_EQ(p.sort_bin[k], SpatialBins::bin_of(p.position[k], order)) << "grain " << k;
     if (k == 0) continue;
     ASSERT_TRUE(p.sorts_before(k - 1, k)) << "stored out of key order at " << k;
     out_of_gid_order += p.gid[k - 1] > p.gid[k];
@@ -43,7 +60,12 @@ void expect_stored_by_bins(const ParticleStore& p, double r_min) {
 }
 
 TEST(GrainResort, StoresGrainsByTheirBinsAndMovesThemAsGidOrderDoesToRoundOff) {
-  const CaseConfig c = testing::colliding_clouds();
+  // The clouds 0.14 m deep along y, longer than the 0.1 m of both along x: the bins go slowest
+  // along y. (Slowest along x, the clouds' own length, the bins ordered each grain's partners
+  // as the gids do, and the two runs were the same bits: no test of the other order.)
+  CaseConfig c = testing::colliding_clouds();
+  for (auto& cloud : c.grains)
+    cloud.box_max.y = 0.14;
   const Communicator comm = testing::self_comm();
   Simulation sorted = make_simulation(c, comm, 100);
   Simulation by_gid = make_simulation(c, comm, 0);
@@ -59,7 +81,7 @@ TEST(GrainResort, StoresGrainsByTheirBinsAndMovesThemAsGidOrderDoesToRoundOff) {
   ASSERT_EQ(p.n_local(), q.n_local());
   ASSERT_GT(p.n_local(), 200u);
   const double r_min = smallest_radius(p);
-  ASSERT_NO_FATAL_FAILURE(expect_stored_by_bins(p, r_min));
+  ASSERT_NO_FATAL_FAILURE(expect_stored_by_bins(p, r_min, SpatialBins::kY));
   for (std::size_t k = 0; k < q.n_local(); ++k) {
     ASSERT_EQ(q.sort_bin[k], 0u);
     if (k > 0) {
@@ -89,7 +111,8 @@ TEST(GrainResort, AFreshRunIsSortedAtSetUpAndItsFirstStepDoesNotRebuild) {
   Simulation sim = make_simulation(c, comm, 100);
   const ParticleStore& p = sim.model().particles;
   ASSERT_GT(p.n_local(), 200u);
-  ASSERT_NO_FATAL_FAILURE(expect_stored_by_bins(p, smallest_radius(p)));
+  // The clouds lie side by side along x: 0.1 m there against 0.06 m along y and 0.03 m along z.
+  ASSERT_NO_FATAL_FAILURE(expect_stored_by_bins(p, smallest_radius(p), SpatialBins::kX));
   // One rebuild at set-up; the clouds' grains move far less than the skin in 10 steps of 1 us
   // (their speed times 1e-5 s against a skin of 0.5 mm), so nothing rebuilds the lists until
   // the re-sort at step 100.

@@ -64,7 +64,7 @@ ParticleStore random_cloud(int n, double box, double r_min, double r_max, unsign
     np.density = 1000.0;
     p.add(np);
   }
-  if (bin_width > 0.0) SpatialBins::assign(p, bin_width);
+  if (bin_width > 0.0) SpatialBins::assign(p, {bin_width});
   p.rebuild_index();
   return p;
 }
@@ -205,7 +205,7 @@ TEST(NeighbourSearch, HashedRowsOfManyCellsEqualBruteForce) {
         p.add(np);
       }
     }
-  SpatialBins::assign(p, 0.01);
+  SpatialBins::assign(p, {0.01});
   p.rebuild_index();
   NeighbourSearch search;
   search.set_dense_cell_floor(0);

@@ -46,7 +46,7 @@ ParticleStore dense_cloud(int n, int n_ghost, unsigned seed, double bin_width = 
     np.density = 2600.0;
     p.add(np);
   }
-  if (bin_width > 0.0) SpatialBins::assign(p, bin_width);
+  if (bin_width > 0.0) SpatialBins::assign(p, {bin_width});
   // Ghosts: the last particles become ghosts, every field copied back (as the comm layer would).
   ParticleStore all = p;
   p.resize_local(static_cast<std::size_t>(n - n_ghost));
@@ -265,7 +265,7 @@ TEST(PairContactTerm, RebuildAfterAReSortGivesEveryPairItsCarriedSpring) {
     // The re-sort: bins of 6 mm on every particle (the ghosts' come from their owners), the
     // owned ones stored in key order.
     for (std::size_t k = 0; k < p.n_total(); ++k)
-      p.sort_bin[k] = SpatialBins::bin_of(p.position[k], 0.006);
+      p.sort_bin[k] = SpatialBins::bin_of(p.position[k], {0.006});
     std::vector<std::size_t> order(p.n_local());
     for (std::size_t k = 0; k < order.size(); ++k)
       order[k] = k;
