@@ -75,7 +75,8 @@ const Table<SimulationConfig>& simulation_table() {
               "Steps between re-sorts of the grains (particles of no ring or clump) "
               "by space: at set-up and at every multiple the neighbour lists are built with the "
               "grains stored and their contacts summed in the order of bins of twice "
-              "the smallest grain radius, so that a flow whose grains have mixed keeps "
+              "the smallest grain radius (numbered slowest along the grains' longest "
+              "extent: docs/architecture.md), so that a flow whose grains have mixed keeps "
               "its neighbours near in memory. The results are the same bits on any "
               "rank count and change at round-off with this value; 0: never (gid "
               "order)"),
