@@ -1,6 +1,7 @@
 #include "domain/NeighbourSearch.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -57,12 +58,23 @@ void NeighbourSearch::build(const ParticleStore& p, double skin, const PairExclu
     level.members.clear();
     level.r_max = 0.0;
   }
+  // Each level's members counted first and reserved: pushed one by one, a level's list grew
+  // by doubling to up to twice its members, 4 bytes a grain of a 10^6-grain bed's peak, which
+  // a rebuild reaches while the keyed springs are held (docs/performance.md, forty-fifth round).
+  std::vector<std::uint8_t> level_of(n);
+  std::array<std::size_t, kMaxLevels> members{};
   for (std::uint32_t k = 0; k < n; ++k) {
     const auto l =
         std::min(kMaxLevels - 1, static_cast<std::size_t>(std::log2(p.radius[k] / r_min)));
-    levels_[l].members.push_back(k);
+    level_of[k] = static_cast<std::uint8_t>(l);
+    ++members[l];
     levels_[l].r_max = std::max(levels_[l].r_max, p.radius[k]);
   }
+  for (std::size_t l = 0; l < kMaxLevels; ++l)
+    levels_[l].members.reserve(members[l]);
+  for (std::uint32_t k = 0; k < n; ++k)
+    levels_[level_of[k]].members.push_back(k);
+  std::vector<std::uint8_t>().swap(level_of);
   active_.clear();
   for (std::size_t l = 0; l < kMaxLevels; ++l)
     if (!levels_[l].members.empty()) {

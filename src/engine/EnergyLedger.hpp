@@ -150,6 +150,9 @@ class EnergyLedger {
   /// After GatherMap::finish(): one record per ledger slot, stored in the order accumulate()
   /// reads them (one contiguous stream), plus a scratch record for the other slots.
   void rebuild(const GatherMap& gather, std::size_t n_slots);
+  /// Records kept since the last rebuild(): the ledger slots' and the scratch one; none while
+  /// off.
+  std::size_t n_records() const { return records_.size(); }
 
   /// The record of a slot for the term to fill (the scratch record when no owned particle
   /// books it, e.g. the ghost end of a pair).

@@ -195,6 +195,8 @@ class Simulation {
   std::size_t n_substep_movers() const { return movers_.n_movers(); }
   /// The energy ledger's bookkeeping (tests set its choices; energies() reports it).
   EnergyLedger& energy_ledger() { return ledger_; }
+  /// The ledger of the fast interactions (multi-rate stepping); off in a single-rate run.
+  const EnergyLedger& fast_energy_ledger() const { return fast_ledger_; }
   /// Contact candidates of the particle-pair term at the last rebuild (this rank).
   std::size_t n_contact_candidates() const;
   /// Particle–rigid-body contact candidates at the last rebuild (this rank).

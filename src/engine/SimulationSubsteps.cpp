@@ -12,6 +12,10 @@
 namespace ringdem {
 
 void Simulation::set_up_substeps() {
+  // One rate books everything in ledger_: the fast ledger keeps no records (a record per
+  // ledger slot, 5.5 bytes a grain of a 10^6-grain bed on its floor: docs/performance.md,
+  // forty-fifth round).
+  fast_ledger_.set_enabled(settings_.substeps > 1 && settings_.energy_ledger);
   if (settings_.substeps <= 1) return;
   const auto refuse = [](const std::string& why) {
     throw std::runtime_error("simulation.substeps > 1: " + why);
@@ -35,7 +39,6 @@ void Simulation::set_up_substeps() {
   gather_.set_split_by_rate(true);
   // A ledger per rate, each booked with its own step; the fast one books the held particles'
   // drivers and the point loads, whose loads are all fast.
-  fast_ledger_.set_enabled(settings_.energy_ledger);
   fast_ledger_.set_rate(ForceRate::kFast);
   ledger_.set_rate(ForceRate::kSlow);
   fast_momentum_ = MomentumLedger(model_.bodies.size(), settings_.momentum_ledger);

@@ -47,5 +47,38 @@ TEST(GidIndex, AgreesWithUnorderedMap) {
             reference.count(gids[500]) && reference[gids[500]] < 1000 ? reference[gids[500]] : -1);
 }
 
+// The table's size: the fewest power-of-two slots that hold the entries at most three quarters
+// full, whether sized up front (reset) or grown insert by insert; 10^6 grains take 2^21 slots
+// (8 MiB), not the 2^22 of a table at most half full (docs/performance.md, forty-fifth round).
+TEST(GidIndex, HoldsItsEntriesAtMostThreeQuartersFull) {
+  for (const std::size_t n : {std::size_t{1}, std::size_t{23}, std::size_t{24}, std::size_t{25},
+                              std::size_t{1000}, std::size_t{1064800}}) {
+    std::vector<std::int64_t> gids(n);
+    for (std::size_t k = 0; k < n; ++k)
+      gids[k] = static_cast<std::int64_t>(3 * k + 11);
+    // The smallest power of two of at least 32 slots (two cache lines) with 4 n <= 3 slots.
+    std::size_t expected = 32;
+    while (4 * n > 3 * expected)
+      expected *= 2;
+    GidIndex sized, grown;
+    sized.reset(n);
+    grown.reset(0);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      sized.set(i, gids.data(), n);
+      grown.set(i, gids.data(), n);
+    }
+    EXPECT_EQ(sized.capacity(), expected) << n << " entries, sized up front";
+    EXPECT_EQ(grown.capacity(), expected) << n << " entries, grown";
+    ASSERT_EQ(grown.size(), n);
+    for (std::size_t k = 0; k < n; k += 1 + n / 97)
+      EXPECT_EQ(grown.find(gids[k], gids.data(), n), static_cast<std::int64_t>(k));
+  }
+  EXPECT_EQ(std::size_t{1} << 21, [] {
+    GidIndex index;
+    index.reset(1064800);
+    return index.capacity();
+  }());
+}
+
 }  // namespace
 }  // namespace ringdem

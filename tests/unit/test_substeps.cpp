@@ -144,6 +144,32 @@ std::vector<std::int64_t> grains_touching_the_net(const ParticleStore& p) {
   return out;
 }
 
+// A single-rate run books every interaction in its one ledger: the fast ledger keeps no
+// records there (they were a second copy of the ledger slots' records, 5.5 bytes a grain of a
+// 10^6-grain bed on its floor). Sub-stepped, each ledger keeps the records of its own rate.
+TEST(Substeps, OnlyASubsteppedRunKeepsAFastLedger) {
+  const Communicator self = testing::self_comm();
+  for (const int substeps : {1, 4}) {
+    const CaseConfig c = grains_pinched_between_a_net_and_a_bed(substeps);
+    Simulation sim(build_scenario_model(c, self), self, settings_from_case(c));
+    // Until some bed contact is fast (a grain pinched between the net and the bed, or a bead
+    // near the bed): the fast ledger then has a slot to record.
+    sim.run_steps(16);
+    while (substeps > 1 && sim.n_fast_body_contact_candidates() == 0 && sim.time() < 0.4)
+      sim.run_steps(16);
+    // Records: one per ledger slot (the grains' contacts with the bed), and a scratch one.
+    EXPECT_GT(sim.energy_ledger().n_records(), 1u) << substeps << " sub-steps";
+    if (substeps == 1) {
+      EXPECT_FALSE(sim.fast_energy_ledger().enabled());
+      EXPECT_EQ(sim.fast_energy_ledger().n_records(), 0u);
+    } else {
+      ASSERT_GT(sim.n_fast_body_contact_candidates(), 0u) << "no fast bed contact by 0.4 s";
+      EXPECT_TRUE(sim.fast_energy_ledger().enabled());
+      EXPECT_GT(sim.fast_energy_ledger().n_records(), 1u);
+    }
+  }
+}
+
 // A grain that touches the net takes all its contacts, with the bed and with other grains, at
 // the net's rate from the check at the end of every 16th grain step (Simulation::
 // note_net_contacts): pinched between a ring and the bed, its bed contact at the grains' step
