@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/Vec3.hpp"
+#include "domain/ContactLedgerState.hpp"
 #include "domain/ParticleStore.hpp"
 
 namespace ringdem {
@@ -28,6 +29,11 @@ class ContactSpringStore {
   std::vector<std::int64_t> gid;      ///< the particle
   std::vector<std::int64_t> partner;  ///< the other particle's gid, or the rigid body's number
   std::vector<Vec3> spring;           ///< tangential spring (physics.md §3), zero when released
+  /// Particle pairs only, where carries_ledger() (a field of their registry then; otherwise
+  /// empty): what the energy ledger carries to the next step where it books each pair's work
+  /// in the pair loop (ContactLedgerState: the viscous force on the particle `gid`, the normal,
+  /// the overlap); zero where it does not.
+  std::vector<ContactLedgerState> ledger;
 
   /// The field registry: calls f(FieldInfo, std::vector<T>&) for every field.
   template <class F>
@@ -40,6 +46,18 @@ class ContactSpringStore {
   }
 
   Partner partner_kind() const { return partner_; }
+  /// Whether the rows have the `ledger` field. A rebuild at the middle of a step books what the
+  /// contacts carried (PairContactTerm::book_carried_work()), and its rows go without: at 10^6
+  /// grains in contact that field was 81 bytes a grain at the rebuild, the run's peak. Every
+  /// rank must agree (migration packs the fields of the registry). Setting false drops it.
+  bool carries_ledger() const { return partner_is_particle() && carries_ledger_; }
+  void set_carries_ledger(bool carries) {
+    carries_ledger_ = carries;
+    if (carries)
+      ledger.resize(gid.size());
+    else
+      std::vector<ContactLedgerState>().swap(ledger);
+  }
   bool partner_is_particle() const { return partner_ == Partner::kParticle; }
   std::size_t size() const { return gid.size(); }
   void resize(std::size_t n) {
@@ -48,10 +66,12 @@ class ContactSpringStore {
   void reserve(std::size_t n) {
     for_each_field([n](const FieldInfo&, auto& v) { v.reserve(n); });
   }
-  void append(std::int64_t gid_value, std::int64_t partner_value, const Vec3& spring_value) {
+  void append(std::int64_t gid_value, std::int64_t partner_value, const Vec3& spring_value,
+              const ContactLedgerState& ledger_value = {}) {
     gid.push_back(gid_value);
     partner.push_back(partner_value);
     spring.push_back(spring_value);
+    if (carries_ledger()) ledger.push_back(ledger_value);
   }
   /// The particle gids row k joins (the pair-store protocol, domain/PairStore.hpp): a rigid
   /// body is no particle (-1).
@@ -65,8 +85,8 @@ class ContactSpringStore {
   void settle_arrivals(std::size_t /*first*/) {}
   /// Keeps the rows k with keep[k] != 0, in order.
   void keep_rows(const std::vector<char>& keep);
-  /// Keeps the rows whose spring is not zero (touching contacts), in order: what a rebuild
-  /// carries.
+  /// Keeps the rows whose spring or ledger state is not zero (touching contacts; a head-on
+  /// contact has no spring), in order: what a rebuild carries.
   void drop_released();
   /// Takes the rows of `other` (a store of the same partner kind read from a checkpoint).
   void assign_rows(const ContactSpringStore& other);
@@ -79,9 +99,12 @@ class ContactSpringStore {
     f(FieldInfo{"gid", kState}, s.gid);
     f(FieldInfo{"partner", kState}, s.partner);
     f(FieldInfo{"spring", kState}, s.spring);
+    // A checkpoint of format 15 or older has none: its contacts carry nothing to the ledger.
+    if (s.carries_ledger()) f(FieldInfo{"ledger", kState | kZeroIfAbsent}, s.ledger);
   }
 
   Partner partner_;
+  bool carries_ledger_ = true;
 };
 
 }  // namespace ringdem

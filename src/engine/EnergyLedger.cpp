@@ -25,8 +25,20 @@ void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
     record_of_slot_[ledger_slots[e]] = static_cast<std::uint32_t>(e);
 }
 
-void EnergyLedger::begin_step(std::size_t n_local) {
+void EnergyLedger::begin_step(std::size_t n_local, EvaluationBooking booking) {
   if (!enabled_) return;
+  booking_ = std::move(booking);
+  if (books_pairs_per_contact()) {
+    // No per-particle sums: the pair loop books each contact (add_half_work()).
+    contact_held_booked_ = booking_.held;
+    if (own_entries_ || !moments_.empty() || !entry_of_.empty()) {
+      release_moments();
+      std::vector<std::uint32_t>().swap(entry_of_);
+      std::vector<std::uint32_t>().swap(touched_list_);
+      own_entries_ = false;
+    }
+    return;
+  }
   clear_moments();
   const bool direct = entry_choice_.value_or(8 * touched_last_ > 7 * n_local);
   if (direct) {
@@ -47,6 +59,35 @@ void EnergyLedger::begin_step(std::size_t n_local) {
   }
   own_entries_ = direct;
   own_entries_zeroed_ = false;  // the evaluation adds to them
+}
+
+void EnergyLedger::flush_contact_work(ContactWork& work) {
+  for (int t : {kDamping, kFriction}) {
+    const std::int64_t quanta = work.quanta[t];
+    if (quanta == 0) continue;
+    // Two parts that doubles hold exactly (31 and 32 bits), scaled by powers of two: exact.
+    const std::int64_t high = quanta >> 32;  // rounds towards -inf: low is in [0, 2^32)
+    const std::int64_t low = quanta - high * (std::int64_t{1} << 32);
+    contact_intervals_[t].add(std::ldexp(static_cast<double>(high), 32) * kWorkQuantum);
+    contact_intervals_[t].add(static_cast<double>(low) * kWorkQuantum);
+    contact_booked_ = true;
+  }
+  work = ContactWork{};
+}
+
+void EnergyLedger::add_contact_energies(std::uint32_t k, double half_tangential,
+                                        double half_elastic) {
+  contact_energies_booked_ = true;
+  // As the per-particle pass books them (accumulate_below()), each contact's halves apart.
+  if (booking_.initial) contact_initial_tangential_.add(half_tangential);
+  if (booking_.held) {
+    contact_held_[kTangentialHeld].add(half_tangential);
+    contact_held_[kContactHeld].add(half_elastic);
+  }
+  if (booking_.leaving && booking_.leaving(k)) {
+    contact_held_leaving_[kTangentialHeld].add(half_tangential);
+    contact_held_leaving_[kContactHeld].add(half_elastic);
+  }
 }
 
 void EnergyLedger::clear_moments() {
@@ -84,8 +125,10 @@ std::vector<ExactSum> EnergyLedger::state() const {
 }
 
 void EnergyLedger::restore(const std::vector<ExactSum>& totals, bool root) {
-  intervals_ = direct_ = now_ = closing_ = last_ = {};
-  held_ = held_leaving_ = {};
+  intervals_ = direct_ = now_ = closing_ = last_ = contact_intervals_ = {};
+  held_ = held_leaving_ = contact_held_ = contact_held_leaving_ = {};
+  contact_initial_tangential_ = ExactSum{};
+  contact_booked_ = contact_energies_booked_ = false;
   held_current_ = true;
   if (totals.empty() || !root) return;
   if (totals.size() != kStateSums)
@@ -112,6 +155,10 @@ const std::array<ExactSum, EnergyLedger::kHeldSums>& EnergyLedger::held() const 
 void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& gather,
                                       bool book_held) {
   if (!enabled_) return;
+  if (book_held && books_pairs_per_contact() && !contact_held_booked_)
+    throw std::logic_error(
+        "EnergyLedger: a step that books the held energies followed an evaluation whose "
+        "contacts did not book them (EvaluationBooking::held)");
   held_current_ = book_held;
   const std::size_t n_local = p.n_local();
   const bool moments = have_moments(n_local);
@@ -147,7 +194,17 @@ void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& g
       for (std::uint64_t bits = visit_marks_[w]; bits != 0; bits &= bits - 1)
         visit_.push_back(static_cast<std::uint32_t>(64 * w + std::countr_zero(bits)));
   }
-  held_ = held_leaving_ = {};
+  // The pair loop's contacts (per-contact booking) first; the pass adds the particles' own.
+  if (contact_energies_booked_) {
+    held_ = contact_held_;
+    held_leaving_ = contact_held_leaving_;
+    direct_[kFriction] += contact_initial_tangential_;
+    contact_held_ = contact_held_leaving_ = {};
+    contact_initial_tangential_ = ExactSum{};
+    contact_energies_booked_ = false;
+  } else {
+    held_ = held_leaving_ = {};
+  }
   n_visit_ = scan_all_ ? n_local : visit_.size();
   next_visit_ = next_records_ = next_driven_ = 0;
 }
@@ -277,10 +334,16 @@ void EnergyLedger::finish_accumulation(const GatherMap& gather, double dt, bool 
       intervals_[t] += last_[t];
       intervals_[t] += now_[t];
       intervals_[t] += closing_[t];
+      // The contacts booked per contact: the whole interval's work already.
+      if (contact_booked_) intervals_[t] += contact_intervals_[t];
     }
     last_[t] = now_[t];
     now_[t] = ExactSum{};
     closing_[t] = ExactSum{};
+  }
+  if (contact_booked_) {
+    contact_intervals_ = {};
+    contact_booked_ = false;
   }
 }
 

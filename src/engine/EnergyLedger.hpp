@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -208,12 +209,68 @@ class EnergyLedger {
   /// touched particle at 10^6 grains in contact, the run's peak otherwise); the next
   /// evaluation takes it again.
   void release_moments();
-  /// Before a force evaluation over `n_local` owned particles: no particle has moments yet.
-  void begin_step(std::size_t n_local);
-
   /// Owned particle k is taken out by an outflow sink before the next step: its powers end the
   /// trapezoid here instead of entering the next step's interval.
   using LeavingTest = std::function<bool(std::size_t k)>;
+
+  /// How the pair term books its contacts (docs/physics.md "Energy ledger"). Per contact: each
+  /// contact's work over the step in the pair loop, in the midpoint form, with the damping
+  /// force it carried from the last step; no per-particle sums and no pass for them after the
+  /// kick. Per particle: the sums of ContactMoments, booked at the end-of-step velocities after
+  /// the kick. Per contact needs one rate (a slow contact's velocities are not mid-step ones)
+  /// and no rolling friction (its torque is not carried); Simulation chooses.
+  enum class PairBooking { kPerParticle, kPerContact };
+  void set_pair_booking(PairBooking booking) { pair_booking_ = booking; }
+  PairBooking pair_booking() const { return pair_booking_; }
+  bool books_pairs_per_contact() const {
+    return enabled_ && pair_booking_ == PairBooking::kPerContact;
+  }
+
+  /// What the next force evaluation books besides the contacts' work (begin_step()).
+  struct EvaluationBooking {
+    /// The initial state's evaluation: no interval ends with it (a contact's work is booked
+    /// from the first step), and the tangential energy it holds starts the friction tally.
+    bool initial = false;
+    /// The held energies: the accumulate() after it has book_held. Inside a batch of steps
+    /// nothing reads them, and summing them per contact is not free.
+    bool held = true;
+    /// Grains that leave after this step (the held energies of their contacts leave too).
+    LeavingTest leaving;
+  };
+  /// Before a force evaluation over `n_local` owned particles: no particle has moments yet.
+  void begin_step(std::size_t n_local, EvaluationBooking booking);
+
+  /// Per-contact booking (books_pairs_per_contact()), in the pair loop. Each owned end of a
+  /// contact books half of the contact's work, so that a pair across two ranks is booked once
+  /// in all and the totals are the same on any rank count. The halves are added as integers of
+  /// kWorkQuantum (an integer sum is the same in any order) in a ContactWork per chunk of
+  /// contacts, which flush_contact_work() adds to the tallies; a half of kFixedLimit quanta or
+  /// more (a boulder's contact) goes to an exact sum as it is. Both paths depend on the value
+  /// alone, so which one a half takes is the same on every rank.
+  struct ContactWork {
+    std::int64_t quanta[2] = {0, 0};  ///< kDamping, kFriction
+    /// Halves added: at most kMaxHalves before a flush, so that the sum stays in 63 bits.
+    int halves = 0;
+  };
+  static constexpr double kWorkQuantum = 0x1p-50;  ///< W: the unscaled interval sums' unit
+  static constexpr double kFixedLimit = 0x1p55;    ///< quanta
+  static constexpr int kMaxHalves = 255;           ///< 255 * 2^55 < 2^63
+  bool books_powers() const { return !booking_.initial; }
+  /// `half_damping`, `half_friction`: half of (F^n + F^{n+1}) . v_rel^{n+1/2} for the viscous
+  /// and the tangential spring force (W, unscaled like intervals()).
+  [[gnu::always_inline]] void add_half_work(ContactWork& work, double half_damping,
+                                            double half_friction) {
+    add_half(work, kDamping, half_damping);
+    add_half(work, kFriction, half_friction);
+    if (++work.halves == kMaxHalves) flush_contact_work(work);
+  }
+  void flush_contact_work(ContactWork& work);
+  /// Whether this evaluation's contacts book what they hold (add_contact_energies()).
+  bool books_energies() const {
+    return booking_.initial || booking_.held || static_cast<bool>(booking_.leaving);
+  }
+  /// Half of a contact's tangential and elastic energy, for its owned end k.
+  void add_contact_energies(std::uint32_t k, double half_tangential, double half_elastic);
 
   /// After the second half kick of particles and rigid bodies, with the velocities of the end
   /// of the step: adds the work of the last force evaluation to the tallies.
@@ -249,8 +306,32 @@ class EnergyLedger {
     return own_entries_ ? moments_.size() == n_local : entry_of_.size() == n_local;
   }
 
+  void add_half(ContactWork& work, int tally, double half) {
+    const double quanta = half * (1.0 / kWorkQuantum);
+    if (std::fabs(quanta) < kFixedLimit)
+      work.quanta[tally] += static_cast<std::int64_t>(std::nearbyint(quanta));
+    else
+      add_large_half(tally, half);
+  }
+  void add_large_half(int tally, double half) {
+    contact_intervals_[tally].add(half);
+    contact_booked_ = true;
+  }
+
   bool enabled_ = true;
   ForceRate rate_ = ForceRate::kAll;
+  PairBooking pair_booking_ = PairBooking::kPerParticle;
+  EvaluationBooking booking_;  ///< of the last begin_step()
+  /// What the pair loop booked per contact in the last evaluation: the intervals' contact work
+  /// (added to intervals_ by finish_accumulation()), the held energies and those of leaving
+  /// grains (start_accumulation() begins held() and held_by_leaving() with them) and the
+  /// tangential energy of the initial state (the friction tally's start).
+  std::array<ExactSum, kTallies> contact_intervals_;
+  std::array<ExactSum, kHeldSums> contact_held_, contact_held_leaving_;
+  ExactSum contact_initial_tangential_;
+  bool contact_booked_ = false;           ///< contact_intervals_ is not zero
+  bool contact_energies_booked_ = false;  ///< contact_held_* or the initial tangential is not
+  bool contact_held_booked_ = false;      ///< the last evaluation booked the held energies
   bool books_drivers() const { return rate_ != ForceRate::kSlow; }
   /// This rank's exact tallies (see intervals(), direct()): the powers of the step being booked,
   /// those of particles that leave after it, and those of the last step.

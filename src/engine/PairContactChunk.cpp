@@ -6,25 +6,28 @@
 
 namespace ringdem {
 
-template <bool kBook, bool kRolling>
+template <PairContactChunk::Ledger kLedger, bool kRolling>
 void PairContactChunk::compute_lanes(double dt) {
+  constexpr bool kPerParticle = kLedger == Ledger::kPerParticle;
+  constexpr bool kPerContact =
+      kLedger == Ledger::kPerContact || kLedger == Ledger::kPerContactWithEnergies;
   for_each(
       IndexRange{0, n}, [&](std::size_t c) __attribute__((always_inline)) {
         const Vec3 d = separation.get(c);
         const double dist = std::sqrt(dist2[c]);
-        const Vec3 normal = d / dist;
+        const Vec3 unit = d / dist;
         const double reach = radius_a[c] + radius_b[c];
-        const double overlap = reach - dist;
-        const double arm_a = radius_a[c] - 0.5 * overlap;
-        const double arm_b = radius_b[c] - 0.5 * overlap;
+        const double depth = reach - dist;
+        const double arm_a = radius_a[c] - 0.5 * depth;
+        const double arm_b = radius_b[c] - 0.5 * depth;
         HertzMindlin::Input in;
-        in.normal = normal;
-        in.overlap = overlap;
+        in.normal = unit;
+        in.overlap = depth;
         in.r_star = radius_a[c] * radius_b[c] / reach;
         in.m_star = m_star[c];
         const Vec3 wa = omega_a.get(c), wb = omega_b.get(c);
-        in.v_rel = (velocity_b.get(c) + cross(wb, normal * (-arm_b))) -
-                   (velocity_a.get(c) + cross(wa, normal * arm_a));
+        const Vec3 va = velocity_a.get(c), vb = velocity_b.get(c);
+        in.v_rel = relative_contact_velocity(unit, arm_a, arm_b, va, vb, wa, wb);
         in.dt = dt;
         in.arm_i = arm_a;
         in.arm_j = arm_b;
@@ -32,15 +35,37 @@ void PairContactChunk::compute_lanes(double dt) {
         in.omega_j = wb;
         const HertzMindlin::Params params{e_star[c], g_star[c], beta[c], friction[c],
                                           rolling_friction[c]};
-        Vec3 s = spring.get(c);
+        const Vec3 s_carried = spring.get(c);
+        Vec3 s = s_carried;
         const auto r = HertzMindlin::compute<kRolling>(params, in, s);
         spring.set(c, s);
-        const Vec3 lever_a = normal * arm_a;   // from a's centre to the contact point
-        const Vec3 lever_b = normal * -arm_b;  // from b's centre to the contact point
+        const Vec3 lever_a = unit * arm_a;   // from a's centre to the contact point
+        const Vec3 lever_b = unit * -arm_b;  // from b's centre to the contact point
         force_a.set(c, r.force_i);
         torque_a.set(c, cross(lever_a, r.force_i) + r.rolling_torque_i);
-        torque_b.set(c, cross(normal * arm_b, r.force_i) + r.rolling_torque_j);
-        if constexpr (kBook) {
+        torque_b.set(c, cross(unit * arm_b, r.force_i) + r.rolling_torque_j);
+        if constexpr (kPerContact) {
+          // The work of the step: the loads of its start (carried, at the contact point of
+          // the start) and of its end (at this contact point), each at the relative velocity of
+          // the step's middle, which the law read (docs/physics.md "Energy ledger"). The spring
+          // is the tangential force on a, as the damping force is.
+          damping_a.set(c, r.damping_force_i);
+          normal.set(c, unit);
+          overlap[c] = depth;
+          const double depth_carried = overlap_carried[c];
+          const Vec3 v_carried =
+              relative_contact_velocity(normal_carried.get(c), radius_a[c] - 0.5 * depth_carried,
+                                        radius_b[c] - 0.5 * depth_carried, va, vb, wa, wb);
+          const double start = carried_weight[c];
+          half_work_damping[c] = 0.5 * (start * dot(damping_carried.get(c), v_carried) +
+                                        dot(r.damping_force_i, in.v_rel));
+          half_work_friction[c] = 0.5 * (start * dot(s_carried, v_carried) + dot(s, in.v_rel));
+          if constexpr (kLedger == Ledger::kPerContactWithEnergies) {
+            half_tangential_energy[c] = 0.5 * r.tangential_energy;
+            half_elastic_energy[c] = 0.5 * r.elastic_energy;
+          }
+        }
+        if constexpr (kPerParticle) {
           damping_a.set(c, r.damping_force_i);
           damping_moment_a.set(c, cross(lever_a, r.damping_force_i));
           damping_moment_b.set(c, cross(lever_b, -r.damping_force_i));
@@ -52,9 +77,16 @@ void PairContactChunk::compute_lanes(double dt) {
       });
 }
 
-template void PairContactChunk::compute_lanes<false, false>(double);
-template void PairContactChunk::compute_lanes<false, true>(double);
-template void PairContactChunk::compute_lanes<true, false>(double);
-template void PairContactChunk::compute_lanes<true, true>(double);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kOff, false>(double);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kOff, true>(double);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerParticle, false>(
+    double);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerParticle, true>(double);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContact, false>(double);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContact, true>(double);
+template void
+PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContactWithEnergies, false>(double);
+template void
+PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContactWithEnergies, true>(double);
 
 }  // namespace ringdem

@@ -4,10 +4,20 @@
 #include <cstdint>
 
 #include "core/Vec3.hpp"
+#include "domain/ContactLedgerState.hpp"
 #include "engine/ChunkColumn.hpp"
 #include "physics/HertzMindlin.hpp"
 
 namespace ringdem {
+
+/// The velocity of b's contact point relative to a's, for the contact along `normal` (from a to
+/// b) with arms arm_a and arm_b from the centres (physics.md §3).
+[[gnu::always_inline]] inline Vec3 relative_contact_velocity(const Vec3& normal, double arm_a,
+                                                             double arm_b, const Vec3& va,
+                                                             const Vec3& vb, const Vec3& wa,
+                                                             const Vec3& wb) {
+  return (vb + cross(wb, normal * (-arm_b))) - (va + cross(wa, normal * arm_a));
+}
 
 /// Scratch for PairContactTerm's kernel: up to kSize touching pairs of one chunk of
 /// candidates, their inputs copied into columns (structure of arrays) in pair order, the
@@ -18,6 +28,11 @@ namespace ringdem {
 /// build rounds vector and scalar code alike (no FMA contraction): the same bits.
 struct PairContactChunk {
   static constexpr std::size_t kSize = 64;
+
+  /// What the kernel computes for the energy ledger (EnergyLedger::PairBooking): nothing (off),
+  /// the per-particle loads and moments, or each contact's work (with or without its energies,
+  /// which only some evaluations book: EnergyLedger::books_energies()).
+  enum class Ledger { kOff, kPerParticle, kPerContact, kPerContactWithEnergies };
 
   using Column = ChunkColumn<kSize>;
 
@@ -36,12 +51,24 @@ struct PairContactChunk {
   alignas(64) double e_star[kSize], g_star[kSize], beta[kSize], friction[kSize],
       rolling_friction[kSize];
   Column spring;  ///< in: carried; out: updated (physics.md §3)
+  /// Per-contact booking: what the pair carried from the last step (ContactLedgerState).
+  Column damping_carried, normal_carried;
+  /// 1 where the carried loads do work in this step, 0 where they do not
+  /// (ContactLedgerState::carries_work()).
+  alignas(64) double overlap_carried[kSize], carried_weight[kSize];
 
   // Results: the force on a (b gets its opposite), each end's torque, and for the energy
   // ledger each end's viscous load and moments (ContactMoments) and half the pair's energies.
   Column force_a, torque_a, torque_b;
   Column damping_a, damping_moment_a, damping_moment_b, friction_moment_a, friction_moment_b;
   alignas(64) double half_tangential_energy[kSize], half_elastic_energy[kSize];
+  /// Per-contact booking: half the contact's work over the step, (F^n . u^n + F^{n+1} .
+  /// u^{n+1}) / 2 with u the relative velocity of the step's middle at each load's own contact
+  /// point, of the viscous force and of the tangential spring force (docs/physics.md "Energy
+  /// ledger"), for each owned end to book; and this step's normal and overlap to carry.
+  alignas(64) double half_work_damping[kSize], half_work_friction[kSize];
+  Column normal;
+  alignas(64) double overlap[kSize];
 
   /// Appends a touching pair (the caller has tested it).
   void add(std::uint32_t m, std::uint32_t a, std::uint32_t b, const Vec3& d, double d2, double ra,
@@ -68,21 +95,32 @@ struct PairContactChunk {
     any_rolling = any_rolling || params.rolling_friction > 0.0;
     spring.set(c, carried);
   }
+  /// What pair c carried from the last step (per-contact booking).
+  void set_carried(std::size_t c, const ContactLedgerState& carried) {
+    damping_carried.set(c, to_vec3(carried.damping));
+    normal_carried.set(c, to_vec3(carried.normal));
+    overlap_carried[c] = static_cast<double>(carried.overlap);
+    carried_weight[c] = carried.carries_work() ? 1.0 : 0.0;
+  }
+  /// What pair c carries to the next step (per-contact booking).
+  ContactLedgerState to_carry(std::size_t c) const {
+    return {to_vec3f(damping_a.get(c)), to_vec3f(normal.get(c)), static_cast<float>(overlap[c])};
+  }
 
   /// The contact law (physics.md §3, HertzMindlin) over lanes 0..n-1, as one loop.
-  template <bool kBook>
+  template <Ledger kLedger>
   void compute(double dt) {
     if (any_rolling)
-      compute_lanes<kBook, true>(dt);
+      compute_lanes<kLedger, true>(dt);
     else
-      compute_lanes<kBook, false>(dt);
+      compute_lanes<kLedger, false>(dt);
   }
 
  private:
   /// The loop, in PairContactChunk.cpp: compiled there with floating-point operations taken
   /// not to trap (CMakeLists.txt), which it needs to vectorise, and only there, so that every
   /// caller (the term, the tests) runs the same code.
-  template <bool kBook, bool kRolling>
+  template <Ledger kLedger, bool kRolling>
   void compute_lanes(double dt);
 };
 

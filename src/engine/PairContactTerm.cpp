@@ -161,7 +161,7 @@ void PairContactTerm::carry_springs(const ParticleStore& p) {
     springs_ = ContactSpringStore{ContactSpringStore::Partner::kParticle};
     return;
   }
-  spring_.reset_carrying(np, std::move(springs_.spring));
+  spring_.reset_carrying(np, std::move(springs_.spring), std::move(springs_.ledger));
   // Rows in candidate order (the usual case: packed from the last candidates, with no re-sort
   // and nothing arrived from another rank since): one pass pairs them by their gids. It stops
   // matching at the first row out of that order; the rows before it have their candidates.
@@ -200,10 +200,41 @@ void PairContactTerm::carry_springs(const ParticleStore& p) {
   spring_.end_carry();
 }
 
+void PairContactTerm::book_carried_work(const ParticleStore& p, EnergyLedger& ledger,
+                                        bool mid_step) {
+  rows_carry_ledger_ = ledger.books_pairs_per_contact() && !mid_step;
+  if (!ledger.books_pairs_per_contact() || !mid_step || !spring_.keeps_ledger()) return;
+  // The loads each contact carries (those of the last evaluation) do the second half of their
+  // work in this step, at their own contact point and the relative velocity of the step's
+  // middle: what the next evaluation would book, booked before the rebuild forgets them
+  // (docs/physics.md "Energy ledger"). Each owned end books half, as in the pair loop.
+  EnergyLedger::ContactWork work;
+  const std::size_t n_local = p.n_local();
+  for (std::size_t m = 0; m < spring_.n_candidates(); ++m) {
+    if (!spring_.holds(m)) continue;
+    ContactLedgerState& carried = spring_.ledger(m);
+    if (!carried.carries_work()) continue;
+    const std::uint32_t a = pairs_.i[m], b = pairs_.j[m];
+    const double depth = static_cast<double>(carried.overlap);
+    const Vec3 v_rel = relative_contact_velocity(to_vec3(carried.normal), p.radius[a] - 0.5 * depth,
+                                                 p.radius[b] - 0.5 * depth, p.velocity[a],
+                                                 p.velocity[b], p.omega[a], p.omega[b]);
+    const double half_damping = 0.5 * dot(to_vec3(carried.damping), v_rel);
+    const double half_friction = 0.5 * dot(spring_.value(m), v_rel);
+    if (a < n_local) ledger.add_half_work(work, half_damping, half_friction);
+    if (b < n_local) ledger.add_half_work(work, half_damping, half_friction);
+    carried = ContactLedgerState{};
+  }
+  ledger.flush_contact_work(work);
+}
+
 void PairContactTerm::pack_springs(const ParticleStore& p) {
   // Rows already in the store (a checkpoint's, before the first rebuild) stay.
   springs_.drop_released();
-  const auto touching = [this](std::size_t m) { return norm2(spring_.value(m)) > 0.0; };
+  springs_.set_carries_ledger(rows_carry_ledger_);
+  // Booked (book_carried_work()) or never kept: their memory goes before the keys come.
+  if (!rows_carry_ledger_) spring_.drop_ledger();
+  const auto touching = [this](std::size_t m) { return carries_state(m); };
   if (springs_.size() == 0) {
     // The keys in candidate order, and the springs in that order made in the pool's own
     // memory: at 10^6 grains in contact a second copy of the springs beside the keyed rows was
@@ -215,13 +246,18 @@ void PairContactTerm::pack_springs(const ParticleStore& p) {
         springs_.gid.push_back(p.gid[pairs_.i[m]]);
         springs_.partner.push_back(p.gid[pairs_.j[m]]);
       }
-    springs_.spring = spring_.take_in_candidate_order(touching);
+    springs_.spring = spring_.take_in_candidate_order(touching, springs_.ledger);
+    if (!rows_carry_ledger_)
+      std::vector<ContactLedgerState>().swap(springs_.ledger);
+    else
+      springs_.ledger.resize(springs_.spring.size());  // zero where the slots kept none
     return;
   }
   springs_.reserve(springs_.size() + spring_.n_held());
   for (std::size_t m = 0; m < spring_.n_candidates(); ++m)
     if (spring_.holds(m) && touching(m))
-      springs_.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_.value(m));
+      springs_.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_.value(m),
+                      carried_ledger(m));  // (the ledger state only where the rows carry it)
   // The candidates are rebuilt next: their springs' memory goes before the search's comes.
   spring_.release_memory();
 }
@@ -230,22 +266,41 @@ ContactSpringStore PairContactTerm::touching_springs(const ParticleStore& p) con
   ContactSpringStore out = springs_;
   out.drop_released();
   for (std::size_t m = 0; m < spring_.n_candidates(); ++m)
-    if (spring_.holds(m) && norm2(spring_.value(m)) > 0.0)
-      out.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_.value(m));
+    if (spring_.holds(m) && carries_state(m))
+      out.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_.value(m), carried_ledger(m));
   return out;
 }
 
-void PairContactTerm::compute(ComputeContext& ctx) {
-  // Compiled with and without the ledger's sums (a branch on it in the loop cost the loop with
-  // them 6 %).
-  if (ctx.ledger.enabled())
-    compute_pairs<true>(ctx);
-  else
-    compute_pairs<false>(ctx);
+ContactLedgerState PairContactTerm::carried_ledger(std::size_t m) const {
+  return spring_.keeps_ledger() ? spring_.ledger(m) : ContactLedgerState{};
 }
 
-template <bool kBook>
+bool PairContactTerm::carries_state(std::size_t m) const {
+  return norm2(spring_.value(m)) > 0.0 || (spring_.keeps_ledger() && !spring_.ledger(m).is_zero());
+}
+
+void PairContactTerm::compute(ComputeContext& ctx) {
+  // Compiled for each thing the ledger books (a branch on it in the loop cost the loop with
+  // the ledger 6 %).
+  using Ledger = PairContactChunk::Ledger;
+  const EnergyLedger& ledger = ctx.ledger;
+  if (!ledger.enabled())
+    compute_pairs<Ledger::kOff>(ctx);
+  else if (!ledger.books_pairs_per_contact())
+    compute_pairs<Ledger::kPerParticle>(ctx);
+  else if (ledger.books_energies())
+    compute_pairs<Ledger::kPerContactWithEnergies>(ctx);
+  else
+    compute_pairs<Ledger::kPerContact>(ctx);
+}
+
+template <PairContactChunk::Ledger kLedger>
 void PairContactTerm::compute_pairs(ComputeContext& ctx) {
+  using Ledger = PairContactChunk::Ledger;
+  constexpr bool kBook = kLedger == Ledger::kPerParticle;  // ContactMoments
+  constexpr bool kPerContact =
+      kLedger == Ledger::kPerContact || kLedger == Ledger::kPerContactWithEnergies;
+  constexpr bool kEnergies = kLedger == Ledger::kPerContactWithEnergies;
   const ParticleStore& p = ctx.particles;
   const ParticleLoads loads = ctx.loads;
   EnergyLedger& ledger = ctx.ledger;
@@ -256,6 +311,10 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
   const double* const radius = p.radius.data();
   SpringSlots& springs = spring_;
   PairContactChunk& chunk = chunk_;
+  // Per-contact booking: the work of this step (not in the initial state's evaluation).
+  const bool book_work = kPerContact && ledger.books_powers();
+  if constexpr (kPerContact) springs.keep_ledger();
+  EnergyLedger::ContactWork work;
   // The far ends are read in jumps: the pairs come by their end first in key order, which is
   // the storage order of the owned particles, and a grain's partners later in that order lie
   // in a few far-apart runs, each a stream through every array the kernel reads (nine,
@@ -324,6 +383,20 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
           const double reach = radius[a] + radius[b];
           const double dist2 = norm2(d);
           if (dist2 >= reach * reach) {
+            if (kPerContact && book_work && springs.holds(m) && springs.ledger(m).carries_work()) {
+              // The contact opened in this step: the loads of its start did their work at
+              // their contact point and the relative velocity of its middle (those of its end
+              // are zero).
+              const ContactLedgerState& carried = springs.ledger(m);
+              const double depth = static_cast<double>(carried.overlap);
+              const Vec3 v_rel = relative_contact_velocity(
+                  to_vec3(carried.normal), radius[a] - 0.5 * depth, radius[b] - 0.5 * depth,
+                  p.velocity[a], p.velocity[b], p.omega[a], p.omega[b]);
+              const double half_damping = 0.5 * dot(to_vec3(carried.damping), v_rel);
+              const double half_friction = 0.5 * dot(springs.value(m), v_rel);
+              if (loads.owned(a)) ledger.add_half_work(work, half_damping, half_friction);
+              if (loads.owned(b)) ledger.add_half_work(work, half_damping, half_friction);
+            }
             springs.release(m);  // an open contact's spring is zero (physics.md §3)
             return;
           }
@@ -331,6 +404,7 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
                     effective_mass(p.mass[a], p.motion[a], p.mass[b], p.motion[b]), p.velocity[a],
                     p.velocity[b], p.omega[a], p.omega[b],
                     ctx.materials.pair(p.material[a], p.material[b]), springs.take(m));
+          if constexpr (kPerContact) chunk.set_carried(chunk.n - 1, springs.ledger(m));
           if constexpr (kBook) {
             // The ledger's entries now, in pair order (the order the scatter adds in).
             const std::size_t c = chunk.n - 1;
@@ -339,7 +413,7 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
           }
         });
     most_touch = 2 * chunk.n > range.size();
-    chunk.compute<kBook>(ctx.dt);
+    chunk.compute<kLedger>(ctx.dt);
     // Each end's loads, and for the ledger its viscous and spring loads and moments
     // (ContactMoments) with half of the pair's tangential and elastic energy.
     for_each_in_order(
@@ -351,11 +425,23 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
           // across two of them, which the store buffer cannot forward (a fifth of this loop's
           // time on a packing in contact).
           chunk.spring.copy_to(c, springs.value(chunk.pair[c]));
+          if constexpr (kPerContact) springs.ledger(chunk.pair[c]) = chunk.to_carry(c);
           const Vec3 spring = chunk.spring.get(c);
           const Vec3 force = chunk.force_a.get(c);
+          // Per-contact booking: each owned end books half the contact's work and energies.
+          const auto book_contact = [&](std::uint32_t end) __attribute__((always_inline)) {
+            if constexpr (kPerContact) {
+              if (book_work)
+                ledger.add_half_work(work, chunk.half_work_damping[c], chunk.half_work_friction[c]);
+              if constexpr (kEnergies)
+                ledger.add_contact_energies(end, chunk.half_tangential_energy[c],
+                                            chunk.half_elastic_energy[c]);
+            }
+          };
           if (loads.owned(a)) {
             loads.force[a] += force;
             loads.torque[a] += chunk.torque_a.get(c);
+            book_contact(a);
             if constexpr (kBook) {
               ledger.moments_at(chunk.moments_a[c])
                   .add(chunk.damping_a.get(c), chunk.damping_moment_a.get(c), spring,
@@ -366,6 +452,7 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
           if (loads.owned(b)) {
             loads.force[b] += -force;
             loads.torque[b] += chunk.torque_b.get(c);
+            book_contact(b);
             if constexpr (kBook) {
               ledger.moments_at(chunk.moments_b[c])
                   .add(-chunk.damping_a.get(c), chunk.damping_moment_b.get(c), -spring,
@@ -381,6 +468,7 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
   } else {
     for_each_chunk(IndexRange{0, n_pairs}, kChunk, run_chunk);
   }
+  if constexpr (kPerContact) ledger.flush_contact_work(work);
 }
 
 }  // namespace ringdem

@@ -16,8 +16,9 @@ namespace ringdem {
 /// springs of the touching candidates are in SpringSlots (their keys are the candidates' gids,
 /// so no key columns; no spring where nothing touches); at a rebuild they go into the
 /// ContactSpringStore keyed by the gid pair, for migration, and come back by key. It takes no
-/// slots: each pair adds its loads to both ends' ParticleLoads and ContactMoments, in the
-/// gather order (ForceSlots.hpp).
+/// slots: each pair adds its loads to both ends' ParticleLoads, in the gather order
+/// (ForceSlots.hpp), and books its work in the energy ledger: per contact, or through both
+/// ends' ContactMoments (EnergyLedger::PairBooking).
 class PairContactTerm final : public ForceTerm {
  public:
   std::string_view name() const override { return "particle_contacts"; }
@@ -27,6 +28,7 @@ class PairContactTerm final : public ForceTerm {
   ContactSpringStore* springs() override { return &springs_; }
   const ContactSpringStore* springs() const override { return &springs_; }
   void pack_springs(const ParticleStore& p) override;
+  void book_carried_work(const ParticleStore& p, EnergyLedger& ledger, bool mid_step) override;
   ContactSpringStore touching_springs(const ParticleStore& p) const override;
   void find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies, double fraction,
                      std::vector<ContactOverlap>& out) const override;
@@ -38,9 +40,14 @@ class PairContactTerm final : public ForceTerm {
                          std::vector<std::uint8_t>& touching) const override;
 
  private:
-  /// compute() with the energy ledger's ContactMoments (kBook) or without.
-  template <bool kBook>
+  /// compute() with what the energy ledger books of the pairs (PairContactChunk::Ledger).
+  template <PairContactChunk::Ledger kLedger>
   void compute_pairs(ComputeContext& ctx);
+  /// Whether held candidate m has a state to carry through a rebuild: a spring, or a damping
+  /// force (a head-on contact has no spring).
+  bool carries_state(std::size_t m) const;
+  /// Held candidate m's ledger state (zero where the slots keep none).
+  ContactLedgerState carried_ledger(std::size_t m) const;
   /// The keyed rows' springs to the new candidates (rebuild()).
   void carry_springs(const ParticleStore& p);
 
@@ -52,6 +59,9 @@ class PairContactTerm final : public ForceTerm {
   /// Keyed rows (gid of end a, partner the gid of end b), only from pack_springs() (or a
   /// restart) to the next rebuild(): empty between rebuilds.
   ContactSpringStore springs_{ContactSpringStore::Partner::kParticle};
+  /// Whether the next pack_springs() keys the ledger states with the springs (set by
+  /// book_carried_work(): only where the ledger books per contact and did not book them).
+  bool rows_carry_ledger_ = true;
   PairContactChunk chunk_;  ///< compute scratch (28 KB)
   /// Multi-rate stepping (ForceRate): per chunk of PairContactChunk::kSize candidates, bit c
   /// set where candidate c has a fast particle at one end, and the chunks with any such bit

@@ -125,7 +125,9 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
     compute_initial_substep_forces();
     return;
   }
+  evaluation_booking_.initial = true;
   compute_forces();  // loads of the initial state, for the first half kick
+  evaluation_booking_ = {};
   book_momentum(/*initial=*/true);
   apply_global_damping(model_.particles, dt_);
   ledger_.accumulate(model_.particles, model_.bodies, slots_, gather_, dt_, /*initial=*/true);
@@ -333,8 +335,8 @@ SpatialBins::Order Simulation::sort_order() {
   return {2.0 * r_min, SpatialBins::slowest_axis(extent)};
 }
 
-void Simulation::rebuild(const SpatialBins::Order& sort) {
-  build_lists(sort);
+void Simulation::rebuild(const SpatialBins::Order& sort, bool mid_step) {
+  build_lists(sort, mid_step);
   move_bound_ = 0.0;
   move_bound_at_outflow_note_ = 0.0;
   body_position_at_rebuild_.clear();
@@ -355,14 +357,16 @@ std::size_t Simulation::n_contact_candidates() const {
   return 0;
 }
 
-void Simulation::build_lists(const SpatialBins::Order& sort) {
+void Simulation::build_lists(const SpatialBins::Order& sort, bool mid_step) {
   ParticleStore& p = model_.particles;
   // Only touching contacts carry a spring across the rebuild; migration moves those rows with
   // their particles, and each term's rebuild() reads its own store back by key.
   ledger_.release_moments();
   fast_ledger_.release_moments();
-  for (auto& t : terms_)
+  for (auto& t : terms_) {
+    t->book_carried_work(p, ledger_, mid_step);
     t->pack_springs(p);
+  }
   // Before the migration, which stores the owned particles in the new keys' order and sends
   // the ghosts theirs.
   if (sort.width > 0.0) SpatialBins::assign(p, sort);
@@ -518,7 +522,7 @@ void Simulation::exchange_grains_and_rebuild() {
   }
 }
 
-void Simulation::evaluate_step() {
+bool Simulation::evaluate_step(bool batch_continues) {
   ParticleStore& p = model_.particles;
   bool rebuild_now = false;
   {
@@ -526,16 +530,24 @@ void Simulation::evaluate_step() {
     decomposition_.update_ghosts(p);
     rebuild_now = needs_rebuild();
   }
+  // Known now (needs_rebuild() agreed on the stops and the outflow): how the step ends, and
+  // so what its evaluation books.
+  const bool fuse = batch_continues && !stop_agreed_ && can_fuse_with_next_step();
+  evaluation_booking_.held = !fuse;
+  if (outflow_pending_)
+    evaluation_booking_.leaving = [this, &p](std::size_t k) { return outflow_.leaving(p, k); };
   // A re-sort comes at fixed step numbers, at a rebuild of its own: the forces do not depend on
   // when the lists are rebuilt, and a restart, whose lists are built afresh, re-sorts at the
   // same steps as the run never interrupted.
   const SpatialBins::Order sort = sort_order_due();
   if (rebuild_now || sort.width > 0.0) {
     PhaseTimer t(phase_seconds_[kNeighbour]);
-    rebuild(sort);
+    rebuild(sort, /*mid_step=*/true);
   }
   compute_forces(/*loads_started=*/true);
+  evaluation_booking_ = {};
   book_momentum(/*initial=*/false);
+  return fuse;
 }
 
 void Simulation::finish_step(const BodyObserver& observe_bodies) {
@@ -602,8 +614,7 @@ void Simulation::run_steps(std::int64_t n, const std::function<void()>& before_e
   for (std::int64_t k = 0; k < n; ++k) {
     if (before_each) before_each();
     if (!started) start_step();
-    evaluate_step();
-    started = k + 1 < n && !stop_agreed_ && can_fuse_with_next_step();
+    started = evaluate_step(/*batch_continues=*/k + 1 < n);
     if (started)
       finish_step_and_start_next(observe_bodies);
     else
@@ -619,8 +630,11 @@ bool Simulation::exchange_grains() {
   bool changed = false;
   const auto before_change = [&] {
     if (!changed)
-      for (auto& t : terms_)
+      for (auto& t : terms_) {
+        // The start of a step: the contacts' rows carry what they owe the ledger.
+        t->book_carried_work(p, ledger_, /*mid_step=*/false);
         t->pack_springs(p);
+      }
     changed = true;
   };
   if (outflow_pending_) {  // every rank knows: the last step's reduction

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "comm/Communicator.hpp"
@@ -52,6 +53,10 @@ struct SimulationSettings {
   /// dt, which the slow ones (gravity, grain–grain and grain–body contacts) take as impulses at
   /// its ends (impulse r-RESPA). 1: one rate.
   std::int64_t substeps = 1;
+  /// How the energy ledger books particle pairs (EnergyLedger::PairBooking): per contact where
+  /// true, per particle where false; unset, per contact where it can (one rate, no rolling
+  /// friction). Not a case-file key: the tests compare the two.
+  std::optional<bool> pair_ledger_per_contact;
 };
 
 /// The settings a case file asks for.
@@ -283,10 +288,12 @@ class Simulation {
   /// A neighbour-list rebuild of the trajectory: lists from the current positions, which
   /// become the reference of the skin criterion.
   /// `sort` with a width > 0: a re-sort, each grain binned in its order first.
-  void rebuild(const SpatialBins::Order& sort = {});
+  /// `mid_step`: the drift is done (the velocities are the step's middle ones), so that the
+  /// contacts' carried loads can be booked first (ForceTerm::book_carried_work()).
+  void rebuild(const SpatialBins::Order& sort = {}, bool mid_step = false);
   /// Migration, lists, slots and gather map from the current positions and the terms'
-  /// spring stores; `sort` as rebuild()'s.
-  void build_lists(const SpatialBins::Order& sort = {});
+  /// spring stores; `sort` and `mid_step` as rebuild()'s.
+  void build_lists(const SpatialBins::Order& sort = {}, bool mid_step = false);
   /// Flags the owned particles that are ends of intact bonds (after the terms' rebuild).
   void flag_turning_particles();
   /// Which particles the drift turns: none without orientations, else the flagged ones.
@@ -346,7 +353,11 @@ class Simulation {
   /// The parts of step(): grains in and out and the first half kick and drift; ghosts,
   /// neighbour lists and loads; the second half kick and the energy ledger.
   void start_step();
-  void evaluate_step();
+  /// Returns whether the step can be finished together with the start of the next
+  /// (finish_step_and_start_next()): `batch_continues`, and nothing the next step's start must
+  /// do first. A step that cannot ends with finish_step(), which books the held energies: its
+  /// evaluation books them (evaluation_booking_).
+  bool evaluate_step(bool batch_continues = false);
   void finish_step(const BodyObserver& observe_bodies = {});
   /// Whether the next step's start_step() does no more than its drift (no grains in or out).
   bool can_fuse_with_next_step() const;
@@ -374,6 +385,10 @@ class Simulation {
   ForceSlots slots_;
   GatherMap gather_;
   EnergyLedger ledger_;
+  /// What the next force evaluation books in the ledger besides the contacts' work
+  /// (EnergyLedger::begin_step()): the initial one's start, the held energies unless the step
+  /// is finished together with the next, the grains about to leave.
+  EnergyLedger::EvaluationBooking evaluation_booking_;
   std::vector<ExcludedPair> excluded_;  ///< rebuild scratch
   StabilityLimits limits_{};
   double grain_rayleigh_limit_ = 0.0;  ///< grain_rayleigh_limit()

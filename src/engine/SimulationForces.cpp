@@ -25,7 +25,7 @@ void Simulation::compute_forces(bool loads_started, ForceRate rate, double dt) {
       if (!loads_started) GatherMap::initialise_loads(p, gravity);
       gather_.apply_point_loads(p, model_.point_loads);
     }
-    ledger_of(rate).begin_step(p.n_local());
+    ledger_of(rate).begin_step(p.n_local(), evaluation_booking_);
   }
   ComputeContext ctx{
       p,     model_.bodies, model_.materials, slots_, ledger_of(rate), time_, dt > 0.0 ? dt : dt_,

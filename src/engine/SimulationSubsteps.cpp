@@ -16,6 +16,15 @@ void Simulation::set_up_substeps() {
   // ledger slot, 5.5 bytes a grain of a 10^6-grain bed on its floor: docs/performance.md,
   // forty-fifth round).
   fast_ledger_.set_enabled(settings_.substeps > 1 && settings_.energy_ledger);
+  // One rate books each particle pair's work in the pair loop; a slow contact's law reads
+  // velocities that are not its step's middle, and a rolling torque is not carried, so those
+  // keep the per-particle sums (docs/physics.md "Energy ledger").
+  const bool per_contact = settings_.pair_ledger_per_contact.value_or(
+      settings_.substeps <= 1 && !model_.materials.any_rolling_friction());
+  if (per_contact && settings_.substeps > 1)
+    throw std::logic_error("pair_ledger_per_contact: a sub-stepped run books pairs per particle");
+  ledger_.set_pair_booking(per_contact ? EnergyLedger::PairBooking::kPerContact
+                                       : EnergyLedger::PairBooking::kPerParticle);
   if (settings_.substeps <= 1) return;
   const auto refuse = [](const std::string& why) {
     throw std::runtime_error("simulation.substeps > 1: " + why);

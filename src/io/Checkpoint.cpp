@@ -44,11 +44,14 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // the root attribute substeps, the fast ledgers (/substeps/momentum, /substeps/ledger) and the
 // particles' slow_force and slow_torque; 15: a sub-stepped run's grains in contact with the net
 // (/particles/net_contact: their interactions are fast; a file of 14 restarts with none, and the
-// next check finds them). This version, 14, 13, 12 and 11 are read: a file of 11
+// next check finds them); 16: each particle pair's damping force of its last evaluation
+// (/history/<term>.damping: the energy ledger books it again at the next step; a file of 15 or
+// older restarts with none, which the ledger of that one step notices, the motion not at all).
+// This version, 15, 14, 13, 12 and 11 are read: a file of 11
 // restarts every particle at bin 0, the gid order that format's writer kept, and so goes on as its
 // run did until the next re-sort; one of 11 or 12 with support ropes is refused (read_checkpoint).
 // Older files lack what this one needs to go on bit for bit.
-constexpr std::int64_t kFormatVersion = 15;
+constexpr std::int64_t kFormatVersion = 16;
 constexpr std::int64_t kOldestReadFormatVersion = 11;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
@@ -200,8 +203,12 @@ void read_pair_rows(const Hdf5File& f, const Communicator& comm, Store& store,
   store.for_each_field([&](const FieldInfo& field, auto& v) {
     if (!field.has(field_flag::kCheckpoint)) return;
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;
-    const auto block =
-        read_verified_block<T>(f, comm, prefix + std::string(field.name), rows, first, end);
+    const std::string name = prefix + std::string(field.name);
+    if (field.has(field_flag::kZeroIfAbsent) && !f.exists(name)) {
+      std::fill(v.begin(), v.end(), T{});  // written before the field was kept
+      return;
+    }
+    const auto block = read_verified_block<T>(f, comm, name, rows, first, end);
     std::copy(block.begin(), block.end(), v.begin());
   });
 }

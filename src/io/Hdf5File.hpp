@@ -12,6 +12,8 @@
 #include "comm/Communicator.hpp"
 #include "core/Quat.hpp"
 #include "core/Vec3.hpp"
+#include "core/Vec3f.hpp"
+#include "domain/ContactLedgerState.hpp"
 
 namespace ringdem {
 
@@ -23,7 +25,8 @@ class Hdf5Error : public std::runtime_error {
 };
 
 /// How a field type is stored: HDF5 element type and components per row (Vec3: 3 doubles,
-/// Quat: 4 doubles w, x, y, z, enums: their underlying integer).
+/// Vec3f: 3 floats, ContactLedgerState: 7 floats, Quat: 4 doubles w, x, y, z, enums: their
+/// underlying integer).
 template <class T, class Enable = void>
 struct H5Layout;
 template <>
@@ -35,6 +38,16 @@ template <>
 struct H5Layout<Vec3> {
   static hid_t type() { return H5T_NATIVE_DOUBLE; }
   static constexpr int components = 3;
+};
+template <>
+struct H5Layout<Vec3f> {
+  static hid_t type() { return H5T_NATIVE_FLOAT; }
+  static constexpr int components = 3;
+};
+template <>
+struct H5Layout<ContactLedgerState> {
+  static hid_t type() { return H5T_NATIVE_FLOAT; }
+  static constexpr int components = 7;
 };
 template <>
 struct H5Layout<Quat> {

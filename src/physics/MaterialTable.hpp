@@ -36,6 +36,12 @@ class MaterialTable {
     return pair_[static_cast<std::size_t>(a) * materials_.size() + static_cast<std::size_t>(b)];
   }
   int find(const std::string& name) const;
+  /// Whether some material pair has rolling friction.
+  bool any_rolling_friction() const {
+    for (const HertzMindlin::Params& p : pair_)
+      if (p.rolling_friction > 0.0) return true;
+    return false;
+  }
 
  private:
   std::vector<Material> materials_;

@@ -231,7 +231,8 @@ TEST_F(CorruptCheckpoint, GoodOneRestoresTheState) {
   };
   for (const auto& t : s.springs)
     t.store.for_each_field(count);
-  EXPECT_EQ(fields, 2u * 3u);  // gid, partner, spring of each term
+  // gid, partner, spring of each term, and the particle pairs' carried damping force
+  EXPECT_EQ(fields, 2u * 3u + 1u);
   model.particles.for_each_field(count);
   model.bonds.for_each_field(count);
   EXPECT_EQ(verify_checkpoint(good_).size(), fields + 9u + 1u + 3u + 1u + 1u + 1u + 1u);

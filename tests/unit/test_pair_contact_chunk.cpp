@@ -126,7 +126,7 @@ std::pair<int, int> check_pair_chunk(std::size_t n, bool rolling, unsigned seed)
               k.vb, k.wa, k.wb, k.params, k.spring);
   }
   EXPECT_EQ(chunk.any_rolling, rolling);
-  chunk.compute<true>(dt);
+  chunk.compute<PairContactChunk::Ledger::kPerParticle>(dt);
   int sliding = 0, rolls = 0;
   for (std::size_t c = 0; c < n; ++c) {
     const PairExpected e = scalar_reference(contacts[c], dt);

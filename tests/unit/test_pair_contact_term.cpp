@@ -112,7 +112,7 @@ TEST_P(PairContactTermOrder, EachParticleGetsItsContactsInAscendingPartnerKey) {
   EnergyLedger ledger;
   gather.finish(p);
   GatherMap::initialise_loads(p, gravity);
-  ledger.begin_step(p.n_local());
+  ledger.begin_step(p.n_local(), {});
   ComputeContext ctx{
       p,      bodies, materials, slots,
       ledger, 0.0,    dt,        ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
@@ -205,7 +205,7 @@ void expect_every_spring_carried(ParticleStore& p, Between&& between) {
   rebuild();
   ForceSlots slots;
   EnergyLedger ledger;
-  ledger.begin_step(p.n_local());
+  ledger.begin_step(p.n_local(), {});
   ComputeContext ctx{
       p,      bodies, materials, slots,
       ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
@@ -296,7 +296,7 @@ TEST(PairContactTerm, AnOpenedContactForgetsItsSpring) {
   EnergyLedger ledger;
   const auto compute = [&] {
     GatherMap::initialise_loads(p, gravity);
-    ledger.begin_step(p.n_local());
+    ledger.begin_step(p.n_local(), {});
     ComputeContext ctx{
         p,      bodies, materials, slots,
         ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};

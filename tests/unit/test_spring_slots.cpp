@@ -80,22 +80,28 @@ TEST(SpringSlots, AReusedSlotStartsAtZero) {
 
 // A rebuild's round trip without a second copy of the springs: the held springs taken out in
 // candidate order (the pool permuted in place) and carried back into a fresh pool made in their
-// own memory must give every candidate the spring a plain copy gives it.
+// own memory must give every candidate the spring a plain copy gives it, and the ledger state
+// beside it (its damping force the spring's value times -2, so that each follows its spring).
 TEST(SpringSlots, InPlacePackingAndCarryingAgreeWithCopies) {
   constexpr std::size_t kCandidates = 3000;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> value(-1.0, 1.0);
   std::bernoulli_distribution touches(0.6), opens(0.3), zero(0.05);
   SpringSlots slots;
+  slots.keep_ledger();
   slots.reset(kCandidates);
   // Springs taken, some given back and taken again, so that pool order is not candidate order.
   for (int round = 0; round < 3; ++round)
     for (std::size_t m = 0; m < kCandidates; ++m) {
-      if (touches(rng))
-        slots.take(m) = zero(rng) ? Vec3{} : Vec3{value(rng), value(rng), value(rng)};
-      else if (opens(rng))
+      if (touches(rng)) {
+        Vec3& spring = slots.take(m);
+        spring = zero(rng) ? Vec3{} : Vec3{value(rng), value(rng), value(rng)};
+        slots.ledger(m).damping = to_vec3f(spring * -2.0);
+      } else if (opens(rng)) {
         slots.release(m);
+      }
     }
+  const auto damping_of = [](const Vec3& spring) { return to_vec3(to_vec3f(spring * -2.0)); };
   const auto keep = [&](std::size_t m) { return slots.value(m).x != 0.0; };
   std::vector<Vec3> copied;  // what the copying pack appends, in candidate order
   std::vector<std::size_t> kept_candidates;
@@ -106,18 +112,23 @@ TEST(SpringSlots, InPlacePackingAndCarryingAgreeWithCopies) {
     }
   ASSERT_GT(copied.size(), kCandidates / 4);
   ASSERT_LT(copied.size(), slots.n_held()) << "no spring left out: the test checks less";
-  const std::vector<Vec3> packed = slots.take_in_candidate_order(keep);
+  std::vector<ContactLedgerState> packed_ledger;
+  const std::vector<Vec3> packed = slots.take_in_candidate_order(keep, packed_ledger);
   ASSERT_EQ(packed.size(), copied.size());
+  ASSERT_EQ(packed_ledger.size(), copied.size());
   for (std::size_t r = 0; r < packed.size(); ++r)
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < 3; ++c) {
       ASSERT_EQ(packed[r][c], copied[r][c]) << "row " << r;
+      ASSERT_EQ(to_vec3(packed_ledger[r].damping)[c], damping_of(copied[r])[c]) << "row " << r;
+    }
   EXPECT_EQ(slots.n_candidates(), 0u);
 
   // Carried back to new candidates: every other kept row finds a candidate again (rows
   // increasing), into the rows' own memory and by take() into a fresh pool.
   SpringSlots carried, taken;
   const std::size_t n_new = kCandidates + 10;
-  carried.reset_carrying(n_new, std::vector<Vec3>(packed));
+  carried.reset_carrying(n_new, std::vector<Vec3>(packed),
+                         std::vector<ContactLedgerState>(packed_ledger));
   taken.reset(n_new);
   std::size_t n_carried = 0;
   for (std::size_t r = 0; r < packed.size(); r += 2) {
@@ -131,19 +142,44 @@ TEST(SpringSlots, InPlacePackingAndCarryingAgreeWithCopies) {
   for (std::size_t m = 0; m < n_new; ++m) {
     ASSERT_EQ(carried.holds(m), taken.holds(m)) << "candidate " << m;
     if (!carried.holds(m)) continue;
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < 3; ++c) {
       ASSERT_EQ(carried.value(m)[c], taken.value(m)[c]) << "candidate " << m;
+      ASSERT_EQ(to_vec3(carried.ledger(m).damping)[c], damping_of(taken.value(m))[c])
+          << "candidate " << m;
+    }
   }
+  // Carried without ledger states (a rebuild that booked them): none until asked for, then
+  // zero beside every spring, and taken again with the springs.
+  SpringSlots bare;
+  bare.reset_carrying(n_new, std::vector<Vec3>(packed), {});
+  for (std::size_t r = 0; r < packed.size(); ++r)
+    bare.carry(kept_candidates[r], r);
+  bare.end_carry();
+  EXPECT_FALSE(bare.keeps_ledger());
+  bare.take(kCandidates + 5) = Vec3{1, 2, 3};  // a new contact before the ledger is asked for
+  bare.keep_ledger();
+  for (std::size_t r = 0; r < packed.size(); ++r)
+    ASSERT_TRUE(bare.ledger(kept_candidates[r]).is_zero()) << "row " << r;
+  bare.ledger(kCandidates + 5).overlap = 1.0f;
+  std::vector<ContactLedgerState> bare_ledger;
+  const std::vector<Vec3> bare_packed =
+      bare.take_in_candidate_order([](std::size_t) { return true; }, bare_ledger);
+  ASSERT_EQ(bare_ledger.size(), bare_packed.size());
+  EXPECT_EQ(bare_ledger.back().overlap, 1.0f);  // the new contact is the last candidate
+  EXPECT_EQ(bare_packed.back().z, 3.0);
+
   // A contact that opens after the carry, and one that closes, behave as in any pool.
   carried.release(kept_candidates[0] + 7);
   EXPECT_EQ(carried.n_held(), n_carried - 1);
   EXPECT_EQ(carried.take(1).x, 0.0);
+  EXPECT_TRUE(carried.ledger(1).is_zero());
 
   // Rows in no order of the candidates (after a re-sort): every third row, carried from the
   // last candidate to the first, gives each its spring, and the pool comes out in candidate
   // order (a slot number per candidate, counted up) with the rows nobody took cut off.
   SpringSlots reordered;
-  reordered.reset_carrying(n_new, std::vector<Vec3>(packed));
+  reordered.reset_carrying(n_new, std::vector<Vec3>(packed),
+                           std::vector<ContactLedgerState>(packed_ledger));
   std::size_t n_reordered = 0;
   for (std::size_t r = 0; r < packed.size(); r += 3) {
     reordered.carry(n_new - 1 - kept_candidates[r], r);
@@ -160,8 +196,11 @@ TEST(SpringSlots, InPlacePackingAndCarryingAgreeWithCopies) {
     ASSERT_EQ(reordered.holds(m), carried_here) << "candidate " << m;
     if (!carried_here) continue;
     const Vec3& spring = packed[static_cast<std::size_t>(it - kept_candidates.begin())];
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < 3; ++c) {
       ASSERT_EQ(reordered.value(m)[c], spring[c]) << "candidate " << m;
+      ASSERT_EQ(to_vec3(reordered.ledger(m).damping)[c], damping_of(spring)[c])
+          << "candidate " << m;
+    }
     if (previous != nullptr) {
       EXPECT_EQ(&reordered.value(m), previous + 1) << "candidate " << m;
     }
