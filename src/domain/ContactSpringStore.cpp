@@ -12,7 +12,7 @@ void ContactSpringStore::drop_released() {
   std::vector<char> keep(size());
   const bool carries_ledger = !ledger.empty();
   for (std::size_t k = 0; k < size(); ++k)
-    keep[k] = norm2(spring[k]) > 0.0 || (carries_ledger && !ledger[k].is_zero());
+    keep[k] = norm2(spring[k]) > 0.0 || (carries_ledger && !ledger[k].is_empty());
   keep_rows(keep);
 }
 

@@ -98,13 +98,13 @@ struct PairContactChunk {
   /// What pair c carried from the last step (per-contact booking).
   void set_carried(std::size_t c, const ContactLedgerState& carried) {
     damping_carried.set(c, to_vec3(carried.damping));
-    normal_carried.set(c, to_vec3(carried.normal));
+    normal_carried.set(c, carried.normal());
     overlap_carried[c] = static_cast<double>(carried.overlap);
     carried_weight[c] = carried.carries_work() ? 1.0 : 0.0;
   }
   /// What pair c carries to the next step (per-contact booking).
   ContactLedgerState to_carry(std::size_t c) const {
-    return {to_vec3f(damping_a.get(c)), to_vec3f(normal.get(c)), static_cast<float>(overlap[c])};
+    return ContactLedgerState::of(damping_a.get(c), normal.get(c), overlap[c]);
   }
 
   /// The contact law (physics.md §3, HertzMindlin) over lanes 0..n-1, as one loop.

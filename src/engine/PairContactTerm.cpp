@@ -216,7 +216,7 @@ void PairContactTerm::book_carried_work(const ParticleStore& p, EnergyLedger& le
     if (!carried.carries_work()) continue;
     const std::uint32_t a = pairs_.i[m], b = pairs_.j[m];
     const double depth = static_cast<double>(carried.overlap);
-    const Vec3 v_rel = relative_contact_velocity(to_vec3(carried.normal), p.radius[a] - 0.5 * depth,
+    const Vec3 v_rel = relative_contact_velocity(carried.normal(), p.radius[a] - 0.5 * depth,
                                                  p.radius[b] - 0.5 * depth, p.velocity[a],
                                                  p.velocity[b], p.omega[a], p.omega[b]);
     const double half_damping = 0.5 * dot(to_vec3(carried.damping), v_rel);
@@ -276,7 +276,7 @@ ContactLedgerState PairContactTerm::carried_ledger(std::size_t m) const {
 }
 
 bool PairContactTerm::carries_state(std::size_t m) const {
-  return norm2(spring_.value(m)) > 0.0 || (spring_.keeps_ledger() && !spring_.ledger(m).is_zero());
+  return norm2(spring_.value(m)) > 0.0 || (spring_.keeps_ledger() && !spring_.ledger(m).is_empty());
 }
 
 void PairContactTerm::compute(ComputeContext& ctx) {
@@ -390,8 +390,8 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
               const ContactLedgerState& carried = springs.ledger(m);
               const double depth = static_cast<double>(carried.overlap);
               const Vec3 v_rel = relative_contact_velocity(
-                  to_vec3(carried.normal), radius[a] - 0.5 * depth, radius[b] - 0.5 * depth,
-                  p.velocity[a], p.velocity[b], p.omega[a], p.omega[b]);
+                  carried.normal(), radius[a] - 0.5 * depth, radius[b] - 0.5 * depth, p.velocity[a],
+                  p.velocity[b], p.omega[a], p.omega[b]);
               const double half_damping = 0.5 * dot(to_vec3(carried.damping), v_rel);
               const double half_friction = 0.5 * dot(springs.value(m), v_rel);
               if (loads.owned(a)) ledger.add_half_work(work, half_damping, half_friction);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -159,7 +160,7 @@ TEST(SpringSlots, InPlacePackingAndCarryingAgreeWithCopies) {
   bare.take(kCandidates + 5) = Vec3{1, 2, 3};  // a new contact before the ledger is asked for
   bare.keep_ledger();
   for (std::size_t r = 0; r < packed.size(); ++r)
-    ASSERT_TRUE(bare.ledger(kept_candidates[r]).is_zero()) << "row " << r;
+    ASSERT_TRUE(bare.ledger(kept_candidates[r]).is_empty()) << "row " << r;
   bare.ledger(kCandidates + 5).overlap = 1.0f;
   std::vector<ContactLedgerState> bare_ledger;
   const std::vector<Vec3> bare_packed =
@@ -172,7 +173,7 @@ TEST(SpringSlots, InPlacePackingAndCarryingAgreeWithCopies) {
   carried.release(kept_candidates[0] + 7);
   EXPECT_EQ(carried.n_held(), n_carried - 1);
   EXPECT_EQ(carried.take(1).x, 0.0);
-  EXPECT_TRUE(carried.ledger(1).is_zero());
+  EXPECT_TRUE(carried.ledger(1).is_empty());
 
   // Rows in no order of the candidates (after a re-sort): every third row, carried from the
   // last candidate to the first, gives each its spring, and the pool comes out in candidate
@@ -206,6 +207,34 @@ TEST(SpringSlots, InPlacePackingAndCarryingAgreeWithCopies) {
     }
     previous = &reordered.value(m);
   }
+}
+
+// The normal a contact carries to the ledger is stored in two floats (octahedral): every unit
+// vector must come back within a few float roundings, in every octant and on the folds (the
+// horizontal normals of a packing, z = 0, lie on the fold), and the rest of the state as it was.
+TEST(ContactLedgerState, TheNormalComesBackFromItsTwoFloats) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> gauss;
+  std::vector<Vec3> normals = {{1, 0, 0},  {-1, 0, 0},    {0, 1, 0},      {0, -1, 0},    {0, 0, 1},
+                               {0, 0, -1}, {0.6, 0.8, 0}, {-0.6, 0.8, 0}, {0.6, -0.8, 0}};
+  for (int k = 0; k < 100000; ++k) {
+    const Vec3 g{gauss(rng), gauss(rng), k % 3 == 0 ? 0.0 : gauss(rng)};
+    normals.push_back(g / std::sqrt(norm2(g)));
+  }
+  double worst = 0.0;
+  for (const Vec3& n : normals) {
+    const ContactLedgerState s = ContactLedgerState::of(Vec3{1, -2, 3}, n, 1e-5);
+    worst = std::max(worst, std::sqrt(norm2(s.normal() - n)));
+    ASSERT_TRUE(s.carries_work());
+  }
+  EXPECT_LT(worst, 4e-7);
+  EXPECT_GT(worst, 0.0) << "no rounding at all: the normal was not stored in float";
+  const ContactLedgerState s = ContactLedgerState::of(Vec3{1, -2, 3}, Vec3{0, 0, -1}, 0.0);
+  EXPECT_EQ(to_vec3(s.damping).y, -2.0);
+  EXPECT_EQ(s.overlap, 0.0f);
+  EXPECT_TRUE(s.carries_work()) << "a contact that just touches carries its work";
+  EXPECT_FALSE(ContactLedgerState{}.carries_work());
+  EXPECT_TRUE(ContactLedgerState{}.is_empty());
 }
 
 }  // namespace
