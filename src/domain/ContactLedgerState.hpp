@@ -36,30 +36,32 @@ struct ContactLedgerState {
   static ContactLedgerState of(const Vec3& damping, const Vec3& n, double overlap) {
     ContactLedgerState s;
     s.damping = to_vec3f(damping);
-    const double l1 = std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
-    double u = n.x / l1, v = n.y / l1;
-    if (n.z < 0.0) {  // the lower half folded over the diagonals
-      const double fu = (1.0 - std::abs(v)) * std::copysign(1.0, u);
-      const double fv = (1.0 - std::abs(u)) * std::copysign(1.0, v);
-      u = fu;
-      v = fv;
-    }
+    double u, v;
+    fold_normal(n, u, v);
     s.normal_u = static_cast<float>(u);
     s.normal_v = static_cast<float>(v);
     s.overlap = static_cast<float>(overlap);
     return s;
   }
-  /// The unit normal (the inverse of of()'s folding, normalised).
-  Vec3 normal() const {
-    double x = normal_u, y = normal_v;
-    const double z = 1.0 - std::abs(x) - std::abs(y);
-    if (z < 0.0) {
-      const double fx = (1.0 - std::abs(y)) * std::copysign(1.0, x);
-      const double fy = (1.0 - std::abs(x)) * std::copysign(1.0, y);
-      x = fx;
-      y = fy;
-    }
-    const Vec3 n{x, y, z};
+  /// The unit normal.
+  Vec3 normal() const { return unfold_normal(normal_u, normal_v); }
+
+  // The two halves of the octahedral map, written with selects rather than branches so that a
+  // vectorised loop can run them (PairContactChunk::compute_lanes).
+  /// The unit vector `n` folded onto the square |u| + |v| <= 1.
+  [[gnu::always_inline]] static void fold_normal(const Vec3& n, double& u, double& v) {
+    const double l1 = std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
+    const double x = n.x / l1, y = n.y / l1;
+    const bool lower = n.z < 0.0;  // the lower half folded over the diagonals
+    u = lower ? (1.0 - std::abs(y)) * std::copysign(1.0, x) : x;
+    v = lower ? (1.0 - std::abs(x)) * std::copysign(1.0, y) : y;
+  }
+  /// The inverse of fold_normal(), normalised.
+  [[gnu::always_inline]] static Vec3 unfold_normal(double u, double v) {
+    const double z = 1.0 - std::abs(u) - std::abs(v);
+    const bool lower = z < 0.0;
+    const Vec3 n{lower ? (1.0 - std::abs(v)) * std::copysign(1.0, u) : u,
+                 lower ? (1.0 - std::abs(u)) * std::copysign(1.0, v) : v, z};
     return n / std::sqrt(norm2(n));
   }
 };

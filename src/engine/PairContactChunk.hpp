@@ -51,11 +51,34 @@ struct PairContactChunk {
   alignas(64) double e_star[kSize], g_star[kSize], beta[kSize], friction[kSize],
       rolling_friction[kSize];
   Column spring;  ///< in: carried; out: updated (physics.md §3)
-  /// Per-contact booking: what the pair carried from the last step (ContactLedgerState).
-  Column damping_carried, normal_carried;
-  /// 1 where the carried loads do work in this step, 0 where they do not
-  /// (ContactLedgerState::carries_work()).
-  alignas(64) double overlap_carried[kSize], carried_weight[kSize];
+  /// Per-contact booking: the ledger states of the pairs (ContactLedgerState), as they are
+  /// stored: the gather and the scatter copy six floats a contact, and compute_lanes() unfolds
+  /// and folds the normal, a vector of lanes at a time (one contact at a time, the normal's
+  /// square root and division were a fifth of the pair loop: docs/performance.md,
+  /// forty-seventh round).
+  struct LedgerStateColumn {
+    alignas(64) float damping_x[kSize], damping_y[kSize], damping_z[kSize];
+    alignas(64) float normal_u[kSize], normal_v[kSize], overlap[kSize];
+    void set(std::size_t c, const ContactLedgerState& s) {
+      damping_x[c] = s.damping.x;
+      damping_y[c] = s.damping.y;
+      damping_z[c] = s.damping.z;
+      normal_u[c] = s.normal_u;
+      normal_v[c] = s.normal_v;
+      overlap[c] = s.overlap;
+    }
+    /// state = lane c, field by field (see PairContactTerm::compute_pairs on spring copies).
+    void copy_to(std::size_t c, ContactLedgerState& s) const {
+      s.damping.x = damping_x[c];
+      s.damping.y = damping_y[c];
+      s.damping.z = damping_z[c];
+      s.normal_u = normal_u[c];
+      s.normal_v = normal_v[c];
+      s.overlap = overlap[c];
+    }
+  };
+  LedgerStateColumn carried_ledger;   ///< in: from the last step
+  LedgerStateColumn ledger_to_carry;  ///< out: to the next step
 
   // Results: the force on a (b gets its opposite), each end's torque, and for the energy
   // ledger each end's viscous load and moments (ContactMoments) and half the pair's energies.
@@ -65,10 +88,8 @@ struct PairContactChunk {
   /// Per-contact booking: half the contact's work over the step, (F^n . u^n + F^{n+1} .
   /// u^{n+1}) / 2 with u the relative velocity of the step's middle at each load's own contact
   /// point, of the viscous force and of the tangential spring force (docs/physics.md "Energy
-  /// ledger"), for each owned end to book; and this step's normal and overlap to carry.
+  /// ledger"), for each owned end to book.
   alignas(64) double half_work_damping[kSize], half_work_friction[kSize];
-  Column normal;
-  alignas(64) double overlap[kSize];
 
   /// Appends a touching pair (the caller has tested it).
   void add(std::uint32_t m, std::uint32_t a, std::uint32_t b, const Vec3& d, double d2, double ra,
@@ -95,18 +116,6 @@ struct PairContactChunk {
     any_rolling = any_rolling || params.rolling_friction > 0.0;
     spring.set(c, carried);
   }
-  /// What pair c carried from the last step (per-contact booking).
-  void set_carried(std::size_t c, const ContactLedgerState& carried) {
-    damping_carried.set(c, to_vec3(carried.damping));
-    normal_carried.set(c, carried.normal());
-    overlap_carried[c] = static_cast<double>(carried.overlap);
-    carried_weight[c] = carried.carries_work() ? 1.0 : 0.0;
-  }
-  /// What pair c carries to the next step (per-contact booking).
-  ContactLedgerState to_carry(std::size_t c) const {
-    return ContactLedgerState::of(damping_a.get(c), normal.get(c), overlap[c]);
-  }
-
   /// The contact law (physics.md §3, HertzMindlin) over lanes 0..n-1, as one loop.
   template <Ledger kLedger>
   void compute(double dt) {

@@ -404,7 +404,7 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
                     effective_mass(p.mass[a], p.motion[a], p.mass[b], p.motion[b]), p.velocity[a],
                     p.velocity[b], p.omega[a], p.omega[b],
                     ctx.materials.pair(p.material[a], p.material[b]), springs.take(m));
-          if constexpr (kPerContact) chunk.set_carried(chunk.n - 1, springs.ledger(m));
+          if constexpr (kPerContact) chunk.carried_ledger.set(chunk.n - 1, springs.ledger(m));
           if constexpr (kBook) {
             // The ledger's entries now, in pair order (the order the scatter adds in).
             const std::size_t c = chunk.n - 1;
@@ -425,7 +425,8 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
           // across two of them, which the store buffer cannot forward (a fifth of this loop's
           // time on a packing in contact).
           chunk.spring.copy_to(c, springs.value(chunk.pair[c]));
-          if constexpr (kPerContact) springs.ledger(chunk.pair[c]) = chunk.to_carry(c);
+          if constexpr (kPerContact)
+            chunk.ledger_to_carry.copy_to(c, springs.ledger(chunk.pair[c]));
           const Vec3 spring = chunk.spring.get(c);
           const Vec3 force = chunk.force_a.get(c);
           // Per-contact booking: each owned end books half the contact's work and energies.
