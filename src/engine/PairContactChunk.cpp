@@ -50,27 +50,16 @@ void PairContactChunk::compute_lanes(double dt) {
           // the step's middle, which the law read (docs/physics.md "Energy ledger"). The spring
           // is the tangential force on a, as the damping force is.
           const double depth_carried = carried_ledger.overlap[c];
-          const Vec3 v_carried = relative_contact_velocity(
-              ContactLedgerState::unfold_normal(carried_ledger.normal_u[c],
-                                                carried_ledger.normal_v[c]),
-              radius_a[c] - 0.5 * depth_carried, radius_b[c] - 0.5 * depth_carried, va, vb, wa, wb);
+          const Vec3 v_carried =
+              relative_contact_velocity(carried_ledger.normal(c), radius_a[c] - 0.5 * depth_carried,
+                                        radius_b[c] - 0.5 * depth_carried, va, vb, wa, wb);
           // The carried loads do work where the pair carries it (ContactLedgerState::
           // carries_work()).
           const double start = depth_carried >= 0.0 ? 1.0 : 0.0;
-          const Vec3 damping_start{carried_ledger.damping_x[c], carried_ledger.damping_y[c],
-                                   carried_ledger.damping_z[c]};
-          half_work_damping[c] =
-              0.5 * (start * dot(damping_start, v_carried) + dot(r.damping_force_i, in.v_rel));
+          half_work_damping[c] = 0.5 * (start * dot(carried_ledger.damping(c), v_carried) +
+                                        dot(r.damping_force_i, in.v_rel));
           half_work_friction[c] = 0.5 * (start * dot(s_carried, v_carried) + dot(s, in.v_rel));
-          // What the pair carries to the next step (ContactLedgerState::of()).
-          double normal_u, normal_v;
-          ContactLedgerState::fold_normal(unit, normal_u, normal_v);
-          ledger_to_carry.damping_x[c] = static_cast<float>(r.damping_force_i.x);
-          ledger_to_carry.damping_y[c] = static_cast<float>(r.damping_force_i.y);
-          ledger_to_carry.damping_z[c] = static_cast<float>(r.damping_force_i.z);
-          ledger_to_carry.normal_u[c] = static_cast<float>(normal_u);
-          ledger_to_carry.normal_v[c] = static_cast<float>(normal_v);
-          ledger_to_carry.overlap[c] = static_cast<float>(depth);
+          ledger_to_carry.store(c, r.damping_force_i, unit, depth);
           if constexpr (kLedger == Ledger::kPerContactWithEnergies) {
             half_tangential_energy[c] = 0.5 * r.tangential_energy;
             half_elastic_energy[c] = 0.5 * r.elastic_energy;

@@ -67,6 +67,24 @@ struct PairContactChunk {
       normal_v[c] = s.normal_v;
       overlap[c] = s.overlap;
     }
+    /// Lane c as ContactLedgerState::of() makes a state (in compute_lanes(), inlined there).
+    [[gnu::always_inline]] void store(std::size_t c, const Vec3& damping, const Vec3& normal,
+                                      double depth) {
+      double u, v;
+      ContactLedgerState::fold_normal(normal, u, v);
+      damping_x[c] = static_cast<float>(damping.x);
+      damping_y[c] = static_cast<float>(damping.y);
+      damping_z[c] = static_cast<float>(damping.z);
+      normal_u[c] = static_cast<float>(u);
+      normal_v[c] = static_cast<float>(v);
+      overlap[c] = static_cast<float>(depth);
+    }
+    [[gnu::always_inline]] Vec3 damping(std::size_t c) const {
+      return {damping_x[c], damping_y[c], damping_z[c]};
+    }
+    [[gnu::always_inline]] Vec3 normal(std::size_t c) const {
+      return ContactLedgerState::unfold_normal(normal_u[c], normal_v[c]);
+    }
     /// state = lane c, field by field (see PairContactTerm::compute_pairs on spring copies).
     void copy_to(std::size_t c, ContactLedgerState& s) const {
       s.damping.x = damping_x[c];
