@@ -33,7 +33,8 @@ struct ContactLedgerState {
   }
 
   /// The state of a contact of unit normal `n` (from the first end to the second).
-  static ContactLedgerState of(const Vec3& damping, const Vec3& n, double overlap) {
+  [[gnu::always_inline]] static ContactLedgerState of(const Vec3& damping, const Vec3& n,
+                                                      double overlap) {
     ContactLedgerState s;
     s.damping = to_vec3f(damping);
     double u, v;

@@ -59,7 +59,7 @@ struct PairContactChunk {
   struct LedgerStateColumn {
     alignas(64) float damping_x[kSize], damping_y[kSize], damping_z[kSize];
     alignas(64) float normal_u[kSize], normal_v[kSize], overlap[kSize];
-    void set(std::size_t c, const ContactLedgerState& s) {
+    [[gnu::always_inline]] void set(std::size_t c, const ContactLedgerState& s) {
       damping_x[c] = s.damping.x;
       damping_y[c] = s.damping.y;
       damping_z[c] = s.damping.z;
@@ -67,17 +67,10 @@ struct PairContactChunk {
       normal_v[c] = s.normal_v;
       overlap[c] = s.overlap;
     }
-    /// Lane c as ContactLedgerState::of() makes a state (in compute_lanes(), inlined there).
+    /// Lane c, the state of ContactLedgerState::of() (in compute_lanes(), inlined there).
     [[gnu::always_inline]] void store(std::size_t c, const Vec3& damping, const Vec3& normal,
                                       double depth) {
-      double u, v;
-      ContactLedgerState::fold_normal(normal, u, v);
-      damping_x[c] = static_cast<float>(damping.x);
-      damping_y[c] = static_cast<float>(damping.y);
-      damping_z[c] = static_cast<float>(damping.z);
-      normal_u[c] = static_cast<float>(u);
-      normal_v[c] = static_cast<float>(v);
-      overlap[c] = static_cast<float>(depth);
+      set(c, ContactLedgerState::of(damping, normal, depth));
     }
     [[gnu::always_inline]] Vec3 damping(std::size_t c) const {
       return {damping_x[c], damping_y[c], damping_z[c]};
