@@ -95,9 +95,11 @@ struct Integrator {
   static SquaredSpeeds squared_speeds(const ParticleStore& p, const std::vector<Run>& runs);
 
   /// v += F/m half_dt, omega += T/I half_dt for owned free particles, from the loads given
-  /// (multi-rate stepping's slow kicks: ParticleStore::slow_force).
-  static void kick(ParticleStore& p, const std::vector<Vec3>& force,
-                   const std::vector<Vec3>& torque, double half_dt);
+  /// (multi-rate stepping's slow kicks: ParticleStore::slow_force). Four particles at a time;
+  /// the loads are read only (the last partial four goes through a copy that is written back
+  /// unchanged, hence not const).
+  static void kick(ParticleStore& p, std::vector<Vec3>& force, std::vector<Vec3>& torque,
+                   double half_dt);
 
   /// Rigid bodies: prescribed ones move with their velocity; free ones are integrated from
   /// their contact load plus gravity.

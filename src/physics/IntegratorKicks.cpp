@@ -189,13 +189,22 @@ void apply_global_damping(ParticleStore& p, double dt) {
   }
 }
 
-void Integrator::kick(ParticleStore& p, const std::vector<Vec3>& force,
-                      const std::vector<Vec3>& torque, double half_dt) {
-  for (std::size_t k = 0; k < p.n_local(); ++k) {
-    if (p.motion[k] != Motion::kFree) continue;
-    p.velocity[k] += force[k] * (half_dt / p.mass[k]);
-    p.omega[k] += torque[k] * (half_dt / p.inertia(k));
-  }
+void Integrator::kick(ParticleStore& p, std::vector<Vec3>& force, std::vector<Vec3>& torque,
+                      double half_dt) {
+  // The passes' undamped kick (kick_four) over these loads: per lane v + F (half_dt / m) and
+  // omega + T (half_dt / 0.4 m r^2), the operations of one particle at a time in their order,
+  // so the same bits; a held particle's factors are zero. One particle at a time, with two
+  // divisions each, this was about 4.5 % of the sub-stepped debris demo.
+  integrator_lanes::ParticleRows r = integrator_lanes::rows_of(p);
+  r.force = force.data();
+  r.torque = torque.data();
+  // kick_four() kicks by half of the step it is given.
+  const double dt = 2.0 * half_dt;
+  integrator_lanes::for_each_four(
+      r, 0, p.n_local(),
+      [dt](const integrator_lanes::ParticleRows& rows, std::size_t k, std::size_t) {
+        integrator_lanes::kick_four(rows, k, dt, nullptr);
+      });
 }
 
 }  // namespace ringdem
