@@ -241,6 +241,15 @@ void EnergyLedger::accumulate_below(std::size_t end, const ParticleStore& p,
   for (; v_index < n_visit_; ++v_index) {
     const std::size_t k = scan_all_ ? v_index : visit_[v_index];
     if (k >= end) break;
+    // Shared entries (entry_of_) lie in the order the pair loop first touched them, not in
+    // this pass's: without a request ahead, reading them was about 40 % of this pass in the
+    // pile of a sub-stepped debris channel (docs/performance.md, forty-eighth round).
+    if (moments && !own_entries_ && v_index + kEntriesAhead < n_visit_) {
+      const std::size_t ahead =
+          scan_all_ ? v_index + kEntriesAhead : visit_[v_index + kEntriesAhead];
+      const std::uint32_t entry = entry_of_[ahead];
+      if (entry != kNoEntry) __builtin_prefetch(&moments_[entry], 1);
+    }
     const bool has_moments = moments && (own_entries_ || entry_of_[k] != kNoEntry);
     const bool has_records = i < particles.size() && particles[i] == k;
     const bool is_driven = d < driven.size() && driven[d].particle == k;
