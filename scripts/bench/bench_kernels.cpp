@@ -227,8 +227,8 @@ BENCHMARK(BM_IntegrateRings)
 // The integrator alone on free grains (no damping, no orientations), as the grain flows step:
 // separate passes (second half kick, then drift: Arg 0) or one fused pass (Arg 1, the batches
 // of Simulation::run_steps), for 4 096 particles (in cache) and 2^20 (from memory).
-void BM_IntegrateGrains(benchmark::State& state) {
-  const std::size_t n = static_cast<std::size_t>(state.range(0));
+/// n free rock grains in a row, moving; radius 5 mm, or 5-9 mm where `mixed_radii`.
+ParticleStore free_grains(std::size_t n, bool mixed_radii) {
   ParticleStore p;
   p.reserve(n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -236,11 +236,17 @@ void BM_IntegrateGrains(benchmark::State& state) {
     np.gid = static_cast<std::int64_t>(k);
     np.position = {0.01 * static_cast<double>(k), 0.0, 0.0};
     np.velocity = {1.0, 0.1 * static_cast<double>(k % 7), 0.0};
-    np.radius = 0.005;
+    np.radius = 0.005 + (mixed_radii ? 0.001 * static_cast<double>(k % 5) : 0.0);
     np.density = 2600.0;
-    const std::size_t i = p.add(np);
-    p.force[i] = {0.01, 0.02, -0.01};
+    p.add(np);
   }
+  return p;
+}
+
+void BM_IntegrateGrains(benchmark::State& state) {
+  const std::size_t n = static_cast<std::size_t>(state.range(0));
+  ParticleStore p = free_grains(n, false);
+  p.force.assign(n, Vec3{0.01, 0.02, -0.01});
   const Vec3 gravity{5.6, 0.0, -8.0};
   const double dt = 1.31e-5;
   const bool fused = state.range(1) != 0;
@@ -267,17 +273,7 @@ BENCHMARK(BM_IntegrateGrains)
 // and 2^20 (from memory).
 void BM_SlowKick(benchmark::State& state) {
   const std::size_t n = static_cast<std::size_t>(state.range(0));
-  ParticleStore p;
-  p.reserve(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    ParticleStore::NewParticle np;
-    np.gid = static_cast<std::int64_t>(k);
-    np.position = {0.01 * static_cast<double>(k), 0.0, 0.0};
-    np.velocity = {1.0, 0.1 * static_cast<double>(k % 7), 0.0};
-    np.radius = 0.005 + 0.001 * static_cast<double>(k % 5);
-    np.density = 2600.0;
-    p.add(np);
-  }
+  ParticleStore p = free_grains(n, true);
   p.slow_force.assign(n, Vec3{0.01, 0.02, -0.01});
   p.slow_torque.assign(n, Vec3{1e-5, 0.0, -2e-5});
   for (auto _ : state) {
