@@ -593,10 +593,10 @@ void DomainDecomposition::build_ghosts(ParticleStore& p) {
   p.rebuild_index();
 }
 
-void DomainDecomposition::update_ghosts(ParticleStore& p) {
+void DomainDecomposition::update_ghosts(ParticleStore& p, unsigned fields) {
   const auto n_ranks = static_cast<std::size_t>(comm_.size());
   if (n_ranks == 1) return;
-  const unsigned flags = field_flag::kGhostStep;
+  const unsigned flags = fields;
   const std::size_t size = record_size(p, flags);
   // Column by column within each rank's block: a column's values for all the ghosts a rank
   // gets, in a row, copied in a tight loop on the way out and in one piece on the way in (the

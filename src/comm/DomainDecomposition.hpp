@@ -68,8 +68,9 @@ class DomainDecomposition {
   /// every one of a grain step's `scale` sub-steps, the grains' contacts once.
   void set_row_weight_scale(int scale) { row_weight_scale_ = scale; }
 
-  /// Refreshes the per-step ghost fields (field_flag::kGhostStep) from their owners.
-  void update_ghosts(ParticleStore& p);
+  /// Refreshes the ghosts' fields that have one of `fields` (field_flag; by default the
+  /// per-step ones, kGhostStep) from their owners. Collective.
+  void update_ghosts(ParticleStore& p, unsigned fields = field_flag::kGhostStep);
   /// Selects the ghosts of the owned particles k with `selected[k] != 0` for
   /// update_ghost_subset(), until the ghost layer next changes, for the ranks that say
   /// `reads_any` (GhostSubset). Collective.

@@ -21,6 +21,9 @@ inline constexpr unsigned kOutput = 1u << 3;      ///< written to frame files
 inline constexpr unsigned kCheckpoint = 1u << 4;  ///< part of the restart state
 /// A checkpoint written without the field (an energy ledger switched off) restores zeros.
 inline constexpr unsigned kZeroIfAbsent = 1u << 5;
+/// Sent again to the ghosts when multi-rate stepping's rates change without a rebuild
+/// (Simulation::change_rates()): a ghost created before the change holds the old value.
+inline constexpr unsigned kGhostRates = 1u << 6;
 }  // namespace field_flag
 
 struct FieldInfo {
@@ -151,7 +154,7 @@ class ParticleStore {
       f(FieldInfo{"slow_torque", kState}, slow_torque);
       // Ghosts need it: a pair's rate is decided on every rank that holds it. A checkpoint
       // written before the column existed restarts with none (the next check sets them).
-      f(FieldInfo{"net_contact", kState | kGhostOnce | kZeroIfAbsent}, net_contact);
+      f(FieldInfo{"net_contact", kState | kGhostOnce | kGhostRates | kZeroIfAbsent}, net_contact);
     }
   }
 

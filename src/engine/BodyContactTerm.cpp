@@ -41,13 +41,27 @@ void BodyContactTerm::rebuild(RebuildContext& ctx) {
         springs_.append(p.gid[k], static_cast<std::int64_t>(b),
                         it != old_springs.end() ? it->second : Vec3{});
       }
-  fast_list_.clear();
-  for (std::size_t w = 0; w < fast_.size(); ++w)
-    if (fast_[w] != 0) fast_list_.push_back(static_cast<std::uint32_t>(w));
+  list_fast_candidates();
   slots_ = ctx.allocator.take(particle_.size());
   for (std::size_t w = 0; w < particle_.size(); ++w)
     ctx.gather.add(particle_[w], GatherMap::kBodyKeyBase + body_[w], ctx.term_number,
                    slots_.begin + static_cast<std::uint32_t>(w), true, fast_[w] != 0);
+}
+
+void BodyContactTerm::list_fast_candidates() {
+  fast_list_.clear();
+  for (std::size_t w = 0; w < fast_.size(); ++w)
+    if (fast_[w] != 0) fast_list_.push_back(static_cast<std::uint32_t>(w));
+}
+
+void BodyContactTerm::change_rates(const ParticleStore& p, GatherMap& gather) {
+  for (std::size_t w = 0; w < particle_.size(); ++w) {
+    const std::uint8_t fast = is_fast_particle(p, particle_[w]) ? 1 : 0;
+    if (fast == fast_[w]) continue;
+    fast_[w] = fast;
+    gather.set_rate(slots_.begin + static_cast<std::uint32_t>(w), fast != 0);
+  }
+  list_fast_candidates();
 }
 
 void BodyContactTerm::compute(ComputeContext& ctx) {

@@ -36,8 +36,12 @@ class BodyContactTerm final : public ForceTerm {
   /// Those of them whose particle is fast (multi-rate stepping: evaluated at every sub-step).
   std::size_t n_fast_candidates() const { return fast_list_.size(); }
   bool has_slow_interactions() const override { return true; }
+  /// Each candidate's rate from its particle's again, and its slot's with it.
+  void change_rates(const ParticleStore& p, GatherMap& gather) override;
 
  private:
+  /// fast_list_ from fast_.
+  void list_fast_candidates();
   std::vector<std::uint32_t> particle_, body_;
   std::vector<std::uint8_t> fast_;        ///< per candidate: its particle is fast (ForceRate)
   std::vector<std::uint32_t> fast_list_;  ///< the candidates with fast_ set

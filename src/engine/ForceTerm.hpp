@@ -149,6 +149,11 @@ class ForceTerm {
   /// since). Simulation::note_net_contacts() makes those grains' interactions fast.
   virtual void mark_net_contacts(const ParticleStore& /*p*/,
                                  std::vector<std::uint8_t>& /*touching*/) const {}
+  /// Multi-rate stepping, between two rebuilds: some grain's net_contact changed (owned and
+  /// ghost particles alike), so is_fast_particle() may now answer otherwise for the same
+  /// candidates. A term whose rates follow it re-decides them, and tells `gather` the new rate
+  /// of each of its slots (GatherMap::set_rate()); the others keep theirs.
+  virtual void change_rates(const ParticleStore& /*p*/, GatherMap& /*gather*/) {}
 };
 
 }  // namespace ringdem

@@ -16,20 +16,35 @@ void GatherMap::finish(const ParticleStore& p) {
     return std::tie(x.particle, x.key, x.term) < std::tie(y.particle, y.key, y.term);
   });
   all_.build(entries_, -1);
-  if (split_by_rate_) {
-    fast_.build(entries_, 1);
-    slow_.build(entries_, 0);
-  }
-
   // Energy ledger: the owned particles with ledger slots (in gather order), and driven ones.
   ledger_all_.build(entries_, -1, true);
+  entry_of_slot_.clear();
   if (split_by_rate_) {
-    ledger_fast_.build(entries_, 1, true);
-    ledger_slow_.build(entries_, 0, true);
+    std::uint32_t n_slots = 0;
+    for (const Entry& e : entries_)
+      n_slots = std::max(n_slots, e.slot + 1);
+    entry_of_slot_.assign(n_slots, kNoEntry);
+    for (std::size_t i = 0; i < entries_.size(); ++i)
+      entry_of_slot_[entries_[i].slot] = static_cast<std::uint32_t>(i);
   }
+  finish_rates();
   driven_particle_.clear();
   for (std::size_t k = 0; k < n_local_; ++k)
     if (p.motion[k] != Motion::kFree) driven_particle_.push_back(static_cast<std::uint32_t>(k));
+}
+
+void GatherMap::set_rate(std::uint32_t slot, bool fast) {
+  if (!split_by_rate_) throw std::logic_error("GatherMap::set_rate without set_split_by_rate()");
+  if (slot < entry_of_slot_.size() && entry_of_slot_[slot] != kNoEntry)
+    entries_[entry_of_slot_[slot]].fast = fast;
+}
+
+void GatherMap::finish_rates() {
+  if (!split_by_rate_) return;
+  fast_.build(entries_, 1);
+  slow_.build(entries_, 0);
+  ledger_fast_.build(entries_, 1, true);
+  ledger_slow_.build(entries_, 0, true);
 }
 
 void GatherMap::SlotLists::build(const std::vector<Entry>& entries, int fast, bool ledger_only) {

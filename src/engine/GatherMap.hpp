@@ -35,6 +35,13 @@ class GatherMap {
   /// Sorts the entries into the gather order and builds the ledger's particle lists: owned
   /// particles with ledger slots, and driven ones (`p.motion`).
   void finish(const ParticleStore& p);
+  /// Multi-rate stepping, between two rebuilds: the interaction of `slot` now has the rate
+  /// `fast` (ForceTerm::change_rates()); a slot that no owned particle has is ignored.
+  /// finish_rates() then lists each rate's slots anew.
+  void set_rate(std::uint32_t slot, bool fast);
+  /// Each rate's slots and ledger slots from the entries' rates, in gather order (finish() does
+  /// it too). Nothing where the gather is not split by rate.
+  void finish_rates();
 
   /// Starts a force evaluation: force = gravity * mass, torque = 0 (owned particles). The step
   /// does this in its drift pass instead (Integrator::first_half).
@@ -111,6 +118,9 @@ class GatherMap {
                                       : ledger_all_;
   }
   bool split_by_rate_ = false;
+  /// Where the gather is split by rate: the entry of each slot (kNoEntry: none), for set_rate().
+  static constexpr std::uint32_t kNoEntry = UINT32_MAX;
+  std::vector<std::uint32_t> entry_of_slot_;
   std::vector<std::uint32_t> driven_particle_;
   std::vector<ParticlePower> external_, driven_;
   /// The point loads applied in this evaluation, by particle (the gather takes them out of a

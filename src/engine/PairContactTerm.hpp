@@ -38,6 +38,11 @@ class PairContactTerm final : public ForceTerm {
   void mark_fast_particles(const ParticleStore& p, std::vector<std::uint8_t>& fast) override;
   void mark_net_contacts(const ParticleStore& p,
                          std::vector<std::uint8_t>& touching) const override;
+  /// The candidates' rates are decided again at the next evaluation that asks (no slots: the
+  /// pairs add to the loads directly).
+  void change_rates(const ParticleStore& /*p*/, GatherMap& /*gather*/) override {
+    rates_current_ = false;
+  }
 
  private:
   /// compute() with what the energy ledger books of the pairs (PairContactChunk::Ledger).
@@ -65,7 +70,7 @@ class PairContactTerm final : public ForceTerm {
   PairContactChunk chunk_;  ///< compute scratch (28 KB)
   /// Multi-rate stepping (ForceRate): per chunk of PairContactChunk::kSize candidates, bit c
   /// set where candidate c has a fast particle at one end, and the chunks with any such bit
-  /// (from the last rebuild; empty while no evaluation has asked for a rate).
+  /// (from the last rebuild or rate change; empty while no evaluation has asked for a rate).
   std::vector<std::uint64_t> fast_mask_;
   std::vector<std::uint32_t> fast_chunks_;
   bool rates_current_ = false;  ///< fast_mask_ is of the current candidates

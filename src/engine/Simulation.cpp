@@ -510,16 +510,39 @@ void Simulation::start_step() {
 }
 
 void Simulation::exchange_grains_and_rebuild() {
-  // A grain's contact with the net changed (on some rank): the rates change at this rebuild.
-  bool changed = net_contacts_changed_;
+  bool changed = false;
   if (outflow_pending_ || !inflow_.empty()) {
     PhaseTimer t(phase_seconds_[kComm]);
-    changed = exchange_grains() || changed;
+    changed = exchange_grains();
   }
-  if (changed) {  // owned indices changed (on some rank): every rank rebuilds
+  // A grain's contact with the net changed (on some rank): the rates change, at the rebuild
+  // if there is one (every rank knows both).
+  if (changed || (net_contacts_changed_ && rebuild_on_rate_change_)) {
     PhaseTimer t(phase_seconds_[kNeighbour]);
-    rebuild();
+    rebuild();  // owned indices changed (on some rank): every rank rebuilds
+  } else if (net_contacts_changed_) {
+    PhaseTimer t(phase_seconds_[kNeighbour]);
+    change_rates();
   }
+}
+
+void Simulation::change_rates() {
+  // The flags change no candidate: a grain is a candidate of the same pairs and bodies at
+  // either rate. At a rebuild for them, a pile at a net rebuilt at nearly every check
+  // (docs/performance.md, forty-eighth round); this is a few passes over the candidates.
+  ParticleStore& p = model_.particles;
+  decomposition_.update_ghosts(p, field_flag::kGhostRates);
+  for (auto& t : terms_)
+    t->change_rates(p, gather_);
+  gather_.finish_rates();
+  // Each ledger's records are of its rate's slots (filled by the next evaluations).
+  ledger_.rebuild(gather_, allocator_.size());
+  fast_ledger_.rebuild(gather_, allocator_.size());
+  if (!model_.bodies.empty() && body_term_ != nullptr)
+    fast_bodies_in_reach_ = comm_.any(body_term_->n_fast_candidates() > 0);
+  movers_.invalidate();
+  net_contacts_changed_ = false;
+  ++rate_changes_;
 }
 
 bool Simulation::evaluate_step(bool batch_continues) {

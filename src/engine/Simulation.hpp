@@ -179,6 +179,8 @@ class Simulation {
   double dt() const { return dt_; }
   std::int64_t steps() const { return steps_; }
   std::int64_t rebuilds() const { return rebuilds_; }
+  /// Multi-rate stepping: the rate changes without a rebuild (change_rates()) since set-up.
+  std::int64_t rate_changes() const { return rate_changes_; }
   const StabilityLimits& limits() const { return limits_; }
   /// The fast interactions' step: dt() / settings().substeps (dt() with one rate).
   double substep() const { return dt_ / static_cast<double>(settings_.substeps); }
@@ -195,6 +197,9 @@ class Simulation {
     movers_.set_move_all(all);
     movers_.invalidate();
   }
+  /// Multi-rate stepping: whether a changed net contact rebuilds the lists (tests compare that
+  /// path with change_rates(), the default); the same bits.
+  void set_rebuild_on_rate_change(bool rebuild) { rebuild_on_rate_change_ = rebuild; }
   /// Owned particles the sub-steps move (multi-rate stepping; this rank, at the last grain
   /// step's classification).
   std::size_t n_substep_movers() const { return movers_.n_movers(); }
@@ -329,11 +334,16 @@ class Simulation {
   void classify_movers();
   /// Multi-rate stepping, at the end of every kOutflowStride-th grain step: sets each owned
   /// grain's net_contact to whether the net touched it in the last evaluation (ForceTerm::
-  /// mark_net_contacts()); where that changed on some rank, the next step starts with a rebuild,
-  /// which sends the flags to the ghosts and decides the rates from them.
+  /// mark_net_contacts()); where that changed on some rank, the next step starts with
+  /// change_rates() (or a rebuild, where grains come or go then), which sends the flags to the
+  /// ghosts and decides the rates from them.
   void note_net_contacts();
+  /// The rates of the interactions from the grains' net_contact flags, with the candidates of
+  /// the last rebuild: the flags to the ghosts, each term's rates and the gather map's, the
+  /// ledgers' records and the movers. Collective.
+  void change_rates();
   /// Takes the grains out and in that are due at the start of a step, and rebuilds if that
-  /// changed the particles (start_step()).
+  /// changed the particles (start_step()); else changes the rates if a net contact changed.
   void exchange_grains_and_rebuild();
   void reduce_body_loads(ForceRate rate);
   /// Books the loads of the evaluation just done in the momentum ledger (after the bodies'
@@ -403,8 +413,10 @@ class Simulation {
   double dt_origin_time_ = 0.0;
   bool force_rebuild_ = false;
   /// Some grain's net_contact changed at the last check (on some rank): the next step starts
-  /// with a rebuild (note_net_contacts()).
+  /// by changing the rates (note_net_contacts()).
   bool net_contacts_changed_ = false;
+  bool rebuild_on_rate_change_ = false;            ///< set_rebuild_on_rate_change()
+  std::int64_t rate_changes_ = 0;                  ///< rate_changes()
   std::vector<std::uint8_t> net_contact_scratch_;  ///< note_net_contacts()'s marks
   bool bonds_broke_before_restart_ = false;        ///< RestartState::bonds_broke, for the next step
   bool bonds_broke_anywhere_ = false;

@@ -279,6 +279,37 @@ TEST_F(Decomposition, BondsWeighedByTheirSubstepsAreShared) {
   EXPECT_LT(substepped, 1.2 * fair / 6624.0);
 }
 
+// Multi-rate stepping changes rates without a new ghost layer (Simulation::change_rates()):
+// update_ghosts() of the kGhostRates fields sends the owners' net_contact, rank-encoded here,
+// to every ghost, and nothing else (the per-step fields keep their poison).
+TEST_F(Decomposition, GhostsTakeTheirOwnersNewRatesAndNothingElse) {
+  const Communicator c(comm_);
+  ParticleStore p;
+  BondStore bonds;
+  make_lattice(p, bonds, c.rank(), c.size());
+  p.set_tracks_slow_loads(true);  // the net_contact column
+  DomainDecomposition d(c, kBlock, 0.1);
+  d.distribute_initial(p, {&bonds});
+  const auto owner = owners(c, p, c.sum(static_cast<std::int64_t>(p.n_local())));
+  const auto encoded = [](std::int64_t gid, int rank) {
+    return static_cast<std::uint8_t>(1 + rank + 8 * (gid % 3));
+  };
+  for (std::size_t k = 0; k < p.n_local(); ++k)
+    p.net_contact[k] = encoded(p.gid[k], c.rank());
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k) {
+    p.net_contact[k] = 255;
+    p.velocity[k] = {-1, -1, -1};
+  }
+  d.update_ghosts(p, field_flag::kGhostRates);
+  for (std::size_t k = p.n_local(); k < p.n_total(); ++k) {
+    EXPECT_EQ(p.net_contact[k], encoded(p.gid[k], owner.at(p.gid[k]))) << "ghost " << p.gid[k];
+    EXPECT_EQ(p.velocity[k], (Vec3{-1, -1, -1})) << "ghost " << p.gid[k];
+  }
+  if (c.size() > 1) {
+    EXPECT_GT(c.sum(static_cast<std::int64_t>(p.n_ghost())), 0);
+  }
+}
+
 TEST_F(Decomposition, GhostsCarryTheirOwnersRankEncodedValues) {
   const Communicator c(comm_);
   ParticleStore p;

@@ -226,6 +226,24 @@ std::vector<ParticleBits> particle_bits(const Simulation& sim) {
   return out;
 }
 
+/// How many particles of `a` differ from those of `e` in any bit (both in gid order, of the
+/// same gids; a failure, counting all, where they are not).
+std::size_t particles_of_other_bits(const std::vector<ParticleBits>& a,
+                                    const std::vector<ParticleBits>& e) {
+  if (a.size() != e.size()) {
+    ADD_FAILURE() << a.size() << " particles against " << e.size();
+    return std::max(a.size(), e.size());
+  }
+  std::size_t differ = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    const bool same = a[k].gid == e[k].gid && std::memcmp(&a[k].x, &e[k].x, sizeof(Vec3)) == 0 &&
+                      std::memcmp(&a[k].v, &e[k].v, sizeof(Vec3)) == 0 &&
+                      std::memcmp(&a[k].w, &e[k].w, sizeof(Vec3)) == 0;
+    differ += same ? 0 : 1;
+  }
+  return differ;
+}
+
 /// The fewest and most particles the sub-steps moved, as fractions of those owned.
 struct MoverShares {
   double fewest = 1.0, most = 0.0;
@@ -251,17 +269,7 @@ MoverShares expect_movers_alone_step_alike(const CaseConfig& c, int batches,
     shares.most = std::max(shares.most, share);
     const auto a = particle_bits(movers), e = particle_bits(all);
     EXPECT_EQ(movers.rebuilds(), all.rebuilds()) << "batch " << b;
-    if (a.size() != e.size()) {
-      ADD_FAILURE() << "batch " << b << ": " << a.size() << " particles against " << e.size();
-      return shares;
-    }
-    std::size_t differ = 0;
-    for (std::size_t k = 0; k < a.size(); ++k) {
-      const bool same = a[k].gid == e[k].gid && std::memcmp(&a[k].x, &e[k].x, sizeof(Vec3)) == 0 &&
-                        std::memcmp(&a[k].v, &e[k].v, sizeof(Vec3)) == 0 &&
-                        std::memcmp(&a[k].w, &e[k].w, sizeof(Vec3)) == 0;
-      differ += same ? 0 : 1;
-    }
+    const std::size_t differ = particles_of_other_bits(a, e);
     EXPECT_EQ(differ, 0u) << "particles of other bits after batch " << b << " of " << a.size();
     if (differ != 0) return shares;
   }
@@ -285,6 +293,38 @@ TEST(Substeps, MovingOnlyWhatFastLoadsReachGivesTheSameBits) {
   // strike the net join them (measured: 186 at most).
   EXPECT_LT(shares.fewest, 0.75);
   EXPECT_GT(shares.most, shares.fewest);
+}
+
+// A grain whose contact with the net changed moves its interactions to the other rate without
+// a new search (Simulation::change_rates()): the candidates are those of the last rebuild, the
+// rates and the gather order those a rebuild would give. The same bits as rebuilding at every
+// change, with fewer rebuilds, while grains land on the net, leave it and are pinched against
+// the bed.
+TEST(Substeps, RatesChangedWithoutASearchGiveTheBitsOfARebuild) {
+  const CaseConfig c = grains_pinched_between_a_net_and_a_bed(10);
+  const Communicator self = testing::self_comm();
+  Simulation changes(build_scenario_model(c, self), self, settings_from_case(c));
+  Simulation rebuilds(build_scenario_model(c, self), self, settings_from_case(c));
+  rebuilds.set_rebuild_on_rate_change(true);
+  for (int b = 0; b < 8; ++b) {
+    changes.run_steps(1000);
+    rebuilds.run_steps(1000);
+    EXPECT_EQ(changes.n_fast_body_contact_candidates(), rebuilds.n_fast_body_contact_candidates())
+        << "batch " << b;
+    const std::size_t differ =
+        particles_of_other_bits(particle_bits(changes), particle_bits(rebuilds));
+    ASSERT_EQ(differ, 0u) << "particles of other bits after batch " << b;
+  }
+  EXPECT_EQ(rebuilds.rate_changes(), 0);
+  // Measured: 79 changes of rate in 0.16 s, 1 143 rebuilds against 1 183.
+  EXPECT_GE(changes.rate_changes(), 20);
+  EXPECT_LT(changes.rebuilds(), rebuilds.rebuilds());
+  const Energies ea = changes.energies(), ee = rebuilds.energies();
+  EXPECT_EQ(ea.friction, ee.friction);
+  EXPECT_EQ(ea.contact_damping, ee.contact_damping);
+  EXPECT_EQ(ea.boundary_work, ee.boundary_work);
+  EXPECT_EQ(norm(changes.momentum_balance().residual()),
+            norm(rebuilds.momentum_balance().residual()));
 }
 
 // With no net every grain's loads are slow: the sub-steps move none, and the outflow's test,
