@@ -332,7 +332,7 @@ class Simulation {
   void substepped_step(const BodyObserver& observe_bodies);
   /// movers_ from the current lists and loads.
   void classify_movers();
-  /// Multi-rate stepping, at the end of every kOutflowStride-th grain step: sets each owned
+  /// Multi-rate stepping, at the end of every kNetContactStride-th grain step: sets each owned
   /// grain's net_contact to whether the net touched it in the last evaluation (ForceTerm::
   /// mark_net_contacts()); where that changed on some rank, the next step starts with
   /// change_rates() (or a rebuild, where grains come or go then), which sends the flags to the
@@ -406,8 +406,13 @@ class Simulation {
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   /// Grains outside an outflow box are looked for at the steps that are multiples of this
-  /// (needs_rebuild): each removal rebuilds the lists.
-  static constexpr std::int64_t kOutflowStride = 16;
+  /// (needs_rebuild): each removal rebuilds the lists. At 16, a pile at a net whose flow
+  /// passed on to the box took grains out at nearly every check, and that was most of its
+  /// rebuilds (docs/performance.md, forty-ninth round).
+  static constexpr std::int64_t kOutflowStride = 64;
+  /// Multi-rate stepping: the grains' contacts with the net are checked at the end of the
+  /// grain steps that are multiples of this (note_net_contacts()); a change costs no search.
+  static constexpr std::int64_t kNetContactStride = 16;
   std::int64_t rebuilds_ = 0;
   std::int64_t dt_origin_step_ = 0;  ///< RestartState::dt_origin_step
   double dt_origin_time_ = 0.0;

@@ -193,7 +193,7 @@ void Simulation::substepped_step(const BodyObserver& observe_bodies) {
     if (outflow_pending_) leaving = [this, &p](std::size_t i) { return outflow_.leaving(p, i); };
     ledger_.accumulate(p, model_.bodies, slots_, gather_, dt_, /*initial=*/false, leaving);
   }
-  if (steps_ % kOutflowStride == 0) {  // the steps the outflow's test looks at: one rebuild
+  if (steps_ % kNetContactStride == 0) {
     PhaseTimer t(phase_seconds_[kNeighbour]);
     note_net_contacts();
   }

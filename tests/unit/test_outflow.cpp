@@ -58,7 +58,7 @@ TEST(Outflow, GrainsLeaveWhenTheirTrajectoryCrossesTheBoxAndCarryTheirState) {
   // found at. Expected totals, computed from that alone (free flight keeps each grain's kinetic
   // + potential energy, so that total does not depend on the step it leaves at; its momentum
   // along z is bracketed by the two ends of the wait):
-  constexpr int kWait = 16;
+  constexpr int kWait = 64;
   std::int64_t gone = 0;
   double momentum_z_first = 0.0, momentum_z_last = 0.0, energy = 0.0;
   for (int i = 0; i < 10; ++i) {
@@ -90,13 +90,13 @@ TEST(Outflow, GrainsLeaveWhenTheirTrajectoryCrossesTheBoxAndCarryTheirState) {
   EXPECT_NEAR(e.balance_error(start), 0.0, 1e-12 * start.kinetic);
 }
 
-// Grains outside an outflow box are looked for at every 16th step only (each removal rebuilds
-// the lists, and a steady outflow found one at nearly every step). The last column of
-// flying_grains (x = 0.09) starts outside the box that ends at 0.0895 and is found at step 0;
-// the next (x = 0.08) crosses the face after the drift of step 95 (0-based), is looked for at
-// step 96, and leaves at the start of step 97 with the state of the end of step 96. With any
-// skin: the steps are fixed.
-TEST(Outflow, GrainsOutsideAreLookedForAtEverySixteenthStep) {
+// Grains outside an outflow box are looked for at every 64th step only (each removal rebuilds
+// the lists, and a steady outflow found one at nearly every step, at every 16th too). The last
+// column of flying_grains (x = 0.09) starts outside the box that ends at 0.0895 and is found
+// at step 0; the next (x = 0.08) crosses the face after the drift of step 95 (0-based), is
+// looked for at step 128, and leaves at the start of step 129 with the state of the end of
+// step 128. With any skin: the steps are fixed.
+TEST(Outflow, GrainsOutsideAreLookedForAtEverySixtyFourthStep) {
   for (const double skin : {0.001, 0.02}) {
     CaseConfig c = flying_grains();
     c.simulation.skin = skin;
@@ -105,14 +105,14 @@ TEST(Outflow, GrainsOutsideAreLookedForAtEverySixteenthStep) {
     Simulation sim(build_model(c, self), self, settings_from_case(c));
     sim.run_steps(2);
     EXPECT_EQ(sim.outflow_totals().grains, 4) << "skin " << skin;
-    sim.run_steps(95);  // to the end of step 96
-    EXPECT_EQ(sim.outflow_totals().grains, 4) << "skin " << skin << ": left before step 96";
+    sim.run_steps(127);  // to the end of step 128
+    EXPECT_EQ(sim.outflow_totals().grains, 4) << "skin " << skin << ": left before step 128";
     sim.run_steps(1);
     EXPECT_EQ(sim.outflow_totals().grains, 8) << "skin " << skin;
-    // The second column's momentum along z: four grains at v_z = -g (96 + 1) dt.
+    // The second column's momentum along z: four grains at v_z = -g (128 + 1) dt.
     const double m = sim.model().particles.mass[0];
     const double first = 4 * m * -kStandardGravity * 1 * kDt;
-    EXPECT_NEAR(sim.outflow_totals().momentum.z - first, 4 * m * -kStandardGravity * 97 * kDt,
+    EXPECT_NEAR(sim.outflow_totals().momentum.z - first, 4 * m * -kStandardGravity * 129 * kDt,
                 1e-12 * m);
   }
 }
