@@ -193,7 +193,7 @@ TEST(Substeps, GrainsTouchingTheNetStepAtTheNetsRate) {
     std::sort(flagged.begin(), flagged.end());
     ASSERT_EQ(flagged, grains_touching_the_net(p)) << "t = " << sim.time();
     most_flagged = std::max(most_flagged, flagged.size());
-    sim.run_steps(1);  // the rebuild that takes the flags comes at the next step's start
+    sim.run_steps(1);  // the flags' rates are taken at the next step's start
     // A flagged grain that touches the bed (pinched) is a fast bed candidate: at least as many
     // fast candidates as such grains (beads near the bed are fast candidates too).
     std::size_t pinched = 0;
@@ -206,6 +206,8 @@ TEST(Substeps, GrainsTouchingTheNetStepAtTheNetsRate) {
   // pinched against the bed (measured: 3 and 2 at most at a check).
   EXPECT_GE(most_flagged, 3u);
   EXPECT_GE(most_pinched, 1u);
+  // No grain comes or goes here: every changed flag moved rates without a search.
+  EXPECT_GT(sim.rate_changes(), 0);
   const Energies e = sim.energies();
   const double dissipated = e.contact_damping + e.friction;
   EXPECT_GT(dissipated, 50.0);
