@@ -16,10 +16,12 @@ void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
   if (!enabled_) {  // no records to fill: a term's record() is never asked for
     std::vector<DissipationRecord>().swap(records_);
     std::vector<std::uint32_t>().swap(record_of_slot_);
+    std::vector<std::uint64_t>().swap(written_);
     return;
   }
   const auto& ledger_slots = gather.ledger_slots(rate_);
   records_.assign(ledger_slots.size() + 1, DissipationRecord{});
+  written_.assign((records_.size() + 63) / 64, 0);
   record_of_slot_.assign(n_slots, static_cast<std::uint32_t>(ledger_slots.size()));
   for (std::size_t e = 0; e < ledger_slots.size(); ++e)
     record_of_slot_[ledger_slots[e]] = static_cast<std::uint32_t>(e);
@@ -28,6 +30,7 @@ void EnergyLedger::rebuild(const GatherMap& gather, std::size_t n_slots) {
 void EnergyLedger::begin_step(std::size_t n_local, EvaluationBooking booking) {
   if (!enabled_) return;
   booking_ = std::move(booking);
+  std::fill(written_.begin(), written_.end(), std::uint64_t{0});
   if (books_pairs_per_contact()) {
     // No per-particle sums: the pair loop books each contact (add_half_work()).
     contact_held_booked_ = booking_.held;
@@ -88,6 +91,13 @@ void EnergyLedger::add_contact_energies(std::uint32_t k, double half_tangential,
     contact_held_leaving_[kTangentialHeld].add(half_tangential);
     contact_held_leaving_[kContactHeld].add(half_elastic);
   }
+}
+
+bool EnergyLedger::any_written(std::size_t first, std::size_t last) const {
+  // A particle's records are a few: tested one by one.
+  for (std::size_t e = first; e < last; ++e)
+    if (written(e)) return true;
+  return false;
 }
 
 void EnergyLedger::clear_moments() {
@@ -166,12 +176,17 @@ void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& g
   // driver's power. Where they are not few, every owned particle is visited in index order
   // and accumulate_below() skips the others.
   const auto& particles = gather.ledger_particles(rate_);
+  const auto& offsets = gather.ledger_offsets(rate_);
   static const std::vector<GatherMap::ParticlePower> kNone;
   const auto& driven = books_drivers() ? gather.driven_powers() : kNone;
   visit_.clear();
-  // Direct entries are all visited (each is cleared after it is read).
+  // Direct entries are all visited (each is cleared after it is read). Of the particles with
+  // records, those with a record written in the evaluation: the others' are idle.
   const std::size_t touched = !moments ? 0 : own_entries_ ? n_local : touched_list_.size();
-  const std::size_t listed = touched + particles.size() + driven.size();
+  loaded_.clear();
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    if (any_written(offsets[i], offsets[i + 1])) loaded_.push_back(particles[i]);
+  const std::size_t listed = touched + loaded_.size() + driven.size();
   scan_all_ = 4 * listed > n_local;
   if (!own_entries_) touched_last_ = touched;
   touched_now_ = 0;
@@ -186,7 +201,7 @@ void EnergyLedger::start_accumulation(const ParticleStore& p, const GatherMap& g
     if (moments)
       for (const std::uint32_t k : touched_list_)
         mark(k);
-    for (const std::uint32_t k : particles)
+    for (const std::uint32_t k : loaded_)
       mark(k);
     for (const auto& x : driven)
       mark(x.particle);
@@ -251,7 +266,11 @@ void EnergyLedger::accumulate_below(std::size_t end, const ParticleStore& p,
       if (entry != kNoEntry) __builtin_prefetch(&moments_[entry], 1);
     }
     const bool has_moments = moments && (own_entries_ || entry_of_[k] != kNoEntry);
-    const bool has_records = i < particles.size() && particles[i] == k;
+    // The visits skip particles whose records were all idle: so does the index of records.
+    while (i < particles.size() && particles[i] < k)
+      ++i;
+    const bool has_records =
+        i < particles.size() && particles[i] == k && any_written(offsets[i], offsets[i + 1]);
     const bool is_driven = d < driven.size() && driven[d].particle == k;
     if (!has_moments && !has_records && !is_driven) continue;
     const Vec3 v = p.velocity[k];
@@ -299,28 +318,28 @@ void EnergyLedger::accumulate_below(std::size_t end, const ParticleStore& p,
         tangential += c.tangential_energy;
         elastic += c.elastic_energy;
       }
-      ++i;
     }
     // A driven particle: whatever its interactions push against, the driver supplies.
     if (is_driven) boundary -= driven[d++].power;
     // A particle that leaves before the next step ends its trapezoid with this step, and
     // what its contacts hold leaves with it.
     const bool leaves = leaving && leaving(k);
-    std::array<ExactSum, kTallies>& powers = leaves ? closing_ : now_;
-    powers[kDamping].add(damping);  // adding 0 is free (ExactSum::add)
-    powers[kFriction].add(friction);
-    powers[kBoundary].add(boundary);
+    std::array<QuantumSum, kTallies>& powers = leaves ? closing_quanta_ : now_quanta_;
+    std::array<ExactSum, kTallies>& large = leaves ? closing_ : now_;
+    powers[kDamping].add(damping, large[kDamping]);
+    powers[kFriction].add(friction, large[kFriction]);
+    powers[kBoundary].add(boundary, large[kBoundary]);
     // Friction is what the tangential springs took in and do not hold any more: the tally is
     // the friction work less the tangential energy held now (held()), plus that held when the
     // ledger started.
     if (initial) direct_[kFriction].add(tangential);
-    if (held_current_) {
-      held_[kTangentialHeld].add(tangential);  // summed in a fixed order: the same bits on any
-      held_[kContactHeld].add(elastic);        // rank count
+    if (held_current_) {  // integer sums: the same bits on any rank count
+      held_quanta_[kTangentialHeld].add(tangential, held_[kTangentialHeld]);
+      held_quanta_[kContactHeld].add(elastic, held_[kContactHeld]);
     }
     if (leaves) {
-      held_leaving_[kTangentialHeld].add(tangential);
-      held_leaving_[kContactHeld].add(elastic);
+      held_leaving_quanta_[kTangentialHeld].add(tangential, held_leaving_[kTangentialHeld]);
+      held_leaving_quanta_[kContactHeld].add(elastic, held_leaving_[kContactHeld]);
     }
   }
   next_visit_ = v_index;
@@ -333,6 +352,14 @@ void EnergyLedger::finish_accumulation(const GatherMap& gather, double dt, bool 
   if (own_entries_ && scan_all_) {  // every entry was read and cleared
     touched_last_ = touched_now_;
     own_entries_zeroed_ = true;
+  }
+  for (int t = 0; t < kTallies; ++t) {
+    now_quanta_[t].flush_into(now_[t]);
+    closing_quanta_[t].flush_into(closing_[t]);
+  }
+  for (int h = 0; h < kHeldSums; ++h) {
+    held_quanta_[h].flush_into(held_[h]);
+    held_leaving_quanta_[h].flush_into(held_leaving_[h]);
   }
   // External forces: F_ext . (x^{n+1} - x^n), exact for a constant force.
   if (!initial && books_drivers())

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "comm/ExactSum.hpp"
+#include "comm/QuantumSum.hpp"
 #include "core/Vec3.hpp"
 #include "core/Vec3f.hpp"
 #include "domain/ParticleStore.hpp"
@@ -156,17 +157,23 @@ class EnergyLedger {
   std::size_t n_records() const { return records_.size(); }
 
   /// The record of a slot for the term to fill (the scratch record when no owned particle
-  /// books it, e.g. the ghost end of a pair).
-  /// Off, every slot writes one scratch record (the ledger keeps no records then).
+  /// books it, e.g. the ghost end of a pair). Off, every slot writes one scratch record (the
+  /// ledger keeps no records then). A record that holds a load in an evaluation is written
+  /// through this in it: the pass after the kick visits only particles with such records (or
+  /// moments, or a driver), since most of a net's records are its mesh's candidates apart,
+  /// which a term clears once and then leaves (docs/performance.md, fiftieth round).
   DissipationRecord& record(std::uint32_t slot) {
-    return enabled_ ? records_[record_of_slot_[slot]] : unbooked_;
+    if (!enabled_) return unbooked_;
+    const std::uint32_t e = record_of_slot_[slot];
+    written_[e / 64] |= std::uint64_t{1} << (e % 64);
+    return records_[e];
   }
   /// The record of a slot with no load in this evaluation (a candidate apart): idle, as a
-  /// DissipationRecord{} is. Member by member: a zero record built on the stack and copied
-  /// went through a store-forwarding stall, a third of the samples of a debris channel's body
-  /// contacts (docs/performance.md, thirty-eighth round).
+  /// DissipationRecord{} is, and not marked written. Member by member: a zero record built on
+  /// the stack and copied went through a store-forwarding stall, a third of the samples of a
+  /// debris channel's body contacts (docs/performance.md, thirty-eighth round).
   void clear_record(std::uint32_t slot) {
-    DissipationRecord& r = record(slot);
+    DissipationRecord& r = enabled_ ? records_[record_of_slot_[slot]] : unbooked_;
     // Each member from constants: a chained assignment read back the member it had just
     // written, the same stall.
     r.damping = Vec3{};
@@ -336,12 +343,23 @@ class EnergyLedger {
   /// This rank's exact tallies (see intervals(), direct()): the powers of the step being booked,
   /// those of particles that leave after it, and those of the last step.
   std::array<ExactSum, kTallies> intervals_, direct_, now_, closing_, last_;
+  /// The per-particle pass's powers of now_ and closing_ as integers, flushed into them by
+  /// finish_accumulation(): an exact addition is a read-modify-write of three limbs, and the
+  /// pass made three to five a particle, after every sub-step of a net (docs/performance.md,
+  /// fiftieth round).
+  std::array<QuantumSum, kTallies> now_quanta_, closing_quanta_;
+  std::array<QuantumSum, kHeldSums> held_quanta_, held_leaving_quanta_;  ///< the same for held_*
   std::array<ExactSum, kHeldSums> held_, held_leaving_;
   /// held_ is summed by the pass in progress, or was by the last one (start_accumulation()).
   bool held_current_ = true;
   std::vector<DissipationRecord> records_;
   DissipationRecord unbooked_;  ///< what record() gives while the ledger is off
   std::vector<std::uint32_t> record_of_slot_;
+  /// A bit per record: written through record() since the last begin_step() (or rebuild()).
+  std::vector<std::uint64_t> written_;
+  bool written(std::size_t e) const { return (written_[e / 64] >> (e % 64)) & 1u; }
+  /// Whether any of records [first, last) was written.
+  bool any_written(std::size_t first, std::size_t last) const;
   static constexpr std::uint32_t kNoEntry = 0xffffffffu;
   std::vector<ContactMoments> moments_;      ///< one per particle touched in this evaluation
   std::vector<std::uint32_t> entry_of_;      ///< owned particle -> its moments_, or kNoEntry
@@ -356,6 +374,7 @@ class EnergyLedger {
   std::optional<bool> entry_choice_;  ///< set_entry_choice()
   std::vector<std::uint32_t> visit_;  ///< scratch: the particles accumulate() visits
   std::vector<std::uint64_t> visit_marks_;  ///< scratch: a bit per owned particle to visit
+  std::vector<std::uint32_t> loaded_;       ///< scratch: the particles with a record written
   /// Where accumulate_below() stands: every owned particle or visit_, the next of them, the
   /// next particle with records (GatherMap::ledger_particles) and the next driven one.
   bool scan_all_ = false;
