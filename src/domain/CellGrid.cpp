@@ -21,13 +21,17 @@ void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::u
                             std::floor((hi.y - lo.y) * inv_h_) + 1.0,
                             std::floor((hi.z - lo.z) * inv_h_) + 1.0};
   const double box_cells = extent[0] * extent[1] * extent[2];
+  const double members_cells = static_cast<double>(kDenseCellsPerMember) * static_cast<double>(n);
   dense_ = n > 0 && (box_cells <= 2.0 * static_cast<double>(n) + 64.0 ||
-                     box_cells <= static_cast<double>(dense_cell_floor));
+                     box_cells <= std::min(static_cast<double>(dense_cell_floor), members_cells));
   n_cells_ = 0;
   for (int d = 0; d < 3; ++d)  // no cells without members
     dims_[d] = n > 0 ? static_cast<std::int64_t>(extent[d]) : 0;
   if (dense_) {
     const auto n_cells = static_cast<std::size_t>(dims_[0] * dims_[1] * dims_[2]);
+    // A counting sort in place: each cell's count, summed into where the cell ends, then the
+    // members placed from the last, each cell's end moving back to its start. Members keep
+    // their order within a cell.
     cell_start_.assign(n_cells + 1, 0);
     cell_of_member_.resize(n);
     for (std::size_t m = 0; m < n; ++m) {
@@ -35,14 +39,14 @@ void CellGrid::build(const std::vector<Vec3>& position, const std::vector<std::u
       const std::int64_t c =
           (cell(x.z, lo_.z) * dims_[1] + cell(x.y, lo_.y)) * dims_[0] + cell(x.x, lo_.x);
       cell_of_member_[m] = static_cast<std::uint32_t>(c);
-      ++cell_start_[static_cast<std::size_t>(c) + 1];
+      ++cell_start_[static_cast<std::size_t>(c)];
     }
-    for (std::size_t c = 0; c < n_cells; ++c)
-      cell_start_[c + 1] += cell_start_[c];
+    for (std::size_t c = 1; c < n_cells; ++c)
+      cell_start_[c] += cell_start_[c - 1];
+    cell_start_[n_cells] = static_cast<std::uint32_t>(n);
     in_cells_.resize(n);
-    fill_ = cell_start_;
-    for (std::size_t m = 0; m < n; ++m)
-      in_cells_[fill_[cell_of_member_[m]]++] = members[m];
+    for (std::size_t m = n; m-- > 0;)
+      in_cells_[--cell_start_[cell_of_member_[m]]] = members[m];
     return;
   }
   // (cell key, member) pairs, sorted: scratch of the build. The queries read the members in

@@ -17,13 +17,17 @@ namespace ringdem {
 /// very large domain costs nothing extra.
 class CellGrid {
  public:
-  /// Boxes of up to this many cells take the dense grid however sparse their members: 8 MB of
-  /// cell ranges while the grid lives, against a binary search in every row a query meets in
-  /// the hashed cells (a debris channel's finest grains, 54 000 in 690 000 cells of a box
-  /// that the net makes tall: the search took 1.6 times as long hashed).
+  /// Boxes of up to this many cells take the dense grid however sparse their members, within
+  /// kDenseCellsPerMember: 4 MB of cell ranges while the grid lives, against a binary search in
+  /// every row a query meets in the hashed cells (a debris channel's finest grains, 54 000 in
+  /// 690 000 cells of a box that the net makes tall: the search took 1.6 times as long hashed).
   static constexpr std::size_t kDenseCellFloor = std::size_t{1} << 20;
+  /// ... but no more cells than this per member: each build clears, sums and maps every cell,
+  /// and a few members far apart (the beads of a net whose bonds broke, flying off) filled a
+  /// box of 2^20 cells at each rebuild, three quarters of such a run's time.
+  static constexpr std::size_t kDenseCellsPerMember = 32;
   /// Bins `members` (particle indices into `position`) by cells of edge `h`: dense when the
-  /// members' box has at most max(2 n + 64, `dense_cell_floor`) cells.
+  /// members' box has at most max(2 n + 64, min(`dense_cell_floor`, 32 n)) cells.
   void build(const std::vector<Vec3>& position, const std::vector<std::uint32_t>& members, double h,
              std::size_t dense_cell_floor = kDenseCellFloor);
   /// Calls f(index) for every member in a cell that meets the cube [x - reach, x + reach].
@@ -32,7 +36,7 @@ class CellGrid {
   bool dense() const { return dense_; }
   /// Gives the bins' memory back (until the next build; dense() still tells the last one).
   void release_memory() {
-    for (auto* v : {&cell_start_, &fill_, &cell_of_member_, &in_cells_, &cell_x_, &cell_begin_})
+    for (auto* v : {&cell_start_, &cell_of_member_, &in_cells_, &cell_x_, &cell_begin_})
       std::vector<std::uint32_t>().swap(*v);
     std::vector<Row>().swap(table_);
     n_cells_ = 0;
@@ -54,9 +58,9 @@ class CellGrid {
   double inv_h_ = 1.0;
   bool dense_ = false;
   std::int64_t dims_[3] = {0, 0, 0};  ///< cells of the members' bounding box, on each axis
-  // Dense: members by cell (cells numbered x fastest, z slowest; in_cells_), and each cell's
-  // range.
-  std::vector<std::uint32_t> cell_start_, fill_, cell_of_member_, in_cells_;
+  // Dense: members by cell (cells numbered x fastest, z slowest; in_cells_), and where each
+  // cell's members start (one entry more than cells: the last is the member count).
+  std::vector<std::uint32_t> cell_start_, cell_of_member_, in_cells_;
   // Hashed: the members sorted by cell key (in_cells_); the occupied cells in key order, each
   // with its x index and its range of the members; and each occupied row of cells along x (a y and
   // a z) with its range of the cells, in a table with open addressing (linear probing, a power of

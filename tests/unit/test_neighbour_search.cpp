@@ -109,6 +109,25 @@ TEST(NeighbourSearch, SparseBoxUnderTheFloorTakesTheDenseGrid) {
   expect_brute_force_pairs_binned(p, cells, 0.001, 100);
 }
 
+// Under the floor, the dense grid still takes at most CellGrid::kDenseCellsPerMember (32) cells
+// per member. Cells of 2 x 4.5 + 6 mm in a box of 0.2 m: 13 or 14 a side, 2197 to 2744 cells.
+// 50 particles (1600 cells at most) take the hashed cells, 100 (3200) the dense grid; both find
+// the pairs of the O(N^2) search.
+TEST(NeighbourSearch, FewMembersInABoxUnderTheFloorTakeTheHashedCells) {
+  const double skin = 0.006;
+  for (const int count : {50, 100}) {
+    const ParticleStore p = random_cloud(count, 0.2, 0.004, 0.0045, 7, 0.01);
+    NeighbourSearch search;
+    PairCandidates cells;
+    search.build(p, skin, PairExclusions{}, cells);
+    EXPECT_EQ(search.used_dense_grid(), count == 100) << count << " particles";
+    const PairCandidates brute = brute_force_pairs(p, skin, PairExclusions{});
+    ASSERT_GT(brute.size(), 0u) << count << " particles";
+    EXPECT_EQ(cells.size(), brute.size());
+    EXPECT_EQ(as_gid_set(p, cells), as_gid_set(p, brute));
+  }
+}
+
 // A cloud that fills its box takes the dense grid; it must find the same pairs as the O(N^2)
 // search, in key order (binned by space).
 TEST(NeighbourSearch, DenseGridEqualsBruteForce) {
