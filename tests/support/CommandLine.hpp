@@ -34,6 +34,26 @@ inline CommandResult run_command(const std::string& command) {
   return r;
 }
 
+/// An `env -u NAME ...` prefix that removes from a command's environment every variable a
+/// launcher or an MPI singleton sets (OMPI_*, PMIX_*, PMI_*, ORTE_*, OPAL_*, SLURM_*). A test
+/// process that has initialised MPI on its own (testing::self_comm) carries its singleton's
+/// server address and rank there; an `mpirun` started beneath it with them takes itself for a
+/// process of that job and fails, and a command meant to run outside any launcher would not.
+inline std::string without_launcher_environment() {
+  std::string prefix = "env";
+  for (char** entry = environ; *entry != nullptr; ++entry) {
+    const std::string text(*entry);
+    const std::string name = text.substr(0, text.find('='));
+    for (const char* launcher_prefix : {"OMPI_", "PMIX_", "PMI_", "ORTE_", "OPAL_", "SLURM_"}) {
+      if (name.rfind(launcher_prefix, 0) == 0) {
+        prefix += " -u " + name;
+        break;
+      }
+    }
+  }
+  return prefix;
+}
+
 /// How many times `needle` occurs in a command's `output` (a line printed once per rank, say).
 inline std::size_t occurrences(const std::string& output, const std::string& needle) {
   std::size_t count = 0;
