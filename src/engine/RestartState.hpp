@@ -28,12 +28,15 @@ struct RestartState {
   std::int64_t dt_origin_step = 0;
   double dt_origin_time = 0.0;
   /// What the neighbour-list rebuild criterion reads (Simulation::needs_rebuild), so that a
-  /// restart rebuilds at the same steps as the run never interrupted: the bound on the
-  /// particles' moves since the last rebuild (the sum of the largest speed times dt), each
-  /// rigid body's position and orientation at the last rebuild, a rebuild asked for and not
-  /// yet done (Simulation::place_body), and whether a bond broke in the last force evaluation
-  /// (on any rank).
+  /// restart rebuilds at the same steps as the run never interrupted: the bounds on the
+  /// particles' moves since the last rebuild (engine/MoveBounds: absolute, relative to a
+  /// common translation, and toward each rigid body), each rigid body's position and
+  /// orientation at the last rebuild, a rebuild asked for and not yet done
+  /// (Simulation::place_body), and whether a bond broke in the last force evaluation (on any
+  /// rank).
   double move_bound = 0.0;
+  double relative_move_bound = 0.0;
+  std::vector<double> surface_move_bound;  ///< one a rigid body
   std::vector<Vec3> body_position_at_rebuild;
   std::vector<Quat> body_orientation_at_rebuild;
   bool rebuild_forced = false;

@@ -194,7 +194,8 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   // built now, from the particles' current positions and the bodies' reference ones: every
   // pair that can touch before that rebuild is in them (a particle moves at most the rest of
   // the bound from here). The forces do not depend on which further candidates a list holds.
-  move_bound_ = restart.move_bound;
+  move_bounds_.reset(model_.bodies);
+  move_bounds_.restore(restart.move_bound, restart.relative_move_bound, restart.surface_move_bound);
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     body_position_at_rebuild_.push_back(bodies[b].position);
     body_orientation_at_rebuild_.push_back(bodies[b].orientation);
@@ -232,7 +233,9 @@ RestartState Simulation::restart_state() const {
   s.springs = owned_springs();
   s.dt_origin_step = dt_origin_step_;
   s.dt_origin_time = dt_origin_time_;
-  s.move_bound = move_bound_;
+  s.move_bound = move_bounds_.absolute();
+  s.relative_move_bound = move_bounds_.relative();
+  s.surface_move_bound = move_bounds_.toward();
   s.body_position_at_rebuild = body_position_at_rebuild_;
   s.body_orientation_at_rebuild = body_orientation_at_rebuild_;
   s.rebuild_forced = force_rebuild_;
@@ -337,7 +340,7 @@ SpatialBins::Order Simulation::sort_order() {
 
 void Simulation::rebuild(const SpatialBins::Order& sort, bool mid_step) {
   build_lists(sort, mid_step);
-  move_bound_ = 0.0;
+  move_bounds_.reset(model_.bodies);
   move_bound_at_outflow_note_ = 0.0;
   body_position_at_rebuild_.clear();
   body_orientation_at_rebuild_.clear();
@@ -385,7 +388,7 @@ void Simulation::build_lists(const SpatialBins::Order& sort, bool mid_step) {
   gather_.finish(p);
   flag_turning_particles();
   outflow_.note_positions(p);
-  move_bound_at_outflow_note_ = move_bound_;  // after a restart, the checkpoint's bound
+  move_bound_at_outflow_note_ = move_bounds_.absolute();  // after a restart, the checkpoint's bound
   ledger_.rebuild(gather_, allocator_.size());
   fast_ledger_.rebuild(gather_, allocator_.size());
   // A rebuild is collective (every rank rebuilds at the same step): so is this flag.
@@ -436,19 +439,9 @@ bool Simulation::needs_rebuild() {
   bonds_broke_before_restart_ = false;
   for (const auto& t : terms_)
     topology_changed |= t->topology_changed();
-  // How far any rigid surface point moved: translation plus rotation angle times extent.
-  double body_move = 0.0;
-  for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
-    const RigidBody& body = model_.bodies[b];
-    if (body.motion == Motion::kFixed) continue;
-    const double angle =
-        norm(rotation_vector(body.orientation * conjugate(body_orientation_at_rebuild_[b])));
-    const double turn = angle > 0.0 ? angle * body.extent() : 0.0;
-    body_move = std::max(body_move, norm(body.position - body_position_at_rebuild_[b]) + turn);
-  }
-  // One reduction per step for both triggers — the largest move, and whether a bond broke
-  // anywhere in the last force evaluation (its pair may now touch) — and for stop requests.
-  // A non-finite body state counts as a runaway too.
+  // One reduction per step for both triggers — the moves, and whether a bond broke anywhere
+  // in the last force evaluation (its pair may now touch) — and for stop requests. A
+  // non-finite body state counts as a runaway too.
   double runaway = drift_.worst_runaway;
   for (const RigidBody& b : model_.bodies)
     if (!std::isfinite(norm2(b.position) + norm2(b.velocity) + norm2(b.omega)))
@@ -464,26 +457,42 @@ bool Simulation::needs_rebuild() {
   const bool outflow_due = steps_ % kOutflowStride == 0;
   const bool leaving =
       outflow_due &&
-      outflow_.any_leaving(model_.particles, move_bound_ - move_bound_at_outflow_note_ +
+      outflow_.any_leaving(model_.particles, move_bounds_.absolute() - move_bound_at_outflow_note_ +
                                                  drift_.max_speed * substep());
-  const auto global = comm_.max(
-      std::array<double, 5>{drift_.max_speed, topology_changed ? 1.0 : 0.0,
-                            static_cast<double>(stop_local_), runaway, leaving ? 1.0 : 0.0});
+  const Integrator::VelocityBox& v = drift_.velocities;
+  const auto global = comm_.max(std::array<double, 11>{
+      drift_.max_speed, topology_changed ? 1.0 : 0.0, static_cast<double>(stop_local_), runaway,
+      leaving ? 1.0 : 0.0, v.high.x, v.high.y, v.high.z, -v.low.x, -v.low.y, -v.low.z});
   if (global[3] > 1.0) report_divergence();
   outflow_pending_ = global[4] > 0.0;
-  // No particle moved farther since the last rebuild than the sum of the largest speed of
-  // each drift times dt: a bound that needs no column of reference positions, read every
-  // step, and is the same on any rank count. It rebuilds somewhat earlier than the largest
-  // actual move would; the forces do not depend on when lists are rebuilt.
-  move_bound_ += global[0] * substep();  // the drift's step
-  const double particle_move = move_bound_;
+  Integrator::VelocityBox velocities;  // over every rank
+  velocities.high = {global[5], global[6], global[7]};
+  velocities.low = {-global[8], -global[9], -global[10]};
+  // Bounds on the moves since the last rebuild, summed over the drifts (MoveBounds): no
+  // column of reference positions, read every step, the same on any rank count. They rebuild
+  // somewhat earlier than the largest actual move would; the forces do not depend on when
+  // lists are rebuilt.
+  move_bounds_.advance(global[0], velocities, model_.bodies, substep());
   const bool bond_broke = global[1] > 0.0;
   stop_agreed_ = static_cast<int>(global[2]);
   bonds_broke_anywhere_ = bond_broke;
-  // Two particles close by at most twice the largest move; a particle and a surface by the
-  // sum of the two.
-  return force_rebuild_ || bond_broke || 2.0 * particle_move > settings_.skin ||
-         particle_move + body_move > settings_.skin;
+  // Two particles close by at most twice the relative move; a particle and a surface by the
+  // particle's move toward it plus how far any point of the surface moved (translation plus
+  // rotation angle times extent).
+  bool surface_reached = false;
+  for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
+    const RigidBody& body = model_.bodies[b];
+    double body_move = 0.0;
+    if (body.motion != Motion::kFixed) {
+      const double angle =
+          norm(rotation_vector(body.orientation * conjugate(body_orientation_at_rebuild_[b])));
+      const double turn = angle > 0.0 ? angle * body.extent() : 0.0;
+      body_move = norm(body.position - body_position_at_rebuild_[b]) + turn;
+    }
+    surface_reached = surface_reached || move_bounds_.toward(b) + body_move > settings_.skin;
+  }
+  return force_rebuild_ || bond_broke || 2.0 * move_bounds_.relative() > settings_.skin ||
+         surface_reached;
 }
 
 void Simulation::step() {

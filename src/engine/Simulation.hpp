@@ -20,6 +20,7 @@
 #include "engine/InflowSource.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/MomentumLedger.hpp"
+#include "engine/MoveBounds.hpp"
 #include "engine/OutflowSink.hpp"
 #include "engine/RestartState.hpp"
 #include "engine/SubstepParticles.hpp"
@@ -435,8 +436,8 @@ class Simulation {
   ExactSumReducer body_load_reducer_;
   int stop_local_ = 0;
   int stop_agreed_ = 0;
-  double move_bound_ = 0.0;  ///< no particle moved farther since the last rebuild (all ranks)
-  /// move_bound_ when the outflow noted the positions (OutflowSink::note_positions)
+  MoveBounds move_bounds_;  ///< the particles' moves since the last rebuild (all ranks)
+  /// move_bounds_.absolute() when the outflow noted the positions (OutflowSink::note_positions)
   double move_bound_at_outflow_note_ = 0.0;
   bool track_orientations_ = true;  ///< some particle has a bond (Integrator::first_half)
   Integrator::Drift drift_;         ///< the last drift pass (this rank), for the divergence guard

@@ -46,12 +46,15 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // (/particles/net_contact: their interactions are fast; a file of 14 restarts with none, and the
 // next check finds them); 16: each particle pair's damping force of its last evaluation
 // (/history/<term>.damping: the energy ledger books it again at the next step; a file of 15 or
-// older restarts with none, which the ledger of that one step notices, the motion not at all).
-// This version, 15, 14, 13, 12 and 11 are read: a file of 11
+// older restarts with none, which the ledger of that one step notices, the motion not at all);
+// 17: the particles' move bounds relative to a common translation (relative_move_bound) and
+// toward each rigid body (/bodies/surface_move_bound; engine/MoveBounds): a file of 16 or older
+// restarts with its move_bound for both, which rebuilds no later than needed.
+// This version, 16, 15, 14, 13, 12 and 11 are read: a file of 11
 // restarts every particle at bin 0, the gid order that format's writer kept, and so goes on as its
 // run did until the next re-sort; one of 11 or 12 with support ropes is refused (read_checkpoint).
 // Older files lack what this one needs to go on bit for bit.
-constexpr std::int64_t kFormatVersion = 16;
+constexpr std::int64_t kFormatVersion = 17;
 constexpr std::int64_t kOldestReadFormatVersion = 11;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its
@@ -363,6 +366,7 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     f.set_attribute("/", "rebuild_forced", std::int64_t{state.rebuild_forced});
     f.set_attribute("/", "bonds_broke", std::int64_t{state.bonds_broke});
     f.set_attribute("/", "move_bound", state.move_bound);
+    f.set_attribute("/", "relative_move_bound", state.relative_move_bound);
     f.set_attribute("/", "segment", segment);
     f.set_attribute("/", "ranks", static_cast<std::int64_t>(comm.size()));
     f.set_attribute("/", "particles", n_particles);
@@ -416,6 +420,11 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
       if (!comm.is_root()) mine.clear();
       write_concatenated(f, comm, std::string("/bodies/") + name, mine);
     });
+    if (state.surface_move_bound.size() != model.bodies.size())
+      throw std::logic_error("checkpoint: no move bound toward every rigid body");
+    std::vector<double> surface_move_bound = state.surface_move_bound;
+    if (!comm.is_root()) surface_move_bound.clear();
+    write_concatenated(f, comm, "/bodies/surface_move_bound", surface_move_bound);
     // Brake elements and support ropes: replicated like the bodies they hold.
     write_replicated_state(f, comm, "/brakes", model.brakes);
     write_replicated_state(f, comm, "/ropes", model.ropes);
@@ -649,6 +658,15 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
   });
   state.body_position_at_rebuild = rows.position_at_rebuild;
   state.body_orientation_at_rebuild = rows.orientation_at_rebuild;
+  // Format 16 and older bounded the moves by move_bound alone, which bounds the others too.
+  if (info.format_version >= 17) {
+    state.relative_move_bound = f.attribute_double("/", "relative_move_bound");
+    state.surface_move_bound = read_verified_block<double>(
+        f, comm, "/bodies/surface_move_bound", n_bodies, 0, n_bodies, ReadBy::kEveryRank);
+  } else {
+    state.relative_move_bound = state.move_bound;
+    state.surface_move_bound.assign(model.bodies.size(), state.move_bound);
+  }
   for (std::size_t b = 0; b < model.bodies.size(); ++b) {
     RigidBody& body = model.bodies[b];
     body.position = rows.position[b];

@@ -25,7 +25,7 @@ namespace {
 template <class Lanes>
 inline void drift(const ParticleRows& r, std::size_t k, double dt,
                   const typename Lanes::Rows& gravity, const HalfKicks* kept, V4& max_v2,
-                  V4& max_w2, Columns3* turn) {
+                  V4& max_w2, VelocityLanes* velocities, Columns3* turn) {
   using V = typename Lanes::V;
   using Rows = typename Lanes::Rows;
   const double half = 0.5 * dt;
@@ -52,8 +52,9 @@ inline void drift(const ParticleRows& r, std::size_t k, double dt,
   Lanes::store_rows(r.torque + k, {zero, zero, zero});
   // The largest squared speeds, scaled after the pass: scaling by a positive constant keeps the
   // order, so max(scaled) is the scaled max. NaN compares false: it counts as infinite.
-  const typename Lanes::Columns wc = Lanes::columns(w);
-  Lanes::raise(max_v2, Lanes::norm2(Lanes::columns(v)));
+  const typename Lanes::Columns wc = Lanes::columns(w), vc = Lanes::columns(v);
+  Lanes::raise(max_v2, Lanes::norm2(vc));
+  if (velocities) Lanes::widen(*velocities, vc);
   Lanes::raise(max_w2, Lanes::norm2(wc));
   // The columns of omega are at hand here; the orientation pass would load and transpose them
   // again.
@@ -127,8 +128,8 @@ inline void turn_eight(const ParticleRows& r, std::size_t k, const Columns3& low
 }
 
 /// The drift over owned particles [begin, end), with the orientation update compiled in or
-/// out; raises `m` to the largest squared speeds it saw. `kept`: the second half kick's
-/// factors of each four from begin, or null.
+/// out; raises `m` to the largest squared speeds it saw and widens its box of velocities.
+/// `kept`: the second half kick's factors of each four from begin, or null.
 template <bool kTurn>
 void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt,
                  const Vec3& gravity, const std::uint8_t* turning, const HalfKicks* kept,
@@ -137,6 +138,7 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
   const Rows3 gravity_rows = FourLanes::rows_of(gravity);
   const lanes8::Rows3 gravity_eight = EightLanes::rows_of(gravity);
   V4 max_v2 = lanes::splat(m.max_v2), max_w2 = lanes::splat(m.max_w2);
+  VelocityLanes velocities;
   ParticleRows rows = rows_of(p);
   rows.turning = turning;
   // The orientations in a pass of their own over each chunk, after its drift (in cache): the
@@ -153,10 +155,14 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
     std::size_t k = c, group = 0;
     for (; k + 8 <= c_end; k += 8, group += 2)
       drift<EightLanes>(rows, k, dt, gravity_eight, chunk_kept ? chunk_kept + group : nullptr,
-                        max_v2, max_w2, kTurn ? turns + group : nullptr);
+                        max_v2, max_w2, &velocities, kTurn ? turns + group : nullptr);
     for_each_four(rows, k, c_end, [&](const ParticleRows& r, std::size_t four, std::size_t g) {
+      // The last few particles' lanes are padded with fixed particles at rest (TailLanes),
+      // which are no particles' velocities: theirs join the box below.
+      const bool tail = r.v != rows.v;
       drift<FourLanes>(r, four, dt, gravity_rows, chunk_kept ? chunk_kept + group + g : nullptr,
-                       max_v2, max_w2, kTurn ? turns + group + g : nullptr);
+                       max_v2, max_w2, tail ? nullptr : &velocities,
+                       kTurn ? turns + group + g : nullptr);
     });
     if constexpr (kTurn) {
       k = c;
@@ -170,6 +176,9 @@ void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt
   }
   m.max_v2 = lanes::max_lane(max_v2);
   m.max_w2 = lanes::max_lane(max_w2);
+  velocities.fold_into(m.velocities);
+  for (std::size_t k = end - (end - begin) % 4; k < end; ++k)
+    m.velocities.add(p.velocity[k]);
 }
 
 void drift_range(ParticleStore& p, std::size_t begin, std::size_t end, double dt,
@@ -190,7 +199,7 @@ Integrator::Drift drift_result(const ParticleStore& p, const DriftMaxima& m, dou
   const double turn_scale = dt * dt / (max_turn * max_turn);
   const double s = m.max_v2 * step_scale, t = m.max_w2 * turn_scale;
   const double worst = std::min(s > t ? s : t, Integrator::kRunaway);
-  Integrator::Drift d{std::sqrt(m.max_v2), worst, 0};
+  Integrator::Drift d{std::sqrt(m.max_v2), worst, 0, m.velocities};
   bool found = false;
   if (worst > 1.0)
     for (std::size_t k = 0; k < p.n_local(); ++k) {
@@ -230,7 +239,7 @@ Integrator::Drift Integrator::first_half(ParticleStore& p, double dt, const Vec3
                                          const SquaredSpeeds& others) {
   // Maxima are order-free: the runs' pass raised from the others' speeds gives the bits of
   // one pass over all of them.
-  DriftMaxima m{others.v2, others.w2};
+  DriftMaxima m{others.v2, others.w2, others.velocities};
   for (const Run& run : runs)
     drift_range(p, run.begin, run.end, dt, gravity, turning, nullptr, m);
   return drift_result(p, m, dt, max_step, max_turn);
@@ -247,6 +256,7 @@ Integrator::SquaredSpeeds Integrator::squared_speeds(const ParticleStore& p,
     for (std::size_t k = run.begin; k < run.end; ++k) {
       raise(s.v2, norm2(p.velocity[k]));
       raise(s.w2, norm2(p.omega[k]));
+      s.velocities.add(p.velocity[k]);
     }
   return s;
 }

@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "domain/ParticleStore.hpp"
@@ -27,6 +28,26 @@ struct Integrator {
     Turning(bool turn_all) : orientations(turn_all) {}
     Turning(bool turn, const std::uint8_t* flagged) : orientations(turn), only(flagged) {}
   };
+  /// The smallest box, component by component, that holds some particles' velocities (empty:
+  /// low above high). The neighbour-list test bounds how far particles moved relative to one
+  /// another by its half diagonal (Simulation::needs_rebuild): a flow that moves as one does
+  /// not wear out the skin. NaN components are left out (the runaway guard reports them).
+  struct VelocityBox {
+    Vec3 low{kEmptyLow, kEmptyLow, kEmptyLow}, high{-kEmptyLow, -kEmptyLow, -kEmptyLow};
+    static constexpr double kEmptyLow = std::numeric_limits<double>::infinity();
+    void add(const Vec3& v) {
+      low = {v.x < low.x ? v.x : low.x, v.y < low.y ? v.y : low.y, v.z < low.z ? v.z : low.z};
+      high = {v.x > high.x ? v.x : high.x, v.y > high.y ? v.y : high.y,
+              v.z > high.z ? v.z : high.z};
+    }
+    void add(const VelocityBox& b) {
+      low = {b.low.x < low.x ? b.low.x : low.x, b.low.y < low.y ? b.low.y : low.y,
+             b.low.z < low.z ? b.low.z : low.z};
+      high = {b.high.x > high.x ? b.high.x : high.x, b.high.y > high.y ? b.high.y : high.y,
+              b.high.z > high.z ? b.high.z : high.z};
+    }
+    bool empty() const { return !(low.x <= high.x && low.y <= high.y && low.z <= high.z); }
+  };
   /// What the drift pass saw, folded into its one pass over the particles.
   struct Drift {
     /// Largest speed |v| dt of this drift: the neighbour-list test adds it up over the steps
@@ -37,6 +58,8 @@ struct Integrator {
     /// a contact can be tracked (the divergence guard).
     double worst_runaway = 0.0;
     std::size_t worst_index = 0;  ///< the particle of worst_runaway
+    /// The box of this drift's velocities (every particle it saw, fixed ones at rest too).
+    VelocityBox velocities;
   };
   static constexpr double kRunaway = 1e300;
   /// v += F/m dt/2, x += v dt (and the same for rotation), owned particles, turning the
@@ -77,6 +100,7 @@ struct Integrator {
   /// non-finite one), as a drift pass raises them.
   struct SquaredSpeeds {
     double v2 = 0.0, w2 = 0.0;
+    VelocityBox velocities;  ///< and the box of their velocities
   };
   /// first_half() of the particles in `runs` alone. The others are particles that no load
   /// kicks (drift_unloaded() moves them later): their velocities do not change, so `others`,

@@ -38,6 +38,35 @@ using lanes::V4;
 struct DriftMaxima {
   double max_v2 = 0.0;  ///< infinite for a non-finite velocity
   double max_w2 = 0.0;
+  Integrator::VelocityBox velocities;
+};
+
+/// A drift pass's box of velocities in lanes of four, each component's minimum and maximum
+/// (the eight-lane passes fold their halves into them), folded into a VelocityBox at the end.
+struct VelocityLanes {
+  V4 low_x, low_y, low_z, high_x, high_y, high_z;
+  VelocityLanes() {
+    const V4 empty = lanes::splat(Integrator::VelocityBox::kEmptyLow);
+    low_x = low_y = low_z = empty;
+    high_x = high_y = high_z = -empty;
+  }
+  /// Widens the box by four velocities, given as columns (a NaN component is left out).
+  void widen(const V4& x, const V4& y, const V4& z) {
+    low_x = x < low_x ? x : low_x;
+    low_y = y < low_y ? y : low_y;
+    low_z = z < low_z ? z : low_z;
+    high_x = x > high_x ? x : high_x;
+    high_y = y > high_y ? y : high_y;
+    high_z = z > high_z ? z : high_z;
+  }
+  void fold_into(Integrator::VelocityBox& box) const {
+    for (int i = 0; i < 4; ++i) {
+      Integrator::VelocityBox lane;
+      lane.low = {low_x[i], low_y[i], low_z[i]};
+      lane.high = {high_x[i], high_y[i], high_z[i]};
+      box.add(lane);
+    }
+  }
 };
 
 // motion_lanes() reads the kinds as these numbers.
@@ -231,6 +260,7 @@ struct FourLanes {
   static void hand_turns(Columns3* turn, const V& hx, const V& hy, const V& hz) {
     *turn = {hx, hy, hz};
   }
+  static void widen(VelocityLanes& box, const Columns& v) { box.widen(v.x, v.y, v.z); }
 };
 struct EightLanes {
   using V = lanes8::V8;
@@ -269,6 +299,11 @@ struct EightLanes {
   static void hand_turns(Columns3* turn, const V& hx, const V& hy, const V& hz) {
     turn[0] = {lanes8::low(hx), lanes8::low(hy), lanes8::low(hz)};
     turn[1] = {lanes8::high(hx), lanes8::high(hy), lanes8::high(hz)};
+  }
+  /// One four after the other, as raise().
+  static void widen(VelocityLanes& box, const Columns& v) {
+    box.widen(lanes8::low(v.x), lanes8::low(v.y), lanes8::low(v.z));
+    box.widen(lanes8::high(v.x), lanes8::high(v.y), lanes8::high(v.z));
   }
 };
 

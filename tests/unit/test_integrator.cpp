@@ -164,6 +164,18 @@ void expect_matches(const ParticleStore& p, const Reference& r) {
   }
 }
 
+// The drift's box of velocities against the component-wise minima and maxima of the
+// reference's velocities after it, every particle's (fixed ones at rest too), none else's.
+void expect_box_of(const Integrator::VelocityBox& box, const std::vector<Vec3>& velocities) {
+  Vec3 low = velocities.at(0), high = velocities.at(0);
+  for (const Vec3& v : velocities) {
+    low = {std::min(low.x, v.x), std::min(low.y, v.y), std::min(low.z, v.z)};
+    high = {std::max(high.x, v.x), std::max(high.y, v.y), std::max(high.z, v.z)};
+  }
+  expect_same_bits(box.low, low, "box low", velocities.size());
+  expect_same_bits(box.high, high, "box high", velocities.size());
+}
+
 // Both halves of a step, on 1 to 13 particles (every remainder of four lanes), damped with
 // the ledger's columns, damped without them, undamped with stale powers to clear, and grains
 // that keep no orientations.
@@ -185,6 +197,7 @@ void expect_the_scalar_update(std::size_t n) {
     reference_first_half(p, r, dt, gravity, kind.turning, max_v2, max_w2);
     expect_matches(p, r);
     EXPECT_EQ(d.max_speed, std::sqrt(max_v2));
+    expect_box_of(d.velocities, r.v);
     const double step_scale = dt * dt / (1e-3 * 1e-3), turn_scale = dt * dt / (0.5 * 0.5);
     EXPECT_EQ(d.worst_runaway, std::max(max_v2 * step_scale, max_w2 * turn_scale));
   }
@@ -207,6 +220,7 @@ void expect_fused_like_apart(std::size_t n) {
   const Integrator::Drift e = Integrator::first_half(apart, dt, gravity, 1e-3, 0.5, true);
   EXPECT_EQ(seen, n);
   EXPECT_EQ(d.max_speed, e.max_speed);
+  expect_box_of(d.velocities, apart.velocity);
   const Reference r = copy_of(apart);
   expect_matches(fused, r);
   for (std::size_t k = 0; k < n; ++k)
@@ -352,6 +366,51 @@ TEST(IntegratorPasses, NonFiniteVelocityIsARunawayInEveryLane) {
       EXPECT_EQ(d.worst_runaway, Integrator::kRunaway) << n << " particles, NaN in " << bad;
       EXPECT_EQ(d.worst_index, bad);
     }
+}
+
+}  // namespace
+}  // namespace ringdem
+
+namespace ringdem {
+namespace {
+
+// Free grains that all move one way (no velocity component near zero), on 1 to 21 particles:
+// every count of eight- and four-lane groups and of padded last lanes (TailLanes pads with
+// fixed particles at rest, whose zero velocity must not join the box); and the sub-stepped
+// pass over runs of particles, whose others enter as squared_speeds() saw them.
+TEST(IntegratorPasses, BoxOfVelocitiesHoldsTheParticlesVelocitiesOnly) {
+  const double dt = 1e-6;
+  for (std::size_t n = 1; n <= 21; ++n) {
+    SCOPED_TRACE(::testing::Message() << n << " particles");
+    ParticleStore p;
+    p.set_tracks_orientation(false);
+    for (std::size_t k = 0; k < n; ++k) {
+      ParticleStore::NewParticle np;
+      np.gid = static_cast<std::int64_t>(k);
+      const double a = static_cast<double>(k);
+      np.position = {0.01 * a, 0.0, 0.0};
+      np.velocity = {10.0 + std::sin(a), -5.0 + 0.3 * std::cos(a), 3.0 + 0.01 * a};
+      np.radius = 0.004;
+      np.density = 2600.0;
+      p.add(np);
+    }
+    const Integrator::Drift d = Integrator::first_half(p, dt, {0.0, 0.0, -9.81}, 1.0, 1.0, false);
+    expect_box_of(d.velocities, p.velocity);
+    EXPECT_GT(d.velocities.low.x, 8.0);
+    EXPECT_LT(d.velocities.high.y, -4.0);
+    // Runs: the first third and the last particle drifted, the others' box given.
+    const std::size_t third = n / 3;
+    std::vector<Integrator::Run> runs{{0, third}, {n - 1, n}};
+    std::vector<Integrator::Run> others{{third, n - 1}};
+    if (third >= n - 1) {
+      runs = {{0, n}};
+      others.clear();
+    }
+    const Integrator::SquaredSpeeds rest = Integrator::squared_speeds(p, others);
+    const Integrator::Drift e =
+        Integrator::first_half(p, dt, {0.0, 0.0, -9.81}, 1.0, 1.0, false, runs, rest);
+    expect_box_of(e.velocities, p.velocity);
+  }
 }
 
 }  // namespace

@@ -221,8 +221,9 @@ TEST_F(CorruptCheckpoint, GoodOneRestoresTheState) {
   EXPECT_EQ(floor.term, "body_contacts");
   EXPECT_FALSE(floor.store.partner_is_particle());
   EXPECT_GT(floor.store.size(), 0u) << "the ring touches the floor";
-  // Every registry field flagged kCheckpoint (particles, bonds, each term's springs), 9 body
-  // rows (7 of state, 2 of the rebuild reference), the outflow totals, the inflow's batches,
+  // Every registry field flagged kCheckpoint (particles, bonds, each term's springs), 10 body
+  // rows (7 of state, 3 of the rebuild reference: position, orientation and the particles'
+  // move bound toward the body), the outflow totals, the inflow's batches,
   // next times and totals, the momentum ledger's state, the energy ledger's state, the driver,
   // the case text.
   std::size_t fields = 0;
@@ -235,7 +236,7 @@ TEST_F(CorruptCheckpoint, GoodOneRestoresTheState) {
   EXPECT_EQ(fields, 2u * 3u + 1u);
   model.particles.for_each_field(count);
   model.bonds.for_each_field(count);
-  EXPECT_EQ(verify_checkpoint(good_).size(), fields + 9u + 1u + 3u + 1u + 1u + 1u + 1u);
+  EXPECT_EQ(verify_checkpoint(good_).size(), fields + 10u + 1u + 3u + 1u + 1u + 1u + 1u);
 }
 
 TEST_F(CorruptCheckpoint, TruncatedFileIsRefused) {
