@@ -231,7 +231,7 @@ TEST(NeighbourLists, NoContactIsMissedWhileGrainsSlideFastAlongTheFloor) {
 // A lattice of grains that moves as one, 2 mm apart, at 20 m/s along the floor and 2 m/s onto
 // it: their moves relative to one another never call for a rebuild, so only their moves
 // toward the floor, its normal speed of 2 m/s, must. In the 0.9 ms before the bottom layer
-// lands, 1.8 mm of fall, the lists rebuild once a half skin's fall toward the floor (a 0.5 mm
+// lands, 1.8 mm of fall, the lists rebuild once a skin's fall toward the floor (a 0.5 mm
 // skin: three times, against about 70 by the largest speed); then every grain of the bottom
 // layer must be listed against the floor when it lands and bounces (the all-pairs count).
 TEST(NeighbourLists, AGrainLatticeLandsOnTheFloorListed) {
