@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "CheckpointVersion.hpp"
 #include "TestCases.hpp"
@@ -163,6 +165,51 @@ TEST(CheckpointFormat, OlderVersionIsRefusedWithTheReason) {
         std::string::npos)
         << e.what();
   }
+  fs::remove_all(dir);
+}
+
+// Format 17 carries the move bounds relative to a common translation and toward each body
+// (engine/MoveBounds); a file of 16 has only the absolute one, which bounds both. Two clouds
+// thrown at each other (+-4 m/s) and onto the floor (3 m/s): after 30 steps without a rebuild
+// the relative bound (the box's half diagonal, 4 m/s) and the floor's (its normal speed,
+// 3 m/s) are below the absolute one (the largest speed, 5 m/s); relabelled as 16, the file
+// restarts with the absolute one for both, and the run goes on with the same positions as the
+// one restarted from 17 (the forces do not depend on when lists are rebuilt).
+TEST(CheckpointFormat, VersionSixteenRestartsWithItsMoveBoundForEveryBound) {
+  const CaseConfig c = testing::colliding_clouds();
+  const Communicator self = testing::self_comm();
+  std::string dir = (fs::temp_directory_path() / "ringdem_bounds_XXXXXX").string();
+  ASSERT_NE(mkdtemp(dir.data()), nullptr);
+  std::string path;
+  {
+    Simulation sim(build_model(c, self), self, settings_from_case(c));
+    const std::int64_t rebuilds = sim.rebuilds();
+    sim.run_steps(30);
+    ASSERT_EQ(sim.rebuilds(), rebuilds) << "the bounds must be those of 30 steps";
+    path = CheckpointStore(dir).write(self, sim.model(), sim.restart_state(), DriverState{}, 0, c);
+  }
+  const auto read = [&] {
+    Model model = build_model_without_particles(c);
+    DriverState driver;
+    RestartState state = read_checkpoint(self, path, c, model, driver);
+    return std::make_pair(std::move(model), std::move(state));
+  };
+  auto [model17, state17] = read();
+  const double absolute = state17.move_bound;
+  EXPECT_NEAR(absolute, 30 * 1e-6 * 5.0, 30 * 1e-6 * 0.1);
+  EXPECT_NEAR(state17.relative_move_bound, 30 * 1e-6 * 4.0, 30 * 1e-6 * 0.1);
+  ASSERT_EQ(state17.surface_move_bound.size(), 1u);
+  EXPECT_NEAR(state17.surface_move_bound[0], 30 * 1e-6 * 3.0, 30 * 1e-6 * 0.1);
+  testing::set_checkpoint_format_version(path, 16);
+  auto [model16, state16] = read();
+  EXPECT_EQ(state16.move_bound, absolute);
+  EXPECT_EQ(state16.relative_move_bound, absolute);
+  EXPECT_EQ(state16.surface_move_bound, std::vector<double>{absolute});
+  Simulation from17(std::move(model17), self, settings_from_case(c), state17);
+  Simulation from16(std::move(model16), self, settings_from_case(c), state16);
+  from17.run_steps(200);
+  from16.run_steps(200);
+  EXPECT_EQ(from16.model().particles.position, from17.model().particles.position);
   fs::remove_all(dir);
 }
 
