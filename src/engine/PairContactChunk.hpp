@@ -102,10 +102,21 @@ struct PairContactChunk {
   /// ledger"), for each owned end to book.
   alignas(64) double half_work_damping[kSize], half_work_friction[kSize];
 
-  /// Appends a touching pair (the caller has tested it).
+  /// Appends a touching pair (the caller has tested it) with its material parameters.
   void add(std::uint32_t m, std::uint32_t a, std::uint32_t b, const Vec3& d, double d2, double ra,
            double rb, double mass, const Vec3& va, const Vec3& vb, const Vec3& wa, const Vec3& wb,
            const HertzMindlin::Params& params, const Vec3& carried) {
+    add_geometry(m, a, b, d, d2, ra, rb, mass, va, vb, wa, wb, carried);
+    set_params(n - 1, params);
+  }
+  /// Appends a touching pair whose material parameters are already in its lane: those of
+  /// fill_params(), where every pair of the run has the same (MaterialTable::uniform_pair()).
+  /// A pair's own parameters, looked up by its ends' materials and stored in five columns, were
+  /// a tenth of a packing's contacts phase (docs/performance.md, fifty-third round).
+  [[gnu::always_inline]] void add_geometry(std::uint32_t m, std::uint32_t a, std::uint32_t b,
+                                           const Vec3& d, double d2, double ra, double rb,
+                                           double mass, const Vec3& va, const Vec3& vb,
+                                           const Vec3& wa, const Vec3& wb, const Vec3& carried) {
     const std::size_t c = n++;
     pair[c] = m;
     end_a[c] = a;
@@ -119,13 +130,21 @@ struct PairContactChunk {
     velocity_b.set(c, vb);
     omega_a.set(c, wa);
     omega_b.set(c, wb);
+    spring.set(c, carried);
+  }
+  /// The material parameters of lane c.
+  [[gnu::always_inline]] void set_params(std::size_t c, const HertzMindlin::Params& params) {
     e_star[c] = params.e_star;
     g_star[c] = params.g_star;
     beta[c] = params.beta;
     friction[c] = params.friction;
     rolling_friction[c] = params.rolling_friction;
     any_rolling = any_rolling || params.rolling_friction > 0.0;
-    spring.set(c, carried);
+  }
+  /// The same parameters in every lane (the lanes a chunk's add_geometry() fills).
+  void fill_params(const HertzMindlin::Params& params) {
+    for (std::size_t c = 0; c < kSize; ++c)
+      set_params(c, params);
   }
   /// The contact law (physics.md §3, HertzMindlin) over lanes 0..n-1, as one loop.
   template <Ledger kLedger>

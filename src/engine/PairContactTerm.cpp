@@ -342,9 +342,13 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
   // its contacts in ascending partner key, the gather order (DESIGN §4), without a slot per
   // pair. Most candidates of a loose packing do not touch: they cost a distance test in
   // touching_mask() and a bit of held_mask(), and hold no spring.
+  // One material pair for every contact (a bed of one rock): its parameters in every lane
+  // once, not looked up and stored for each contact.
+  const HertzMindlin::Params* const uniform_params = ctx.materials.uniform_pair();
+  if (uniform_params != nullptr) chunk.fill_params(*uniform_params);
   const auto run_chunk = [&](IndexRange range) {
     chunk.n = 0;
-    chunk.any_rolling = false;
+    chunk.any_rolling = uniform_params != nullptr && uniform_params->rolling_friction > 0.0;
     // The candidates to visit: those that touch, and those whose contact opened since the
     // last step (their springs go back). Where most of the last chunk's candidates touched (a
     // packing in contact), all of them: the filter would only repeat the test below.
@@ -371,7 +375,7 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             __builtin_prefetch(&radius[ahead]);
             __builtin_prefetch(&p.mass[ahead]);
             __builtin_prefetch(&p.motion[ahead]);
-            __builtin_prefetch(&p.material[ahead]);
+            if (uniform_params == nullptr) __builtin_prefetch(&p.material[ahead]);
             __builtin_prefetch(&loads.force[ahead], 1);
             __builtin_prefetch(&loads.torque[ahead], 1);
             // Written here, not in a helper: GCC 12 takes a function whose only effect is a
@@ -400,10 +404,11 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             springs.release(m);  // an open contact's spring is zero (physics.md §3)
             return;
           }
-          chunk.add(static_cast<std::uint32_t>(m), a, b, d, dist2, radius[a], radius[b],
-                    effective_mass(p.mass[a], p.motion[a], p.mass[b], p.motion[b]), p.velocity[a],
-                    p.velocity[b], p.omega[a], p.omega[b],
-                    ctx.materials.pair(p.material[a], p.material[b]), springs.take(m));
+          chunk.add_geometry(static_cast<std::uint32_t>(m), a, b, d, dist2, radius[a], radius[b],
+                             effective_mass(p.mass[a], p.motion[a], p.mass[b], p.motion[b]),
+                             p.velocity[a], p.velocity[b], p.omega[a], p.omega[b], springs.take(m));
+          if (uniform_params == nullptr)
+            chunk.set_params(chunk.n - 1, ctx.materials.pair(p.material[a], p.material[b]));
           if constexpr (kPerContact) chunk.carried_ledger.set(chunk.n - 1, springs.ledger(m));
           if constexpr (kBook) {
             // The ledger's entries now, in pair order (the order the scatter adds in).

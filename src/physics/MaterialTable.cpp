@@ -1,5 +1,8 @@
 #include "physics/MaterialTable.hpp"
 
+#include <algorithm>
+#include <cstring>
+
 namespace ringdem {
 
 MaterialTable::MaterialTable(std::vector<Material> materials,
@@ -26,6 +29,11 @@ MaterialTable::MaterialTable(std::vector<Material> materials,
       pair_[a * n + b] = HertzMindlin::Params::mix(
           ma.youngs_modulus, ma.poisson_ratio, mb.youngs_modulus, mb.poisson_ratio, e, mu, mu_r);
     }
+  const auto same = [](const HertzMindlin::Params& x, const HertzMindlin::Params& y) {
+    return std::memcmp(&x, &y, sizeof(HertzMindlin::Params)) == 0;
+  };
+  uniform_ = !pair_.empty() && std::all_of(pair_.begin(), pair_.end(),
+                                           [&](const auto& q) { return same(q, pair_.front()); });
 }
 
 int MaterialTable::find(const std::string& name) const {

@@ -35,6 +35,9 @@ class MaterialTable {
   const HertzMindlin::Params& pair(int a, int b) const {
     return pair_[static_cast<std::size_t>(a) * materials_.size() + static_cast<std::size_t>(b)];
   }
+  /// The parameters that every material pair has, where they all have the same (one material,
+  /// as a granular bed of one rock); nullptr otherwise. Compared bit for bit.
+  const HertzMindlin::Params* uniform_pair() const { return uniform_ ? &pair_.front() : nullptr; }
   int find(const std::string& name) const;
   /// Whether some material pair has rolling friction.
   bool any_rolling_friction() const {
@@ -46,6 +49,7 @@ class MaterialTable {
  private:
   std::vector<Material> materials_;
   std::vector<HertzMindlin::Params> pair_;
+  bool uniform_ = false;
 };
 
 }  // namespace ringdem

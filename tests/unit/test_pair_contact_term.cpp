@@ -322,5 +322,75 @@ TEST(PairContactTerm, AnOpenedContactForgetsItsSpring) {
   }
 }
 
+// A table of one material gives every lane its parameters once (MaterialTable::uniform_pair(),
+// PairContactChunk::fill_params()) instead of each contact's looked up by its ends' materials.
+// The forces, torques and springs must be the same bits as the lookup's: here the same rock
+// particles with a second, unused material in the table, which makes the term look up each
+// pair. Rolling friction on, so that the chunks' rolling flag comes from the uniform pair too.
+TEST(PairContactTerm, OneMaterialTableGivesTheForcesOfTheLookedUpParameters) {
+  const Material rock{"rock", 2600.0, 1e9, 0.25, 0.3, 0.5, 0.1};
+  const Material steel{"steel", 7800.0, 2e11, 0.3, 0.5, 0.3, 0.0};
+  const MaterialTable one({rock}, {});
+  const MaterialTable two({rock, steel}, {});
+  Material rock_again = rock;
+  rock_again.name = "rock2";
+  ASSERT_NE(one.uniform_pair(), nullptr);
+  ASSERT_EQ(two.uniform_pair(), nullptr) << "rock and steel make three different pairs";
+  ASSERT_NE(MaterialTable({rock, rock_again}, {}).uniform_pair(), nullptr)
+      << "two names of one rock make one pair";
+  struct Outcome {
+    ParticleStore p;
+    ContactSpringStore springs;
+  };
+  const auto evaluate = [](const MaterialTable& materials) {
+    Outcome out{dense_cloud(400, 120, 23),
+                ContactSpringStore{ContactSpringStore::Partner::kParticle}};
+    ParticleStore& p = out.p;
+    PairContactTerm term;
+    std::vector<ExcludedPair> excluded;
+    std::vector<RigidBody> bodies;
+    SlotAllocator allocator;
+    GatherMap gather;
+    gather.begin(p.n_local());
+    RebuildContext rebuild{p, bodies, 0.0005, excluded, allocator, gather, 0};
+    term.rebuild(rebuild);
+    ForceSlots slots;
+    EnergyLedger ledger;
+    ledger.set_pair_booking(EnergyLedger::PairBooking::kPerContact);
+    for (int step = 0; step < 3; ++step) {  // the carried loads' work from the second on
+      EnergyLedger::EvaluationBooking booking;
+      booking.initial = step == 0;
+      ledger.begin_step(p.n_local(), booking);
+      std::fill(p.force.begin(), p.force.end(), Vec3{});
+      std::fill(p.torque.begin(), p.torque.end(), Vec3{});
+      ComputeContext ctx{
+          p,      bodies, materials, slots,
+          ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
+      term.compute(ctx);
+    }
+    out.springs = term.touching_springs(p);
+    return out;
+  };
+  const Outcome uniform = evaluate(one), looked_up = evaluate(two);
+  double largest_torque = 0.0;
+  for (std::size_t k = 0; k < uniform.p.n_local(); ++k) {
+    EXPECT_EQ(uniform.p.force[k].x, looked_up.p.force[k].x) << k;
+    EXPECT_EQ(uniform.p.force[k].y, looked_up.p.force[k].y) << k;
+    EXPECT_EQ(uniform.p.force[k].z, looked_up.p.force[k].z) << k;
+    EXPECT_EQ(uniform.p.torque[k].x, looked_up.p.torque[k].x) << k;
+    EXPECT_EQ(uniform.p.torque[k].y, looked_up.p.torque[k].y) << k;
+    EXPECT_EQ(uniform.p.torque[k].z, looked_up.p.torque[k].z) << k;
+    largest_torque = std::max(largest_torque, norm(uniform.p.torque[k]));
+  }
+  EXPECT_GT(largest_torque, 0.0);
+  ASSERT_GT(uniform.springs.size(), 100u);
+  ASSERT_EQ(uniform.springs.size(), looked_up.springs.size());
+  for (std::size_t m = 0; m < uniform.springs.size(); ++m) {
+    EXPECT_EQ(uniform.springs.spring[m].x, looked_up.springs.spring[m].x) << m;
+    EXPECT_EQ(uniform.springs.spring[m].y, looked_up.springs.spring[m].y) << m;
+    EXPECT_EQ(uniform.springs.spring[m].z, looked_up.springs.spring[m].z) << m;
+  }
+}
+
 }  // namespace
 }  // namespace ringdem
