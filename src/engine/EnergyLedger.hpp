@@ -264,12 +264,15 @@ class EnergyLedger {
   static constexpr int kMaxHalves = 255;           ///< 255 * 2^55 < 2^63
   bool books_powers() const { return !booking_.initial; }
   /// `half_damping`, `half_friction`: half of (F^n + F^{n+1}) . v_rel^{n+1/2} for the viscous
-  /// and the tangential spring force (W, unscaled like intervals()).
+  /// and the tangential spring force (W, unscaled like intervals()), booked once for each of
+  /// the contact's `owned_ends` (0, 1 or 2). Two ends book twice the half's quanta (or twice the
+  /// half, exact), the same integers as two bookings of one, at one rounding instead of two.
   [[gnu::always_inline]] void add_half_work(ContactWork& work, double half_damping,
-                                            double half_friction) {
-    add_half(work, kDamping, half_damping);
-    add_half(work, kFriction, half_friction);
-    if (++work.halves == kMaxHalves) flush_contact_work(work);
+                                            double half_friction, int owned_ends) {
+    add_half(work, kDamping, half_damping, owned_ends);
+    add_half(work, kFriction, half_friction, owned_ends);
+    work.halves += owned_ends;
+    if (work.halves >= kMaxHalves - 1) flush_contact_work(work);
   }
   void flush_contact_work(ContactWork& work);
   /// Whether this evaluation's contacts book what they hold (add_contact_energies()).
@@ -313,12 +316,12 @@ class EnergyLedger {
     return own_entries_ ? moments_.size() == n_local : entry_of_.size() == n_local;
   }
 
-  void add_half(ContactWork& work, int tally, double half) {
+  void add_half(ContactWork& work, int tally, double half, int times) {
     const double quanta = half * (1.0 / kWorkQuantum);
     if (std::fabs(quanta) < kFixedLimit)
-      work.quanta[tally] += static_cast<std::int64_t>(std::nearbyint(quanta));
-    else
-      add_large_half(tally, half);
+      work.quanta[tally] += times * static_cast<std::int64_t>(std::nearbyint(quanta));
+    else if (times != 0)
+      add_large_half(tally, half * times);  // (times 1 or 2: exact)
   }
   void add_large_half(int tally, double half) {
     contact_intervals_[tally].add(half);

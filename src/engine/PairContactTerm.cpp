@@ -221,8 +221,7 @@ void PairContactTerm::book_carried_work(const ParticleStore& p, EnergyLedger& le
                                                  p.velocity[b], p.omega[a], p.omega[b]);
     const double half_damping = 0.5 * dot(to_vec3(carried.damping), v_rel);
     const double half_friction = 0.5 * dot(spring_.value(m), v_rel);
-    if (a < n_local) ledger.add_half_work(work, half_damping, half_friction);
-    if (b < n_local) ledger.add_half_work(work, half_damping, half_friction);
+    ledger.add_half_work(work, half_damping, half_friction, int{a < n_local} + int{b < n_local});
     carried = ContactLedgerState{};
   }
   ledger.flush_contact_work(work);
@@ -398,8 +397,8 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
                   p.velocity[b], p.omega[a], p.omega[b]);
               const double half_damping = 0.5 * dot(to_vec3(carried.damping), v_rel);
               const double half_friction = 0.5 * dot(springs.value(m), v_rel);
-              if (loads.owned(a)) ledger.add_half_work(work, half_damping, half_friction);
-              if (loads.owned(b)) ledger.add_half_work(work, half_damping, half_friction);
+              ledger.add_half_work(work, half_damping, half_friction,
+                                   int{loads.owned(a)} + int{loads.owned(b)});
             }
             springs.release(m);  // an open contact's spring is zero (physics.md §3)
             return;
@@ -435,14 +434,15 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
           const Vec3 spring = chunk.spring.get(c);
           const Vec3 force = chunk.force_a.get(c);
           // Per-contact booking: each owned end books half the contact's work and energies.
+          if constexpr (kPerContact) {
+            if (book_work)
+              ledger.add_half_work(work, chunk.half_work_damping[c], chunk.half_work_friction[c],
+                                   int{loads.owned(a)} + int{loads.owned(b)});
+          }
           const auto book_contact = [&](std::uint32_t end) __attribute__((always_inline)) {
-            if constexpr (kPerContact) {
-              if (book_work)
-                ledger.add_half_work(work, chunk.half_work_damping[c], chunk.half_work_friction[c]);
-              if constexpr (kEnergies)
-                ledger.add_contact_energies(end, chunk.half_tangential_energy[c],
-                                            chunk.half_elastic_energy[c]);
-            }
+            if constexpr (kEnergies)
+              ledger.add_contact_energies(end, chunk.half_tangential_energy[c],
+                                          chunk.half_elastic_energy[c]);
           };
           if (loads.owned(a)) {
             loads.force[a] += force;

@@ -7,6 +7,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -491,6 +492,64 @@ TEST(EnergyLedger, RingDroppedOnPlaneCloses) {
   EXPECT_GT(e.friction, 0.0);
   EXPECT_GT(e.global_damping, 0.0);
   EXPECT_LT(worst, 0.01 * lost);  // measured 1.1e-5
+}
+
+// A contact with both ends on this rank books its halves once with two owned ends: twice the
+// half's quanta, or twice a large half, the same integers and values as two bookings of one end.
+// So the tallies must be the same bits. Halves of every size (large ones, kFixedLimit quanta and
+// more, among them) and enough contacts to flush the integer sums many times.
+TEST(EnergyLedger, ContactWithTwoOwnedEndsBooksWhatTwoBookingsOfOneDo) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> exponent(-60.0, 10.0), unit(-1.0, 1.0);
+  std::vector<std::array<double, 2>> halves(20000);
+  for (auto& h : halves)
+    h = {unit(rng) * std::exp2(exponent(rng)), unit(rng) * std::exp2(exponent(rng))};
+  const auto large = std::count_if(halves.begin(), halves.end(), [](const auto& h) {
+    return std::fabs(h[0]) >= EnergyLedger::kFixedLimit * EnergyLedger::kWorkQuantum;
+  });
+  ASSERT_GT(large, 100);
+  const auto tallies = [&](bool two_ends_at_once) {
+    const ParticleStore p;  // no particle: only the contacts' work is booked
+    const std::vector<RigidBody> bodies;
+    const ForceSlots slots;
+    GatherMap gather;
+    gather.begin(0);
+    gather.finish(p);
+    EnergyLedger ledger;
+    ledger.set_pair_booking(EnergyLedger::PairBooking::kPerContact);
+    ledger.rebuild(gather, 0);
+    EnergyLedger::EvaluationBooking booking;
+    booking.held = false;
+    ledger.begin_step(0, booking);
+    EnergyLedger::ContactWork work;
+    for (const auto& h : halves) {
+      if (two_ends_at_once) {
+        ledger.add_half_work(work, h[0], h[1], 2);
+      } else {
+        ledger.add_half_work(work, h[0], h[1], 1);
+        ledger.add_half_work(work, h[0], h[1], 1);
+      }
+      ledger.add_half_work(work, h[1], h[0], 0);  // a contact between two ghosts books nothing
+    }
+    ledger.flush_contact_work(work);
+    ledger.accumulate(p, bodies, slots, gather, 1.0, false, {}, false);
+    return std::array<double, 2>{ledger.intervals()[EnergyLedger::kDamping].value(),
+                                 ledger.intervals()[EnergyLedger::kFriction].value()};
+  };
+  const auto once = tallies(true), twice = tallies(false);
+  EXPECT_NE(once[0], 0.0);
+  EXPECT_EQ(once[0], twice[0]);
+  EXPECT_EQ(once[1], twice[1]);
+  // And both are twice the halves' sum: to a quantum a small half, and to the rounding of the
+  // plain double sum here.
+  double sum = 0.0, magnitude = 0.0;
+  for (const auto& h : halves) {
+    sum += h[0];
+    magnitude += std::fabs(h[0]);
+  }
+  EXPECT_NEAR(
+      once[0], 2.0 * sum,
+      2.0 * static_cast<double>(halves.size()) * EnergyLedger::kWorkQuantum + 1e-12 * magnitude);
 }
 
 // The ring tensile test (4 pins, two driven at 0.5 m/s, Cundall 0.95) through its bending
