@@ -24,6 +24,12 @@ struct ChunkColumn {
     v[1][c] = x.y;
     v[2][c] = x.z;
   }
+  /// Lane `to` = lane `from`.
+  void copy_lane(std::size_t from, std::size_t to) {
+    v[0][to] = v[0][from];
+    v[1][to] = v[1][from];
+    v[2][to] = v[2][from];
+  }
 };
 
 }  // namespace ringdem

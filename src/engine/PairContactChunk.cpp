@@ -6,13 +6,38 @@
 
 namespace ringdem {
 
+std::size_t PairContactChunk::pad_to_whole_vectors() {
+  const std::size_t lanes = (n + kLaneMultiple - 1) / kLaneMultiple * kLaneMultiple;
+  if (n == 0) return 0;
+  const std::size_t last = n - 1;
+  for (std::size_t c = n; c < lanes; ++c) {
+    separation.copy_lane(last, c);
+    dist2[c] = dist2[last];
+    radius_a[c] = radius_a[last];
+    radius_b[c] = radius_b[last];
+    m_star[c] = m_star[last];
+    velocity_a.copy_lane(last, c);
+    velocity_b.copy_lane(last, c);
+    omega_a.copy_lane(last, c);
+    omega_b.copy_lane(last, c);
+    e_star[c] = e_star[last];
+    g_star[c] = g_star[last];
+    beta[c] = beta[last];
+    friction[c] = friction[last];
+    rolling_friction[c] = rolling_friction[last];
+    spring.copy_lane(last, c);
+    carried_ledger.copy_lane(last, c);
+  }
+  return lanes;
+}
+
 template <PairContactChunk::Ledger kLedger, bool kRolling>
-void PairContactChunk::compute_lanes(double dt) {
+void PairContactChunk::compute_lanes(double dt, std::size_t lanes) {
   constexpr bool kPerParticle = kLedger == Ledger::kPerParticle;
   constexpr bool kPerContact =
       kLedger == Ledger::kPerContact || kLedger == Ledger::kPerContactWithEnergies;
   for_each(
-      IndexRange{0, n}, [&](std::size_t c) __attribute__((always_inline)) {
+      IndexRange{0, lanes}, [&](std::size_t c) __attribute__((always_inline)) {
         const Vec3 d = separation.get(c);
         const double dist = std::sqrt(dist2[c]);
         const Vec3 unit = d / dist;
@@ -77,16 +102,21 @@ void PairContactChunk::compute_lanes(double dt) {
       });
 }
 
-template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kOff, false>(double);
-template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kOff, true>(double);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kOff, false>(double,
+                                                                                     std::size_t);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kOff, true>(double,
+                                                                                    std::size_t);
 template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerParticle, false>(
-    double);
-template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerParticle, true>(double);
-template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContact, false>(double);
-template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContact, true>(double);
-template void
-PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContactWithEnergies, false>(double);
-template void
-PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContactWithEnergies, true>(double);
+    double, std::size_t);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerParticle, true>(
+    double, std::size_t);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContact, false>(
+    double, std::size_t);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContact, true>(
+    double, std::size_t);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContactWithEnergies,
+                                              false>(double, std::size_t);
+template void PairContactChunk::compute_lanes<PairContactChunk::Ledger::kPerContactWithEnergies,
+                                              true>(double, std::size_t);
 
 }  // namespace ringdem

@@ -78,6 +78,15 @@ struct PairContactChunk {
     [[gnu::always_inline]] Vec3 normal(std::size_t c) const {
       return ContactLedgerState::unfold_normal(normal_u[c], normal_v[c]);
     }
+    /// Lane `to` = lane `from`.
+    void copy_lane(std::size_t from, std::size_t to) {
+      damping_x[to] = damping_x[from];
+      damping_y[to] = damping_y[from];
+      damping_z[to] = damping_z[from];
+      normal_u[to] = normal_u[from];
+      normal_v[to] = normal_v[from];
+      overlap[to] = overlap[from];
+    }
     /// state = lane c, field by field (see PairContactTerm::compute_pairs on spring copies).
     void copy_to(std::size_t c, ContactLedgerState& s) const {
       s.damping.x = damping_x[c];
@@ -146,21 +155,34 @@ struct PairContactChunk {
     for (std::size_t c = 0; c < kSize; ++c)
       set_params(c, params);
   }
-  /// The contact law (physics.md §3, HertzMindlin) over lanes 0..n-1, as one loop.
+  /// The contact law (physics.md §3, HertzMindlin) over lanes 0..n-1, as one loop (in whole
+  /// vectors: pad_to_whole_vectors()).
   template <Ledger kLedger>
   void compute(double dt) {
+    const std::size_t lanes = pad_to_whole_vectors();
     if (any_rolling)
-      compute_lanes<kLedger, true>(dt);
+      compute_lanes<kLedger, true>(dt, lanes);
     else
-      compute_lanes<kLedger, false>(dt);
+      compute_lanes<kLedger, false>(dt, lanes);
   }
 
+  /// The lanes the law runs over are a multiple of this (the widest vector: 8 doubles).
+  static constexpr std::size_t kLaneMultiple = 8;
+  static_assert(kSize % kLaneMultiple == 0, "a full chunk is whole vectors");
+
  private:
+  /// Fills lanes n.. up to the next multiple of kLaneMultiple with lane n-1's inputs and
+  /// returns that multiple. A chunk's last n % 8 contacts ran in the vectorised loop's scalar
+  /// remainder, each one through the law's chain of square roots and divisions in turn: a third
+  /// of the kernel's time on a packing in contact (docs/performance.md, fifty-fourth round).
+  /// Each lane's result depends on its own inputs alone, and nothing reads the filled lanes'
+  /// results (the scatter stops at n).
+  std::size_t pad_to_whole_vectors();
   /// The loop, in PairContactChunk.cpp: compiled there with floating-point operations taken
   /// not to trap (CMakeLists.txt), which it needs to vectorise, and only there, so that every
   /// caller (the term, the tests) runs the same code.
   template <Ledger kLedger, bool kRolling>
-  void compute_lanes(double dt);
+  void compute_lanes(double dt, std::size_t lanes);
 };
 
 }  // namespace ringdem

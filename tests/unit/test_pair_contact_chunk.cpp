@@ -165,5 +165,46 @@ TEST(PairContactChunk, WithoutRollingFrictionAndNotFull) {
   EXPECT_EQ(rolls, 0);
 }
 
+TEST(PairContactChunk, LanesPastTheLastContactRunOnItsInputs) {
+  // The law runs in whole vectors (PairContactChunk::kLaneMultiple): a chunk of 37 contacts
+  // runs 40 lanes, and lanes 37..39 must run on a copy of lane 36's inputs, not on whatever an
+  // earlier chunk left there (stale or denormal inputs cost time, NaNs would only hide). Equal
+  // inputs give equal results, so every result of those lanes must be lane 36's, bit for bit,
+  // while lane 36 itself is still the scalar law's.
+  constexpr std::size_t n = 37;
+  static_assert(n % PairContactChunk::kLaneMultiple != 0);
+  const double dt = 2e-6;
+  const auto contacts = random_pair_cases(PairContactChunk::kSize, false, 13);
+  PairContactChunk chunk;
+  // A full chunk first, so that the lanes past 37 hold another contact's inputs.
+  for (std::size_t c = 0; c < PairContactChunk::kSize; ++c) {
+    const PairCase& k = contacts[c];
+    chunk.add(static_cast<std::uint32_t>(c), 0, 1, k.d, norm2(k.d), k.ra, k.rb, k.m_star, k.va,
+              k.vb, k.wa, k.wb, k.params, k.spring);
+  }
+  chunk.n = 0;
+  for (std::size_t c = 0; c < n; ++c) {
+    const PairCase& k = contacts[PairContactChunk::kSize - 1 - c];
+    chunk.add(static_cast<std::uint32_t>(c), 0, 1, k.d, norm2(k.d), k.ra, k.rb, k.m_star, k.va,
+              k.vb, k.wa, k.wb, k.params, k.spring);
+    // A carried ledger state of the contact's own normal a step earlier.
+    chunk.carried_ledger.set(c, ContactLedgerState::of(k.va * 0.01, normalized(k.d), 1e-5));
+  }
+  chunk.compute<PairContactChunk::Ledger::kPerContactWithEnergies>(dt);
+  const std::size_t last = n - 1;
+  const PairExpected e = scalar_reference(contacts[PairContactChunk::kSize - n], dt);
+  expect_same_vector(chunk.force_a.get(last), e.force, "force", last);
+  for (std::size_t c = n; c < 40; ++c) {
+    expect_same_vector(chunk.force_a.get(c), chunk.force_a.get(last), "force", c);
+    expect_same_vector(chunk.torque_b.get(c), chunk.torque_b.get(last), "torque on b", c);
+    expect_same_vector(chunk.spring.get(c), chunk.spring.get(last), "spring", c);
+    EXPECT_EQ(chunk.half_work_damping[c], chunk.half_work_damping[last]) << "lane " << c;
+    EXPECT_EQ(chunk.half_work_friction[c], chunk.half_work_friction[last]) << "lane " << c;
+    EXPECT_EQ(chunk.ledger_to_carry.overlap[c], chunk.ledger_to_carry.overlap[last])
+        << "lane " << c;
+    EXPECT_EQ(chunk.half_elastic_energy[c], chunk.half_elastic_energy[last]) << "lane " << c;
+  }
+}
+
 }  // namespace
 }  // namespace ringdem
