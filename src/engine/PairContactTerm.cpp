@@ -308,6 +308,13 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
   const std::uint32_t* const pair_b = pairs_.j.data();
   const Vec3* const position = p.position.data();
   const double* const radius = p.radius.data();
+  const Vec3* const velocity = p.velocity.data();
+  const Vec3* const omega = p.omega.data();
+  const double* const mass = p.mass.data();
+  const auto* const motion = p.motion.data();
+  const auto* const material = p.material.data();
+  Vec3* const force_sum = loads.force;
+  Vec3* const torque_sum = loads.torque;
   SpringSlots& springs = spring_;
   PairContactChunk& chunk = chunk_;
   // Per-contact booking: the work of this step (not in the initial state's evaluation).
@@ -345,7 +352,10 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
   // once, not looked up and stored for each contact.
   const HertzMindlin::Params* const uniform_params = ctx.materials.uniform_pair();
   if (uniform_params != nullptr) chunk.fill_params(*uniform_params);
-  const auto run_chunk = [&](IndexRange range) {
+  // The far ends' arrays by value: captured by reference, each prefetch and load went through
+  // the closure to the local and then to the array.
+  const auto run_chunk = [&, velocity, omega, mass, motion, material, force_sum,
+                          torque_sum](IndexRange range) {
     chunk.n = 0;
     chunk.any_rolling = uniform_params != nullptr && uniform_params->rolling_friction > 0.0;
     // The candidates to visit: those that touch, and those whose contact opened since the
@@ -369,14 +379,14 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             const std::uint32_t ahead =
                 std::max(pair_a[m + kPrefetchAhead], pair_b[m + kPrefetchAhead]);
             __builtin_prefetch(&position[ahead]);
-            __builtin_prefetch(&p.velocity[ahead]);
-            __builtin_prefetch(&p.omega[ahead]);
+            __builtin_prefetch(&velocity[ahead]);
+            __builtin_prefetch(&omega[ahead]);
             __builtin_prefetch(&radius[ahead]);
-            __builtin_prefetch(&p.mass[ahead]);
-            __builtin_prefetch(&p.motion[ahead]);
-            if (uniform_params == nullptr) __builtin_prefetch(&p.material[ahead]);
-            __builtin_prefetch(&loads.force[ahead], 1);
-            __builtin_prefetch(&loads.torque[ahead], 1);
+            __builtin_prefetch(&mass[ahead]);
+            __builtin_prefetch(&motion[ahead]);
+            if (uniform_params == nullptr) __builtin_prefetch(&material[ahead]);
+            __builtin_prefetch(&force_sum[ahead], 1);
+            __builtin_prefetch(&torque_sum[ahead], 1);
             // Written here, not in a helper: GCC 12 takes a function whose only effect is a
             // prefetch for a pure one and deletes its calls (the ledger's entries had such
             // helpers, which never issued a request; issued, they changed nothing measurable:
@@ -404,10 +414,10 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             return;
           }
           chunk.add_geometry(static_cast<std::uint32_t>(m), a, b, d, dist2, radius[a], radius[b],
-                             effective_mass(p.mass[a], p.motion[a], p.mass[b], p.motion[b]),
-                             p.velocity[a], p.velocity[b], p.omega[a], p.omega[b], springs.take(m));
+                             effective_mass(mass[a], motion[a], mass[b], motion[b]), velocity[a],
+                             velocity[b], omega[a], omega[b], springs.take(m));
           if (uniform_params == nullptr)
-            chunk.set_params(chunk.n - 1, ctx.materials.pair(p.material[a], p.material[b]));
+            chunk.set_params(chunk.n - 1, ctx.materials.pair(material[a], material[b]));
           if constexpr (kPerContact) chunk.carried_ledger.set(chunk.n - 1, springs.ledger(m));
           if constexpr (kBook) {
             // The ledger's entries now, in pair order (the order the scatter adds in).
@@ -445,8 +455,8 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
                                           chunk.half_elastic_energy[c]);
           };
           if (loads.owned(a)) {
-            loads.force[a] += force;
-            loads.torque[a] += chunk.torque_a.get(c);
+            force_sum[a] += force;
+            torque_sum[a] += chunk.torque_a.get(c);
             book_contact(a);
             if constexpr (kBook) {
               ledger.moments_at(chunk.moments_a[c])
@@ -456,8 +466,8 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             }
           }
           if (loads.owned(b)) {
-            loads.force[b] += -force;
-            loads.torque[b] += chunk.torque_b.get(c);
+            force_sum[b] += -force;
+            torque_sum[b] += chunk.torque_b.get(c);
             book_contact(b);
             if constexpr (kBook) {
               ledger.moments_at(chunk.moments_b[c])
