@@ -443,12 +443,8 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             chunk.ledger_to_carry.copy_to(c, springs.ledger(chunk.pair[c]));
           const Vec3 spring = chunk.spring.get(c);
           const Vec3 force = chunk.force_a.get(c);
-          // Per-contact booking: each owned end books half the contact's work and energies.
-          if constexpr (kPerContact) {
-            if (book_work)
-              ledger.add_half_work(work, chunk.half_work_damping[c], chunk.half_work_friction[c],
-                                   int{loads.owned(a)} + int{loads.owned(b)});
-          }
+          // Per-contact booking: each owned end books half the contact's energies (and its
+          // work, below).
           const auto book_contact = [&](std::uint32_t end) __attribute__((always_inline)) {
             if constexpr (kEnergies)
               ledger.add_contact_energies(end, chunk.half_tangential_energy[c],
@@ -477,6 +473,15 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
             }
           }
         });
+    if constexpr (kPerContact) {
+      static_assert(PairContactChunk::kSize <= EnergyLedger::kMaxChunkContacts);
+      if (book_work)
+        ledger.add_half_works(
+            work, chunk.half_work_damping, chunk.half_work_friction,
+            chunk.n, [&](std::size_t c) __attribute__((always_inline)) {
+              return int{loads.owned(chunk.end_a[c])} + int{loads.owned(chunk.end_b[c])};
+            });
+    }
   };
   if (ctx.rate == ForceRate::kFast) {
     for (const std::uint32_t c : fast_chunks_)

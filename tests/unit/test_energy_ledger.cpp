@@ -552,6 +552,77 @@ TEST(EnergyLedger, ContactWithTwoOwnedEndsBooksWhatTwoBookingsOfOneDo) {
       2.0 * static_cast<double>(halves.size()) * EnergyLedger::kWorkQuantum + 1e-12 * magnitude);
 }
 
+// The pair loop books a chunk of contacts' work at once (add_half_works()): it must give the
+// tallies that booking each contact in turn gives, bit for bit, with ends owned or not, halves
+// too large for the integer sum among them, a chunk that is not full, and contacts booked one
+// at a time between the chunks (those that opened in the step).
+TEST(EnergyLedger, ChunkOfContactsBooksWhatItsContactsBookOneByOne) {
+  constexpr std::size_t kChunk = 64, kContacts = 40 * kChunk + 37;
+  struct Halves {
+    std::vector<double> damping, friction;
+    std::vector<int> owned;
+  };
+  // Halves of up to 2^max_exponent W: with -5 all go to the integer sums, and the tallies (a
+  // few W) show a single quantum's difference; with 10 some go to the exact sums.
+  const auto draw = [](double max_exponent, unsigned seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> exponent(-50.0, max_exponent), unit(-1.0, 1.0);
+    std::uniform_int_distribution<int> ends(0, 2);
+    Halves h;
+    for (std::size_t c = 0; c < kContacts; ++c) {
+      h.damping.push_back(unit(rng) * std::exp2(exponent(rng)));
+      h.friction.push_back(unit(rng) * std::exp2(exponent(rng)));
+      h.owned.push_back(ends(rng));
+    }
+    return h;
+  };
+  const auto large_count = [](const Halves& h) {
+    return std::count_if(h.damping.begin(), h.damping.end(), [](double x) {
+      return std::fabs(x) >= EnergyLedger::kFixedLimit * EnergyLedger::kWorkQuantum;
+    });
+  };
+  const auto tallies = [&](const Halves& h, bool by_chunk) {
+    const ParticleStore p;
+    const std::vector<RigidBody> bodies;
+    const ForceSlots slots;
+    GatherMap gather;
+    gather.begin(0);
+    gather.finish(p);
+    EnergyLedger ledger;
+    ledger.set_pair_booking(EnergyLedger::PairBooking::kPerContact);
+    ledger.rebuild(gather, 0);
+    EnergyLedger::EvaluationBooking booking;
+    booking.held = false;
+    ledger.begin_step(0, booking);
+    EnergyLedger::ContactWork work;
+    for (std::size_t begin = 0; begin < kContacts; begin += kChunk) {
+      const std::size_t n = std::min(kChunk, kContacts - begin);
+      ledger.add_half_work(work, 0.25 * h.damping[begin], -h.friction[begin], 2);  // one opened
+      if (by_chunk) {
+        ledger.add_half_works(work, &h.damping[begin], &h.friction[begin], n,
+                              [&](std::size_t c) { return h.owned[begin + c]; });
+      } else {
+        for (std::size_t c = begin; c < begin + n; ++c)
+          ledger.add_half_work(work, h.damping[c], h.friction[c], h.owned[c]);
+      }
+    }
+    ledger.flush_contact_work(work);
+    ledger.accumulate(p, bodies, slots, gather, 1.0, false, {}, false);
+    return std::array<double, 2>{ledger.intervals()[EnergyLedger::kDamping].value(),
+                                 ledger.intervals()[EnergyLedger::kFriction].value()};
+  };
+  const Halves small = draw(-5.0, 17), mixed = draw(10.0, 19);
+  ASSERT_EQ(large_count(small), 0);
+  ASSERT_GT(large_count(mixed), 20);
+  for (const Halves* h : {&small, &mixed}) {
+    const auto chunked = tallies(*h, true), one_by_one = tallies(*h, false);
+    EXPECT_NE(chunked[0], 0.0);
+    EXPECT_NE(chunked[1], 0.0);
+    EXPECT_EQ(chunked[0], one_by_one[0]);
+    EXPECT_EQ(chunked[1], one_by_one[1]);
+  }
+}
+
 // The ring tensile test (4 pins, two driven at 0.5 m/s, Cundall 0.95) through its bending
 // stage: the pins' boundary work is what the ring holds and dissipates, within 1 %.
 TEST(EnergyLedger, TensileTestBoundaryWork) {
