@@ -494,6 +494,32 @@ TEST(EnergyLedger, RingDroppedOnPlaneCloses) {
   EXPECT_LT(worst, 0.01 * lost);  // measured 1.1e-5
 }
 
+// A ledger with no particle, booking contacts' work per contact: only that work reaches its
+// tallies.
+struct ContactWorkLedger {
+  const ParticleStore p;
+  const std::vector<RigidBody> bodies;
+  const ForceSlots slots;
+  GatherMap gather;
+  EnergyLedger ledger;
+  ContactWorkLedger() {
+    gather.begin(0);
+    gather.finish(p);
+    ledger.set_pair_booking(EnergyLedger::PairBooking::kPerContact);
+    ledger.rebuild(gather, 0);
+    EnergyLedger::EvaluationBooking booking;
+    booking.held = false;
+    ledger.begin_step(0, booking);
+  }
+  /// The damping and friction tallies after `work` and the step's accumulate().
+  std::array<double, 2> tallies(EnergyLedger::ContactWork& work) {
+    ledger.flush_contact_work(work);
+    ledger.accumulate(p, bodies, slots, gather, 1.0, false, {}, false);
+    return {ledger.intervals()[EnergyLedger::kDamping].value(),
+            ledger.intervals()[EnergyLedger::kFriction].value()};
+  }
+};
+
 // A contact with both ends on this rank books its halves once with two owned ends: twice the
 // half's quanta, or twice a large half, the same integers and values as two bookings of one end.
 // So the tallies must be the same bits. Halves of every size (large ones, kFixedLimit quanta and
@@ -509,18 +535,8 @@ TEST(EnergyLedger, ContactWithTwoOwnedEndsBooksWhatTwoBookingsOfOneDo) {
   });
   ASSERT_GT(large, 100);
   const auto tallies = [&](bool two_ends_at_once) {
-    const ParticleStore p;  // no particle: only the contacts' work is booked
-    const std::vector<RigidBody> bodies;
-    const ForceSlots slots;
-    GatherMap gather;
-    gather.begin(0);
-    gather.finish(p);
-    EnergyLedger ledger;
-    ledger.set_pair_booking(EnergyLedger::PairBooking::kPerContact);
-    ledger.rebuild(gather, 0);
-    EnergyLedger::EvaluationBooking booking;
-    booking.held = false;
-    ledger.begin_step(0, booking);
+    ContactWorkLedger booked;
+    EnergyLedger& ledger = booked.ledger;
     EnergyLedger::ContactWork work;
     for (const auto& h : halves) {
       if (two_ends_at_once) {
@@ -531,10 +547,7 @@ TEST(EnergyLedger, ContactWithTwoOwnedEndsBooksWhatTwoBookingsOfOneDo) {
       }
       ledger.add_half_work(work, h[1], h[0], 0);  // a contact between two ghosts books nothing
     }
-    ledger.flush_contact_work(work);
-    ledger.accumulate(p, bodies, slots, gather, 1.0, false, {}, false);
-    return std::array<double, 2>{ledger.intervals()[EnergyLedger::kDamping].value(),
-                                 ledger.intervals()[EnergyLedger::kFriction].value()};
+    return booked.tallies(work);
   };
   const auto once = tallies(true), twice = tallies(false);
   EXPECT_NE(once[0], 0.0);
@@ -582,18 +595,8 @@ TEST(EnergyLedger, ChunkOfContactsBooksWhatItsContactsBookOneByOne) {
     });
   };
   const auto tallies = [&](const Halves& h, bool by_chunk) {
-    const ParticleStore p;
-    const std::vector<RigidBody> bodies;
-    const ForceSlots slots;
-    GatherMap gather;
-    gather.begin(0);
-    gather.finish(p);
-    EnergyLedger ledger;
-    ledger.set_pair_booking(EnergyLedger::PairBooking::kPerContact);
-    ledger.rebuild(gather, 0);
-    EnergyLedger::EvaluationBooking booking;
-    booking.held = false;
-    ledger.begin_step(0, booking);
+    ContactWorkLedger booked;
+    EnergyLedger& ledger = booked.ledger;
     EnergyLedger::ContactWork work;
     for (std::size_t begin = 0; begin < kContacts; begin += kChunk) {
       const std::size_t n = std::min(kChunk, kContacts - begin);
@@ -606,10 +609,7 @@ TEST(EnergyLedger, ChunkOfContactsBooksWhatItsContactsBookOneByOne) {
           ledger.add_half_work(work, h.damping[c], h.friction[c], h.owned[c]);
       }
     }
-    ledger.flush_contact_work(work);
-    ledger.accumulate(p, bodies, slots, gather, 1.0, false, {}, false);
-    return std::array<double, 2>{ledger.intervals()[EnergyLedger::kDamping].value(),
-                                 ledger.intervals()[EnergyLedger::kFriction].value()};
+    return booked.tallies(work);
   };
   const Halves small = draw(-5.0, 17), mixed = draw(10.0, 19);
   ASSERT_EQ(large_count(small), 0);
