@@ -31,8 +31,8 @@ class ContactSpringStore {
   std::vector<Vec3> spring;           ///< tangential spring (physics.md §3), zero when released
   /// Particle pairs only, where carries_ledger() (a field of their registry then; otherwise
   /// empty): what the energy ledger carries to the next step where it books each pair's work
-  /// in the pair loop (ContactLedgerState: the viscous force on the particle `gid`, the normal,
-  /// the overlap); zero where it does not.
+  /// in the pair loop (ContactLedgerState: the viscous force on the particle `gid` and the
+  /// overlap); zero where it does not.
   std::vector<ContactLedgerState> ledger;
 
   /// The field registry: calls f(FieldInfo, std::vector<T>&) for every field.
@@ -99,8 +99,9 @@ class ContactSpringStore {
     f(FieldInfo{"gid", kState}, s.gid);
     f(FieldInfo{"partner", kState}, s.partner);
     f(FieldInfo{"spring", kState}, s.spring);
-    // A checkpoint of format 15 or older has none: its contacts carry nothing to the ledger.
-    if (s.carries_ledger()) f(FieldInfo{"ledger", kState | kZeroIfAbsent}, s.ledger);
+    // A checkpoint of format 17 or older has none (16 and 17 have a "ledger" of six floats, the
+    // folded normal too, which is not read): its contacts carry nothing to the ledger.
+    if (s.carries_ledger()) f(FieldInfo{"ledger_load", kState | kZeroIfAbsent}, s.ledger);
   }
 
   Partner partner_;

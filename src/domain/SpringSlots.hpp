@@ -17,7 +17,7 @@ namespace ringdem {
 /// back. The values a kernel reads and writes are the same as a column's, in the same order,
 /// so the results are the same bits. Beside each spring the pool keeps what the contact carries
 /// to the energy ledger's next step where that books each pair's work in the pair loop
-/// (ContactLedgerState), once keep_ledger() asked for it: 24 bytes a contact that a run
+/// (ContactLedgerState), once keep_ledger() asked for it: 16 bytes a contact that a run
 /// without that booking does not pay.
 ///
 /// After reset() the slots are taken in candidate order, so the pool starts in the order the

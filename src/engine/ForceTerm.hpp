@@ -107,11 +107,11 @@ class ForceTerm {
     if (ContactSpringStore* s = springs()) s->drop_released();
   }
   /// Before pack_springs() at a rebuild: where the energy ledger books this term's contacts one
-  /// by one, what they carry to the next step, and where `mid_step` (the drift done: the
-  /// velocities are those of the step's middle) the work it stands for is booked now instead,
-  /// so that the keyed rows need not carry it (PairContactTerm).
+  /// by one, what they carry to the next step, and where `mid_step` (the drift of the step of
+  /// `dt` done: the velocities are those of the step's middle) the work it stands for is booked
+  /// now instead, so that the keyed rows need not carry it (PairContactTerm).
   virtual void book_carried_work(const ParticleStore& /*p*/, EnergyLedger& /*ledger*/,
-                                 bool /*mid_step*/) {}
+                                 bool /*mid_step*/, double /*dt*/) {}
   /// The touching contacts' springs, keyed by gid, at any time (checkpoints).
   virtual ContactSpringStore touching_springs(const ParticleStore& /*p*/) const {
     const ContactSpringStore* s = springs();

@@ -71,20 +71,22 @@ void PairContactChunk::compute_lanes(double dt, std::size_t lanes) {
         torque_b.set(c, cross(unit * arm_b, r.force_i) + r.rolling_torque_j);
         if constexpr (kPerContact) {
           // The work of the step: the loads of its start (carried, at the contact point of
-          // the start) and of its end (at this contact point), each at the relative velocity of
-          // the step's middle, which the law read (docs/physics.md "Energy ledger"). The spring
-          // is the tangential force on a, as the damping force is.
+          // the start: its normal one drift back) and of its end (at this contact point), each
+          // at the relative velocity of the step's middle, which the law read and the drift
+          // used (docs/physics.md "Energy ledger"). The spring is the tangential force on a, as
+          // the damping force is.
           const double depth_carried = carried_ledger.overlap[c];
-          const Vec3 v_carried =
-              relative_contact_velocity(carried_ledger.normal(c), radius_a[c] - 0.5 * depth_carried,
-                                        radius_b[c] - 0.5 * depth_carried, va, vb, wa, wb);
+          const Vec3 v_carried = relative_contact_velocity(
+              step_start_normal(d, vb - va, dt), radius_a[c] - 0.5 * depth_carried,
+              radius_b[c] - 0.5 * depth_carried, va, vb, wa, wb);
           // The carried loads do work where the pair carries it (ContactLedgerState::
           // carries_work()).
           const double start = depth_carried >= 0.0 ? 1.0 : 0.0;
-          half_work_damping[c] = 0.5 * (start * dot(carried_ledger.damping(c), v_carried) +
-                                        dot(r.damping_force_i, in.v_rel));
-          half_work_friction[c] = 0.5 * (start * dot(s_carried, v_carried) + dot(s, in.v_rel));
-          ledger_to_carry.store(c, r.damping_force_i, unit, depth);
+          start_half_work.damping[c] = 0.5 * (start * dot(carried_ledger.damping(c), v_carried));
+          start_half_work.friction[c] = 0.5 * (start * dot(s_carried, v_carried));
+          end_half_work.damping[c] = 0.5 * dot(r.damping_force_i, in.v_rel);
+          end_half_work.friction[c] = 0.5 * dot(s, in.v_rel);
+          ledger_to_carry.store(c, r.damping_force_i, depth);
           if constexpr (kLedger == Ledger::kPerContactWithEnergies) {
             half_tangential_energy[c] = 0.5 * r.tangential_energy;
             half_elastic_energy[c] = 0.5 * r.elastic_energy;

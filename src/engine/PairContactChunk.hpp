@@ -52,39 +52,31 @@ struct PairContactChunk {
       rolling_friction[kSize];
   Column spring;  ///< in: carried; out: updated (physics.md §3)
   /// Per-contact booking: the ledger states of the pairs (ContactLedgerState), as they are
-  /// stored: the gather and the scatter copy six floats a contact, and compute_lanes() unfolds
-  /// and folds the normal, a vector of lanes at a time (one contact at a time, the normal's
-  /// square root and division were a fifth of the pair loop: docs/performance.md,
-  /// forty-seventh round).
+  /// stored: the gather and the scatter copy four floats a contact, and compute_lanes() rebuilds
+  /// the start's normal (step_start_normal()), a vector of lanes at a time (one contact at a
+  /// time, the normal's square root and division were a fifth of the pair loop:
+  /// docs/performance.md, forty-seventh round).
   struct LedgerStateColumn {
     alignas(64) float damping_x[kSize], damping_y[kSize], damping_z[kSize];
-    alignas(64) float normal_u[kSize], normal_v[kSize], overlap[kSize];
+    alignas(64) float overlap[kSize];
     [[gnu::always_inline]] void set(std::size_t c, const ContactLedgerState& s) {
       damping_x[c] = s.damping.x;
       damping_y[c] = s.damping.y;
       damping_z[c] = s.damping.z;
-      normal_u[c] = s.normal_u;
-      normal_v[c] = s.normal_v;
       overlap[c] = s.overlap;
     }
     /// Lane c, the state of ContactLedgerState::of() (in compute_lanes(), inlined there).
-    [[gnu::always_inline]] void store(std::size_t c, const Vec3& damping, const Vec3& normal,
-                                      double depth) {
-      set(c, ContactLedgerState::of(damping, normal, depth));
+    [[gnu::always_inline]] void store(std::size_t c, const Vec3& damping, double depth) {
+      set(c, ContactLedgerState::of(damping, depth));
     }
     [[gnu::always_inline]] Vec3 damping(std::size_t c) const {
       return {damping_x[c], damping_y[c], damping_z[c]};
-    }
-    [[gnu::always_inline]] Vec3 normal(std::size_t c) const {
-      return ContactLedgerState::unfold_normal(normal_u[c], normal_v[c]);
     }
     /// Lane `to` = lane `from`.
     void copy_lane(std::size_t from, std::size_t to) {
       damping_x[to] = damping_x[from];
       damping_y[to] = damping_y[from];
       damping_z[to] = damping_z[from];
-      normal_u[to] = normal_u[from];
-      normal_v[to] = normal_v[from];
       overlap[to] = overlap[from];
     }
     /// state = lane c, field by field (see PairContactTerm::compute_pairs on spring copies).
@@ -92,8 +84,6 @@ struct PairContactChunk {
       s.damping.x = damping_x[c];
       s.damping.y = damping_y[c];
       s.damping.z = damping_z[c];
-      s.normal_u = normal_u[c];
-      s.normal_v = normal_v[c];
       s.overlap = overlap[c];
     }
   };
@@ -105,11 +95,18 @@ struct PairContactChunk {
   Column force_a, torque_a, torque_b;
   Column damping_a, damping_moment_a, damping_moment_b, friction_moment_a, friction_moment_b;
   alignas(64) double half_tangential_energy[kSize], half_elastic_energy[kSize];
-  /// Per-contact booking: half the contact's work over the step, (F^n . u^n + F^{n+1} .
-  /// u^{n+1}) / 2 with u the relative velocity of the step's middle at each load's own contact
-  /// point, of the viscous force and of the tangential spring force (docs/physics.md "Energy
-  /// ledger"), for each owned end to book.
-  alignas(64) double half_work_damping[kSize], half_work_friction[kSize];
+  /// Per-contact booking: half the work of each of the contact's loads over the step, F . u
+  /// with u the relative velocity of the step's middle at the load's own contact point, of the
+  /// viscous force and of the tangential spring force (docs/physics.md "Energy ledger"), for
+  /// each owned end to book: those of the step's start (the carried loads; zero where the pair
+  /// carries none) and those of its end apart. Each is rounded to the ledger's integers on its
+  /// own, so that a rebuild in the middle of a step, which books the start's half then
+  /// (PairContactTerm::book_carried_work()), books the same integers as a step without one;
+  /// their sum rounded once was not (a tally's last bits depended on the rebuilds' steps).
+  struct HalfWorkColumns {
+    alignas(64) double damping[kSize], friction[kSize];
+  };
+  HalfWorkColumns start_half_work, end_half_work;
 
   /// Appends a touching pair (the caller has tested it) with its material parameters.
   void add(std::uint32_t m, std::uint32_t a, std::uint32_t b, const Vec3& d, double d2, double ra,

@@ -200,8 +200,8 @@ void PairContactTerm::carry_springs(const ParticleStore& p) {
   spring_.end_carry();
 }
 
-void PairContactTerm::book_carried_work(const ParticleStore& p, EnergyLedger& ledger,
-                                        bool mid_step) {
+void PairContactTerm::book_carried_work(const ParticleStore& p, EnergyLedger& ledger, bool mid_step,
+                                        double dt) {
   rows_carry_ledger_ = ledger.books_pairs_per_contact() && !mid_step;
   if (!ledger.books_pairs_per_contact() || !mid_step || !spring_.keeps_ledger()) return;
   // The loads each contact carries (those of the last evaluation) do the second half of their
@@ -216,9 +216,11 @@ void PairContactTerm::book_carried_work(const ParticleStore& p, EnergyLedger& le
     if (!carried.carries_work()) continue;
     const std::uint32_t a = pairs_.i[m], b = pairs_.j[m];
     const double depth = static_cast<double>(carried.overlap);
-    const Vec3 v_rel = relative_contact_velocity(carried.normal(), p.radius[a] - 0.5 * depth,
-                                                 p.radius[b] - 0.5 * depth, p.velocity[a],
-                                                 p.velocity[b], p.omega[a], p.omega[b]);
+    const Vec3 normal =
+        step_start_normal(p.position[b] - p.position[a], p.velocity[b] - p.velocity[a], dt);
+    const Vec3 v_rel =
+        relative_contact_velocity(normal, p.radius[a] - 0.5 * depth, p.radius[b] - 0.5 * depth,
+                                  p.velocity[a], p.velocity[b], p.omega[a], p.omega[b]);
     const double half_damping = 0.5 * dot(to_vec3(carried.damping), v_rel);
     const double half_friction = 0.5 * dot(spring_.value(m), v_rel);
     ledger.add_half_work(work, half_damping, half_friction, int{a < n_local} + int{b < n_local});
@@ -403,8 +405,8 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
               const ContactLedgerState& carried = springs.ledger(m);
               const double depth = static_cast<double>(carried.overlap);
               const Vec3 v_rel = relative_contact_velocity(
-                  carried.normal(), radius[a] - 0.5 * depth, radius[b] - 0.5 * depth, p.velocity[a],
-                  p.velocity[b], p.omega[a], p.omega[b]);
+                  step_start_normal(d, velocity[b] - velocity[a], ctx.dt), radius[a] - 0.5 * depth,
+                  radius[b] - 0.5 * depth, velocity[a], velocity[b], omega[a], omega[b]);
               const double half_damping = 0.5 * dot(to_vec3(carried.damping), v_rel);
               const double half_friction = 0.5 * dot(springs.value(m), v_rel);
               ledger.add_half_work(work, half_damping, half_friction,
@@ -475,12 +477,17 @@ void PairContactTerm::compute_pairs(ComputeContext& ctx) {
         });
     if constexpr (kPerContact) {
       static_assert(PairContactChunk::kSize <= EnergyLedger::kMaxChunkContacts);
-      if (book_work)
-        ledger.add_half_works(
-            work, chunk.half_work_damping, chunk.half_work_friction,
-            chunk.n, [&](std::size_t c) __attribute__((always_inline)) {
-              return int{loads.owned(chunk.end_a[c])} + int{loads.owned(chunk.end_b[c])};
-            });
+      if (book_work) {
+        // The start's loads and the end's apart, each half rounded on its own
+        // (PairContactChunk::start_half_work).
+        const auto owned_ends = [&](std::size_t c) __attribute__((always_inline)) {
+          return int{loads.owned(chunk.end_a[c])} + int{loads.owned(chunk.end_b[c])};
+        };
+        ledger.add_half_works(work, chunk.start_half_work.damping, chunk.start_half_work.friction,
+                              chunk.n, owned_ends);
+        ledger.add_half_works(work, chunk.end_half_work.damping, chunk.end_half_work.friction,
+                              chunk.n, owned_ends);
+      }
     }
   };
   if (ctx.rate == ForceRate::kFast) {

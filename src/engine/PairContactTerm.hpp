@@ -28,7 +28,8 @@ class PairContactTerm final : public ForceTerm {
   ContactSpringStore* springs() override { return &springs_; }
   const ContactSpringStore* springs() const override { return &springs_; }
   void pack_springs(const ParticleStore& p) override;
-  void book_carried_work(const ParticleStore& p, EnergyLedger& ledger, bool mid_step) override;
+  void book_carried_work(const ParticleStore& p, EnergyLedger& ledger, bool mid_step,
+                         double dt) override;
   ContactSpringStore touching_springs(const ParticleStore& p) const override;
   void find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies, double fraction,
                      std::vector<ContactOverlap>& out) const override;

@@ -367,7 +367,7 @@ void Simulation::build_lists(const SpatialBins::Order& sort, bool mid_step) {
   ledger_.release_moments();
   fast_ledger_.release_moments();
   for (auto& t : terms_) {
-    t->book_carried_work(p, ledger_, mid_step);
+    t->book_carried_work(p, ledger_, mid_step, dt_);
     t->pack_springs(p);
   }
   // Before the migration, which stores the owned particles in the new keys' order and sends
@@ -665,7 +665,7 @@ bool Simulation::exchange_grains() {
     if (!changed)
       for (auto& t : terms_) {
         // The start of a step: the contacts' rows carry what they owe the ledger.
-        t->book_carried_work(p, ledger_, /*mid_step=*/false);
+        t->book_carried_work(p, ledger_, /*mid_step=*/false, dt_);
         t->pack_springs(p);
       }
     changed = true;

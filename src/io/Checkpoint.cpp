@@ -49,12 +49,15 @@ constexpr const char* kFormat = "ringdem-checkpoint";
 // older restarts with none, which the ledger of that one step notices, the motion not at all);
 // 17: the particles' move bounds relative to a common translation (relative_move_bound) and
 // toward each rigid body (/bodies/surface_move_bound; engine/MoveBounds): a file of 16 or older
-// restarts with its move_bound for both, which rebuilds no later than needed.
-// This version, 16, 15, 14, 13, 12 and 11 are read: a file of 11
+// restarts with its move_bound for both, which rebuilds no later than needed; 18: each particle
+// pair's ledger state without the folded normal (/history/<term>.ledger_load: the damping force
+// and the overlap, the normal rebuilt one drift back): a file of 16 or 17 restarts with none, as
+// one of 15 does.
+// This version, 17, 16, 15, 14, 13, 12 and 11 are read: a file of 11
 // restarts every particle at bin 0, the gid order that format's writer kept, and so goes on as its
 // run did until the next re-sort; one of 11 or 12 with support ropes is refused (read_checkpoint).
 // Older files lack what this one needs to go on bit for bit.
-constexpr std::int64_t kFormatVersion = 17;
+constexpr std::int64_t kFormatVersion = 18;
 constexpr std::int64_t kOldestReadFormatVersion = 11;
 
 /// Order-independent checksum of a block of rows: the sum of each row's hash seeded with its

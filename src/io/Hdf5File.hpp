@@ -25,7 +25,7 @@ class Hdf5Error : public std::runtime_error {
 };
 
 /// How a field type is stored: HDF5 element type and components per row (Vec3: 3 doubles,
-/// Vec3f: 3 floats, ContactLedgerState: 6 floats, Quat: 4 doubles w, x, y, z, enums: their
+/// Vec3f: 3 floats, ContactLedgerState: 4 floats, Quat: 4 doubles w, x, y, z, enums: their
 /// underlying integer).
 template <class T, class Enable = void>
 struct H5Layout;
@@ -47,7 +47,7 @@ struct H5Layout<Vec3f> {
 template <>
 struct H5Layout<ContactLedgerState> {
   static hid_t type() { return H5T_NATIVE_FLOAT; }
-  static constexpr int components = 6;
+  static constexpr int components = 4;
 };
 template <>
 struct H5Layout<Quat> {

@@ -187,8 +187,8 @@ TEST(PairContactChunk, LanesPastTheLastContactRunOnItsInputs) {
     const PairCase& k = contacts[PairContactChunk::kSize - 1 - c];
     chunk.add(static_cast<std::uint32_t>(c), 0, 1, k.d, norm2(k.d), k.ra, k.rb, k.m_star, k.va,
               k.vb, k.wa, k.wb, k.params, k.spring);
-    // A carried ledger state of the contact's own normal a step earlier.
-    chunk.carried_ledger.set(c, ContactLedgerState::of(k.va * 0.01, normalized(k.d), 1e-5));
+    // A carried ledger state: a damping force and an overlap of a step earlier.
+    chunk.carried_ledger.set(c, ContactLedgerState::of(k.va * 0.01, 1e-5));
   }
   chunk.compute<PairContactChunk::Ledger::kPerContactWithEnergies>(dt);
   const std::size_t last = n - 1;
@@ -198,8 +198,10 @@ TEST(PairContactChunk, LanesPastTheLastContactRunOnItsInputs) {
     expect_same_vector(chunk.force_a.get(c), chunk.force_a.get(last), "force", c);
     expect_same_vector(chunk.torque_b.get(c), chunk.torque_b.get(last), "torque on b", c);
     expect_same_vector(chunk.spring.get(c), chunk.spring.get(last), "spring", c);
-    EXPECT_EQ(chunk.half_work_damping[c], chunk.half_work_damping[last]) << "lane " << c;
-    EXPECT_EQ(chunk.half_work_friction[c], chunk.half_work_friction[last]) << "lane " << c;
+    for (const auto* half : {&chunk.start_half_work, &chunk.end_half_work}) {
+      EXPECT_EQ(half->damping[c], half->damping[last]) << "lane " << c;
+      EXPECT_EQ(half->friction[c], half->friction[last]) << "lane " << c;
+    }
     EXPECT_EQ(chunk.ledger_to_carry.overlap[c], chunk.ledger_to_carry.overlap[last])
         << "lane " << c;
     EXPECT_EQ(chunk.half_elastic_energy[c], chunk.half_elastic_energy[last]) << "lane " << c;
