@@ -65,5 +65,44 @@ TEST(StartUp, LargestPerRankStoreIsAboutNOverRanks) {
   }
 }
 
+/// A bed 8 times longer than wide (96 x 12 x 6 spheres): the partition cuts it across, each
+/// rank's ghost layer is a few per cent of what it owns, as in a large run.
+CaseConfig long_bed() {
+  CaseConfig c = testing::base_case();
+  c.simulation.dt = 1e-6;
+  LatticeConfig lattice;
+  lattice.origin = {0, 0, 0};
+  lattice.count = {96, 12, 6};
+  lattice.spacing = 0.0105;
+  lattice.particle_radius = 0.005;
+  lattice.jitter = 0.3;
+  c.lattices.push_back(lattice);
+  return c;
+}
+
+// The store is reserved once, before the first particle, with room for what the first
+// distribution leaves (the partition's share and the ghost layer): its columns are never
+// reallocated there, so the heap keeps no outgrown copies of them (ModelBuilder.cpp).
+TEST(StartUp, FirstDistributionStaysInTheStoresReservation) {
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
+  {
+    const Communicator comm(world);
+    const CaseConfig c = long_bed();
+    Model model = build_model(c, comm);
+    const std::size_t reserved = model.particles.position.capacity();
+    const Vec3* column = model.particles.position.data();
+    Simulation sim(std::move(model), comm, settings_from_case(c));
+    const ParticleStore& p = sim.model().particles;
+    const auto held = static_cast<std::int64_t>(p.n_total());
+    const std::int64_t over = comm.max(held - static_cast<std::int64_t>(reserved));
+    const std::int64_t moved =
+        comm.sum(std::int64_t{p.position.data() != column || p.position.capacity() != reserved ||
+                              p.gid.capacity() != reserved});
+    EXPECT_LE(over, 0) << "a rank holds more than its reservation";
+    EXPECT_EQ(moved, 0) << "a rank's columns were reallocated by the first distribution";
+  }
+}
+
 }  // namespace
 }  // namespace ringdem
