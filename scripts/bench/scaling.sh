@@ -3,17 +3,23 @@
 # preset, generates the workloads and runs them at several rank counts.
 #   scripts/bench/scaling.sh [MAX_RANKS] [GRAINS_PER_RANK]   (default: the number of cores, 0)
 # Strong: 200 rings (20 000 particles) at 1..MAX_RANKS ranks. Weak: 100 rings per rank.
-# With GRAINS_PER_RANK > 0 also weak scaling of a flowing packing (the `flow` bed of
-# scripts/bench/peer_granular.py: 5 mm grains sliding down a 35 degree incline, rebuilding
-# every ~35 steps) of about that many grains per rank, at 1, 2, 4, ... MAX_RANKS ranks, with
-# the loop's time per particle-step, the largest rank's peak memory and the phases over the
-# ranks (mean and most: a most well above the mean is waiting), and then the same number of
-# independent 1-rank copies run at once: the node's own limit (memory bandwidth) without any
-# MPI traffic, to tell the code's loss from the machine's.
+# With GRAINS_PER_RANK > 0 also weak scaling of a bed of grains (SCALING_BED, a variant of
+# scripts/bench/peer_granular.py: `flow`, the default, 5 mm grains sliding down a 35 degree
+# incline without touching, rebuilding every ~35 steps; or `dense`, the same block in contact,
+# every grain pressed into its six neighbours) of about that many grains per rank, at 1, 2, 4,
+# ... MAX_RANKS ranks, with the loop's time per particle-step, the largest rank's peak memory
+# and the phases over the ranks (mean and most: a most well above the mean is waiting). The
+# part `copies` then runs the same numbers of independent 1-rank copies at once: the node's own
+# limit (memory bandwidth) without any MPI traffic, to tell the code's loss from the machine's.
+# The part `peer` (not run unless named in SCALING_PARTS) runs LAMMPS (GRANULAR) on the weak
+# sweep's 1-rank and MAX_RANKS cases of the bed, the same input as the peer script's, and prints
+# both codes' loop time per particle-step and rank.
 # Ranks beyond the core count are oversubscribed and say so.
 # Environment: RINGDEM_BINARY (a built ringdem: no package install, no build), MPIRUN (the
 # launcher, default mpirun), MPIRUN_FLAGS (e.g. "--bind-to core"), PYTHON (default
-# /usr/bin/python3), SCALING_PARTS (default "strong weak flow").
+# /usr/bin/python3), SCALING_PARTS (of strong weak flow peer copies, run in that order; default
+# "strong weak flow copies"; "flow" is the grains' sweep whatever the bed), SCALING_BED
+# (default flow), LAMMPS (default lmp).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../common.sh"
 cd "$RINGDEM_ROOT"
@@ -25,7 +31,8 @@ if [ -z "$binary" ]; then
 fi
 mpirun_cmd="${MPIRUN:-mpirun}"
 read -r -a mpirun_flags <<<"${MPIRUN_FLAGS:-}"
-parts="${SCALING_PARTS:-strong weak flow}"
+parts="${SCALING_PARTS:-strong weak flow copies}"
+bed="${SCALING_BED:-flow}"
 cores=$(nproc)
 max_ranks="${1:-$cores}"
 grains_per_rank="${2:-0}"
@@ -71,23 +78,57 @@ if [[ " $parts " == *" weak "* ]]; then
   done
 fi
 
-[ "$grains_per_rank" -gt 0 ] && [[ " $parts " == *" flow "* ]] || exit 0
-flow_case() {  # grains -> path of the case file
-  $py - "$work" "$1" <<'PY'
+[ "$grains_per_rank" -gt 0 ] || exit 0
+case "$bed" in flow | dense) ;; *) echo "SCALING_BED must be flow or dense, not '$bed'" >&2; exit 2 ;; esac
+bed_case() {  # grains [code] -> path of the case file (code: ringdem or lammps)
+  $py - "$work" "$bed" "$1" "${2:-ringdem}" <<'PY'
 import os, sys
 sys.path.insert(0, os.path.join(os.getcwd(), "scripts", "bench"))
 import peer_granular
-print(peer_granular.write_ringdem(sys.argv[1], "flow", int(sys.argv[2])))
+work, variant, n, code = sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4]
+write = peer_granular.write_ringdem if code == "ringdem" else peer_granular.write_lammps
+print(write(work, variant, n))
 PY
 }
-echo "weak scaling, flowing packing of about $grains_per_rank grains per rank:"
-ranks=1
-while [ "$ranks" -le "$max_ranks" ]; do
-  run "$ranks" "$(flow_case $((grains_per_rank * ranks)))" "flow_np$ranks"
-  ranks=$((ranks * 2))
-done
-echo "control: N independent 1-rank copies of the 1-rank flow at once (no MPI traffic):"
-one=$(flow_case "$grains_per_rank")
+if [[ " $parts " == *" flow "* ]]; then
+  echo "weak scaling, $bed bed of about $grains_per_rank grains per rank:"
+  ranks=1
+  while [ "$ranks" -le "$max_ranks" ]; do
+    run "$ranks" "$(bed_case $((grains_per_rank * ranks)))" "${bed}_np$ranks"
+    ranks=$((ranks * 2))
+  done
+fi
+
+if [[ " $parts " == *" peer "* ]]; then
+  lammps="${LAMMPS:-lmp}"
+  echo "LAMMPS on the $bed bed, the same input as the peer script's (loop time, as ringdem's):"
+  for ranks in 1 "$max_ranks"; do
+    input=$(bed_case $((grains_per_rank * ranks)) lammps)
+    log="$work/lammps_${bed}_np$ranks.log"
+    "$mpirun_cmd" -np "$ranks" "${mpirun_flags[@]}" "$lammps" -in "$input" \
+      -log none >"$log" 2>&1 || { echo "LAMMPS failed at $ranks ranks: $log" >&2; exit 1; }
+    "$py" - "$log" "$ranks" "$work/${bed}_np$ranks/summary.json" <<'PY'
+import json, os, re, sys
+text = open(sys.argv[1]).read()
+ranks = int(sys.argv[2])
+m = re.search(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", text)
+mem = re.search(r"Per MPI rank memory allocation \(min/avg/max\) = [0-9.]+ \| [0-9.]+ \| ([0-9.]+) Mbytes", text)
+ns = 1e9 * float(m.group(1)) * ranks / (int(m.group(3)) * int(m.group(4)))
+line = f"lammps       ranks {ranks:>2}  particles {int(m.group(4)):>8}  {ns:6.1f} ns/particle-step/rank"
+if mem:
+    line += f"  its own estimate, largest rank {float(mem.group(1)):7.1f} MiB"
+if os.path.exists(sys.argv[3]):
+    s = json.load(open(sys.argv[3]))
+    ours = 1e9 * ranks / s["particle_steps_per_s"]
+    line += f"\n{'':<12} ringdem's {ours:6.1f} ns on the same case: {ours / ns:.2f} of LAMMPS's time"
+print(line)
+PY
+  done
+fi
+
+[[ " $parts " == *" copies "* ]] || exit 0
+echo "control: N independent 1-rank copies of the 1-rank $bed bed at once (no MPI traffic):"
+one=$(bed_case "$grains_per_rank")
 copies=1
 while [ "$copies" -le "$max_ranks" ] && [ "$copies" -le "$cores" ]; do
   pids=()
