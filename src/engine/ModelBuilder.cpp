@@ -510,7 +510,6 @@ Model build_model(const CaseConfig& config, int rank, int ranks) {
   // and the heap kept the outgrown ones: 13 MiB a rank of 2.5e5 grains in contact on 8 ranks,
   // most of what a rank held beyond one rank's figure (docs/performance.md, fifty-sixth
   // round). Room not used costs address space, not memory: untouched pages are never mapped.
-  constexpr double kDistributedHeadroom = 1.25;
   std::int64_t expected = 0;
   for (const auto& src : plan.sources) {
     const std::int64_t n = src->gid_range();
@@ -521,8 +520,8 @@ Model build_model(const CaseConfig& config, int rank, int ranks) {
           std::ceil(static_cast<double>(src->count()) * static_cast<double>(items) /
                     static_cast<double>(n) * (src->count() < n && items < n ? 1.05 : 1.0)));
   }
-  plan.model.particles.reserve(static_cast<std::size_t>(static_cast<double>(expected) *
-                                                        (ranks > 1 ? kDistributedHeadroom : 1.0)));
+  plan.model.particles.reserve(static_cast<std::size_t>(
+      static_cast<double>(expected) * (ranks > 1 ? kDistributedStoreHeadroom : 1.0)));
   SourceBases bases;
   for (const auto& src : plan.sources) {
     const std::int64_t n = src->gid_range();
