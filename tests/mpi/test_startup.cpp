@@ -4,6 +4,10 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <array>
+#include <cstdint>
+#include <vector>
+
 #include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "engine/ModelBuilder.hpp"
@@ -12,24 +16,34 @@
 namespace ringdem {
 namespace {
 
+/// One lattice source of jittered 5 mm spheres, 10.5 mm apart.
+struct Bed {
+  std::array<int, 3> count;
+  Vec3 origin;
+  std::uint64_t seed;
+};
+
+CaseConfig lattice_beds(const std::vector<Bed>& beds) {
+  CaseConfig c = testing::base_case();
+  c.simulation.dt = 1e-6;
+  for (const Bed& bed : beds) {
+    LatticeConfig lattice;
+    lattice.origin = bed.origin;
+    lattice.count = bed.count;
+    lattice.spacing = 0.0105;
+    lattice.particle_radius = 0.005;
+    lattice.jitter = 0.3;
+    lattice.seed = bed.seed;
+    c.lattices.push_back(lattice);
+  }
+  return c;
+}
+
 /// A bed of 24 x 24 x 8 jittered spheres and a second bed of 16 x 16 x 4 above it (two
 /// sources). Free grains only: METIS balances block weights (particles plus bonds), which for
 /// grains alone is the particle count.
 CaseConfig bed_and_net() {
-  CaseConfig c = testing::base_case();
-  c.simulation.dt = 1e-6;
-  LatticeConfig lattice;
-  lattice.origin = {0, 0, 0};
-  lattice.count = {24, 24, 8};
-  lattice.spacing = 0.0105;
-  lattice.particle_radius = 0.005;
-  lattice.jitter = 0.3;
-  c.lattices.push_back(lattice);
-  lattice.origin = {0.02, 0.02, 0.1};
-  lattice.count = {16, 16, 4};
-  lattice.seed = 7;
-  c.lattices.push_back(lattice);
-  return c;
+  return lattice_beds({{{24, 24, 8}, {0, 0, 0}, 1}, {{16, 16, 4}, {0.02, 0.02, 0.1}, 7}});
 }
 
 TEST(StartUp, LargestPerRankStoreIsAboutNOverRanks) {
@@ -68,16 +82,7 @@ TEST(StartUp, LargestPerRankStoreIsAboutNOverRanks) {
 /// A bed 8 times longer than wide (96 x 12 x 6 spheres): the partition cuts it across, each
 /// rank's ghost layer is a few per cent of what it owns, as in a large run.
 CaseConfig long_bed() {
-  CaseConfig c = testing::base_case();
-  c.simulation.dt = 1e-6;
-  LatticeConfig lattice;
-  lattice.origin = {0, 0, 0};
-  lattice.count = {96, 12, 6};
-  lattice.spacing = 0.0105;
-  lattice.particle_radius = 0.005;
-  lattice.jitter = 0.3;
-  c.lattices.push_back(lattice);
-  return c;
+  return lattice_beds({{{96, 12, 6}, {0, 0, 0}, 1}});
 }
 
 // The store is reserved once, before the first particle, with room for what the first
