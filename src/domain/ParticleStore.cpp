@@ -13,6 +13,10 @@ void ParticleStore::reserve(std::size_t n) {
   for_each_field([n](const FieldInfo&, auto& v) { v.reserve(n); });
 }
 
+void ParticleStore::reserve_share(std::size_t n, int ranks) {
+  reserve(ranks > 1 ? static_cast<std::size_t>(static_cast<double>(n) * kDistributedHeadroom) : n);
+}
+
 std::size_t ParticleStore::add(const NewParticle& p) {
   if (n_ghost_ != 0) throw std::logic_error("ParticleStore::add with ghosts present");
   if (!(p.radius > 0.0)) throw std::invalid_argument("particle radius must be positive");

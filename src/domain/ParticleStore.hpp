@@ -226,6 +226,14 @@ class ParticleStore {
 
   /// Makes room for n particles in every column, so that adding up to n allocates nothing.
   void reserve(std::size_t n);
+  /// Makes room, before the first particle, for a rank's share of n particles of a model
+  /// spread over `ranks`: n on one rank, kDistributedHeadroom times n on several, for what the
+  /// first distribution leaves there (the partition's share, give or take its imbalance, and
+  /// the ghost layer). A column that outgrows its reservation is copied into a larger one, and
+  /// the heap keeps the outgrown copy (docs/performance.md, fifty-sixth round); room not used
+  /// is address space only, its pages never touched.
+  void reserve_share(std::size_t n, int ranks);
+  static constexpr double kDistributedHeadroom = 1.25;
   /// Resizes the owned range; drops all ghosts.
   void resize_local(std::size_t n);
   /// Takes out the owned particles k with keep_owned[k] == 0 (one entry per owned particle);

@@ -505,11 +505,7 @@ Model build_model(const CaseConfig& config, int rank, int ranks) {
   // proportion to its slice of gids, a few more for sparse ones): a store grown one particle
   // at a time frees a trail of smaller columns that the heap keeps resident (about 60 MiB at
   // 10^6 grains; docs/performance.md, seventh round). On several ranks also room for what the
-  // first distribution leaves: the partition's share is the slice give or take its imbalance,
-  // and the ghost layer comes on top. Without it every column outgrew its reservation there
-  // and the heap kept the outgrown ones: 13 MiB a rank of 2.5e5 grains in contact on 8 ranks,
-  // most of what a rank held beyond one rank's figure (docs/performance.md, fifty-sixth
-  // round). Room not used costs address space, not memory: untouched pages are never mapped.
+  // first distribution leaves (ParticleStore::reserve_share).
   std::int64_t expected = 0;
   for (const auto& src : plan.sources) {
     const std::int64_t n = src->gid_range();
@@ -520,8 +516,7 @@ Model build_model(const CaseConfig& config, int rank, int ranks) {
           std::ceil(static_cast<double>(src->count()) * static_cast<double>(items) /
                     static_cast<double>(n) * (src->count() < n && items < n ? 1.05 : 1.0)));
   }
-  plan.model.particles.reserve(static_cast<std::size_t>(
-      static_cast<double>(expected) * (ranks > 1 ? kDistributedStoreHeadroom : 1.0)));
+  plan.model.particles.reserve_share(static_cast<std::size_t>(expected), ranks);
   SourceBases bases;
   for (const auto& src : plan.sources) {
     const std::int64_t n = src->gid_range();

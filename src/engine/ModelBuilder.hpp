@@ -21,12 +21,9 @@ RingNetParameters net_parameters(const RingNetConfig& net);
 /// (engine/ParticleSource.hpp) with the bonds that touch them. Gids run over the sources in
 /// case order (rings, nets, lattices, grains, spheres) and do not depend on the rank count; the
 /// Simulation's first distribution moves every particle to the owner of its block.
-/// build_model(config) is the whole model, for one rank.
-/// The store is reserved once, before the first particle: for the slice's count on one rank,
-/// and on several for kDistributedStoreHeadroom times it, room for what the first
-/// distribution leaves there (the partition's share and the ghost layer).
+/// build_model(config) is the whole model, for one rank. The store is reserved once, before
+/// the first particle, for the slice (ParticleStore::reserve_share).
 Model build_model(const CaseConfig& config, int rank = 0, int ranks = 1);
-inline constexpr double kDistributedStoreHeadroom = 1.25;
 /// This rank's share for a simulation over `comm`.
 Model build_model(const CaseConfig& config, const Communicator& comm);
 /// Everything but the particles and bonds, for a restart, which reads those from the

@@ -577,6 +577,7 @@ RestartState read_checkpoint(const Communicator& comm, const std::string& path,
   if (f.exists("/particles/damping")) p.set_tracks_damping(true);
   // A sub-stepped run's slow loads of its last grain step.
   if (info.substeps > 1) p.set_tracks_slow_loads(true);
+  p.reserve_share(static_cast<std::size_t>(p_end - p_first), comm.size());
   p.resize_local(static_cast<std::size_t>(p_end - p_first));
   p.for_each_field([&](const FieldInfo& field, auto& v) {
     if (!field.has(field_flag::kCheckpoint)) return;

@@ -6,12 +6,14 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "SharedTempDir.hpp"
 #include "TestCases.hpp"
 #include "engine/ModelBuilder.hpp"
 #include "engine/Simulation.hpp"
+#include "io/Checkpoint.hpp"
 
 namespace ringdem {
 namespace {
@@ -85,27 +87,57 @@ CaseConfig long_bed() {
   return lattice_beds({{{96, 12, 6}, {0, 0, 0}, 1}});
 }
 
+/// Starts a simulation from `model` and checks that its first distribution stayed in the
+/// store's reservation: no rank holds more, no column moved (collective).
+void expect_distribution_in_reservation(Model model, const Communicator& comm, const CaseConfig& c,
+                                        const RestartState* state) {
+  const std::size_t reserved = model.particles.position.capacity();
+  const Vec3* column = model.particles.position.data();
+  const Simulation sim = state != nullptr
+                             ? Simulation(std::move(model), comm, settings_from_case(c), *state)
+                             : Simulation(std::move(model), comm, settings_from_case(c));
+  const ParticleStore& p = sim.model().particles;
+  const auto held = static_cast<std::int64_t>(p.n_total());
+  const std::int64_t over = comm.max(held - static_cast<std::int64_t>(reserved));
+  const std::int64_t moved =
+      comm.sum(std::int64_t{p.position.data() != column || p.position.capacity() != reserved ||
+                            p.gid.capacity() != reserved});
+  EXPECT_LE(over, 0) << "a rank holds more than its reservation";
+  EXPECT_EQ(moved, 0) << "a rank's columns were reallocated by the first distribution";
+}
+
 // The store is reserved once, before the first particle, with room for what the first
 // distribution leaves (the partition's share and the ghost layer): its columns are never
-// reallocated there, so the heap keeps no outgrown copies of them (ModelBuilder.cpp).
+// reallocated there, so the heap keeps no outgrown copies of them (ParticleStore::reserve_share).
 TEST(StartUp, FirstDistributionStaysInTheStoresReservation) {
   const testing::WorldCopy world_copy;
   const MPI_Comm world = world_copy.raw();
   {
     const Communicator comm(world);
     const CaseConfig c = long_bed();
-    Model model = build_model(c, comm);
-    const std::size_t reserved = model.particles.position.capacity();
-    const Vec3* column = model.particles.position.data();
-    Simulation sim(std::move(model), comm, settings_from_case(c));
-    const ParticleStore& p = sim.model().particles;
-    const auto held = static_cast<std::int64_t>(p.n_total());
-    const std::int64_t over = comm.max(held - static_cast<std::int64_t>(reserved));
-    const std::int64_t moved =
-        comm.sum(std::int64_t{p.position.data() != column || p.position.capacity() != reserved ||
-                              p.gid.capacity() != reserved});
-    EXPECT_LE(over, 0) << "a rank holds more than its reservation";
-    EXPECT_EQ(moved, 0) << "a rank's columns were reallocated by the first distribution";
+    expect_distribution_in_reservation(build_model(c, comm), comm, c, nullptr);
+  }
+}
+
+// A restart reads a block of the checkpoint's rows on each rank and distributes them as a start
+// does: the same room.
+TEST(StartUp, RestartedDistributionStaysInTheStoresReservation) {
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
+  {
+    const Communicator comm(world);
+    const CaseConfig c = long_bed();
+    const std::string dir = testing::shared_temp_dir(comm, "startup_restart");
+    DriverState driver;
+    std::string path;
+    {
+      Simulation sim(build_model(c, comm), comm, settings_from_case(c));
+      sim.run_steps(3);
+      path = CheckpointStore(dir).write(sim.comm(), sim.model(), sim.restart_state(), driver, 0, c);
+    }
+    Model model = build_model_without_particles(c);
+    const RestartState state = read_checkpoint(comm, path, c, model, driver);
+    expect_distribution_in_reservation(std::move(model), comm, c, &state);
   }
 }
 

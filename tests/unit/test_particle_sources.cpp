@@ -197,7 +197,8 @@ TEST(ParticleSources, EachRankSizesItsStoreOnceForItsShare) {
       ASSERT_GT(n, 0u);
       const std::size_t reserved =
           ranks == 1 ? n
-                     : static_cast<std::size_t>(static_cast<double>(n) * kDistributedStoreHeadroom);
+                     : static_cast<std::size_t>(static_cast<double>(n) *
+                                                ParticleStore::kDistributedHeadroom);
       EXPECT_EQ(m.particles.mass.capacity(), reserved) << "rank " << rank << " of " << ranks;
       EXPECT_EQ(m.particles.position.capacity(), reserved);
       total += static_cast<std::int64_t>(m.particles.n_local());
