@@ -260,11 +260,14 @@ std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
     filed[home(e.gid)].insert(filed[home(e.gid)].end(), src, src + sizeof(e));
   }
   std::vector<int> counts;
-  const std::vector<char> entries = comm_.alltoall_bytes(filed, counts);
+  // Buffers handed over (moved), so that each goes as soon as it is packed: at a restart every
+  // spring row asks for its two ends, and the copies made the start-up's peak.
+  std::vector<char> entries = comm_.alltoall_bytes(std::move(filed), counts);
   // The directory as entries sorted by gid: 16 B an entry, where a hash map's nodes took 55 B
   // and made the peak of a 10^6-grain start-up (docs/performance.md, seventh round).
   std::vector<Entry> directory(entries.size() / sizeof(Entry));
   if (!directory.empty()) std::memcpy(directory.data(), entries.data(), entries.size());
+  std::vector<char>().swap(entries);
   std::sort(directory.begin(), directory.end(),
             [](const Entry& a, const Entry& b) { return a.gid < b.gid; });
   const bool duplicate =
@@ -288,7 +291,7 @@ std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
     asked[home(gids[i])].insert(asked[home(gids[i])].end(), src, src + sizeof(std::int64_t));
     asked_for[home(gids[i])].push_back(i);
   }
-  const std::vector<char> questions = comm_.alltoall_bytes(asked, counts);
+  std::vector<char> questions = comm_.alltoall_bytes(std::move(asked), counts);
   std::vector<std::vector<char>> answers(static_cast<std::size_t>(n_ranks));
   std::size_t offset = 0;
   for (std::size_t r = 0; r < answers.size(); ++r) {
@@ -303,7 +306,8 @@ std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
       answers[r].insert(answers[r].end(), src, src + sizeof(a));
     }
   }
-  const std::vector<char> replies = comm_.alltoall_bytes(answers, counts);
+  std::vector<char>().swap(questions);
+  const std::vector<char> replies = comm_.alltoall_bytes(std::move(answers), counts);
   offset = 0;
   std::int64_t missing = -1;
   for (std::size_t r = 0; r < asked_for.size(); ++r)
@@ -333,7 +337,11 @@ void DomainDecomposition::distribute_initial(ParticleStore& p,
     owner[k] = owner_of(p.position[k]);
   // The owners of every particle a held row names, from wherever it is (a partner that is no
   // particle goes where the first end goes).
+  std::size_t n_named = 0;
+  for (const PairStore& handle : stores)
+    n_named += 2 * visit_store(handle, [](const auto& s) { return s.size(); });
   std::vector<std::int64_t> named;
+  named.reserve(n_named);
   for (const PairStore& handle : stores)
     visit_store(handle, [&](const auto& s) {
       for (std::size_t r = 0; r < s.size(); ++r) {
@@ -343,6 +351,7 @@ void DomainDecomposition::distribute_initial(ParticleStore& p,
       }
     });
   const std::vector<int> named_owner = owners_of_gids(p, owner, named);
+  std::vector<std::int64_t>().swap(named);
   Destinations to;
   to.particle = std::move(owner);
   std::vector<std::size_t> first_named(stores.size() + 1, 0);  // each store's rows in `named`
@@ -465,61 +474,104 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
   const int n_ranks = comm_.size();
   const unsigned migrate = field_flag::kMigrate;
   // Rows of all pair stores in one exchange: per rank, each store's row count, then its rows.
-  // A row goes to each owner of its ends (once when both are the same rank), in one pass.
+  // A row goes to each owner of its ends (once when both are the same rank). The rows that
+  // leave are listed first, then packed once into one buffer of the exact size, and the
+  // arrivals unpacked into stores grown once: at a restart nearly every spring row moves, and
+  // growing buffers row by row held two or three copies of them at once (docs/performance.md,
+  // fifty-sixth round).
   const auto n_stores = stores.size();
-  std::vector<std::vector<std::uint64_t>> row_counts(static_cast<std::size_t>(n_ranks),
-                                                     std::vector<std::uint64_t>(n_stores, 0));
-  std::vector<std::vector<char>> rows_to(static_cast<std::size_t>(n_ranks));
+  struct LeavingRow {
+    std::uint32_t store;
+    std::uint32_t row;
+    int rank;
+  };
+  std::vector<LeavingRow> leaving;
+  std::vector<std::size_t> row_size(n_stores);
+  std::vector<int> send_counts(static_cast<std::size_t>(n_ranks),
+                               static_cast<int>(n_stores * sizeof(std::uint64_t)));
   std::vector<std::vector<char>> keep_row(n_stores);  // the rows with an end here
   for (std::size_t s = 0; s < n_stores; ++s)
     visit_store(stores[s], [&](auto& store) {
+      row_size[s] = record_size(store, migrate);
       keep_row[s].resize(store.size());
       for (std::size_t h = 0; h < store.size(); ++h) {
         const auto [oa, ob] = to.row(s, h);
         keep_row[s][h] = oa == me || ob == me;
         for (const int r : {oa, ob == oa ? -1 : ob}) {
           if (r < 0 || r == me) continue;
-          ++row_counts[static_cast<std::size_t>(r)][s];
-          pack_fields(store, h, migrate, rows_to[static_cast<std::size_t>(r)]);
+          leaving.push_back({static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(h), r});
+          send_counts[static_cast<std::size_t>(r)] += static_cast<int>(row_size[s]);
         }
       }
     });
-  std::vector<std::vector<char>> send_rows(static_cast<std::size_t>(n_ranks));
-  for (std::size_t r = 0; r < static_cast<std::size_t>(n_ranks); ++r) {
-    const char* c = reinterpret_cast<const char*>(row_counts[r].data());
-    send_rows[r].assign(c, c + n_stores * sizeof(std::uint64_t));
-    send_rows[r].insert(send_rows[r].end(), rows_to[r].begin(), rows_to[r].end());
-  }
-
+  std::vector<char> recv_rows;
   std::vector<int> row_bytes;
-  const std::vector<char> recv_rows = comm_.alltoall_bytes(std::move(send_rows), row_bytes);
+  {
+    std::vector<std::size_t> at(static_cast<std::size_t>(n_ranks), 0);
+    for (std::size_t r = 1; r < at.size(); ++r)
+      at[r] = at[r - 1] + static_cast<std::size_t>(send_counts[r - 1]);
+    std::vector<char> send(at.back() + static_cast<std::size_t>(send_counts.back()));
+    // Each destination's header: its row count in every store.
+    std::vector<std::uint64_t> counts(static_cast<std::size_t>(n_ranks) * n_stores, 0);
+    for (const LeavingRow& l : leaving)
+      ++counts[static_cast<std::size_t>(l.rank) * n_stores + l.store];
+    for (std::size_t r = 0; r < at.size(); ++r) {
+      std::memcpy(send.data() + at[r], counts.data() + r * n_stores,
+                  n_stores * sizeof(std::uint64_t));
+      at[r] += n_stores * sizeof(std::uint64_t);
+    }
+    for (const LeavingRow& l : leaving)
+      visit_store(stores[l.store], [&](auto& store) {
+        std::size_t& cursor = at[static_cast<std::size_t>(l.rank)];
+        pack_fields_at(store, l.row, migrate, send.data() + cursor);
+        cursor += row_size[l.store];
+      });
+    std::vector<LeavingRow>().swap(leaving);
+    recv_rows = comm_.alltoall_bytes(std::move(send), send_counts, row_bytes);
+  }
 
   migrate_particles(p, to.particle);
 
   // Rows: keep those with an end here, append the arrivals, and let each store settle them
   // (a bond store drops duplicates and restores its canonical order).
-  std::vector<std::size_t> first_arrival(stores.size());
-  for (std::size_t s = 0; s < stores.size(); ++s)
+  std::vector<std::size_t> first_arrival(n_stores), arrivals(n_stores, 0);
+  std::vector<const char*> source_rows(static_cast<std::size_t>(n_ranks));
+  {
+    const char* data = recv_rows.data();
+    for (std::size_t r = 0; r < source_rows.size() && n_stores > 0; ++r) {
+      std::vector<std::uint64_t> n_rows(n_stores);
+      std::memcpy(static_cast<void*>(n_rows.data()), data, n_stores * sizeof(std::uint64_t));
+      source_rows[r] = data + n_stores * sizeof(std::uint64_t);
+      std::size_t bytes = n_stores * sizeof(std::uint64_t);
+      for (std::size_t s = 0; s < n_stores; ++s) {
+        arrivals[s] += n_rows[s];
+        bytes += n_rows[s] * row_size[s];
+      }
+      if (bytes != static_cast<std::size_t>(row_bytes[r]))
+        throw std::logic_error("row migration: message size mismatch");
+      data += bytes;
+    }
+  }
+  for (std::size_t s = 0; s < n_stores; ++s)
     visit_store(stores[s], [&](auto& store) {
       store.keep_rows(keep_row[s]);
       first_arrival[s] = store.size();
+      store.resize(first_arrival[s] + arrivals[s]);
     });
-  const char* data = recv_rows.data();
-  for (int r = 0; r < n_ranks && !stores.empty(); ++r) {
-    const char* const end = data + row_bytes[static_cast<std::size_t>(r)];
-    std::vector<std::uint64_t> n_rows(stores.size());
-    std::memcpy(static_cast<void*>(n_rows.data()), data, n_rows.size() * sizeof(std::uint64_t));
-    data += n_rows.size() * sizeof(std::uint64_t);
-    for (std::size_t s = 0; s < stores.size(); ++s)
+  std::vector<std::size_t> next(first_arrival);
+  for (std::size_t r = 0; r < source_rows.size() && n_stores > 0; ++r) {
+    const char* data = source_rows[r];
+    std::vector<std::uint64_t> n_rows(n_stores);
+    std::memcpy(static_cast<void*>(n_rows.data()), data - n_stores * sizeof(std::uint64_t),
+                n_stores * sizeof(std::uint64_t));
+    for (std::size_t s = 0; s < n_stores; ++s)
       visit_store(stores[s], [&](auto& store) {
-        for (std::uint64_t k = 0; k < n_rows[s]; ++k) {
-          store.resize(store.size() + 1);
-          data = unpack_fields(store, store.size() - 1, migrate, data);
-        }
+        for (std::uint64_t k = 0; k < n_rows[s]; ++k)
+          data = unpack_fields(store, next[s]++, migrate, data);
       });
-    if (data != end) throw std::logic_error("row migration: message size mismatch");
   }
-  for (std::size_t s = 0; s < stores.size(); ++s)
+  std::vector<char>().swap(recv_rows);
+  for (std::size_t s = 0; s < n_stores; ++s)
     visit_store(stores[s], [&](auto& store) { store.settle_arrivals(first_arrival[s]); });
 
   // Owned particles in the order of their sort keys (bin of the last re-sort, gid), so the
