@@ -515,7 +515,7 @@ void DomainDecomposition::migrate(ParticleStore& p, const std::vector<PairStore>
     std::vector<std::uint64_t> counts(static_cast<std::size_t>(n_ranks) * n_stores, 0);
     for (const LeavingRow& l : leaving)
       ++counts[static_cast<std::size_t>(l.rank) * n_stores + l.store];
-    for (std::size_t r = 0; r < at.size(); ++r) {
+    for (std::size_t r = 0; r < at.size() && n_stores > 0; ++r) {  // (no stores: no bytes)
       std::memcpy(send.data() + at[r], counts.data() + r * n_stores,
                   n_stores * sizeof(std::uint64_t));
       at[r] += n_stores * sizeof(std::uint64_t);
