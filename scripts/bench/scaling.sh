@@ -47,12 +47,17 @@ s = json.load(open(sys.argv[1])); ranks = int(sys.argv[2]); cores = int(sys.argv
 rate = s["particle_steps_per_s"]
 note = " (oversubscribed)" if ranks > cores else ""
 peak = s.get("peak_memory_largest_rank_bytes", 0) / 2**20
+shared = s.get("shared_memory_largest_rank_bytes", 0) / 2**20
 phases = s.get("time_per_phase_s", {})
 spread = "  ".join(f"{k} {v['mean']:.2f}/{v['max']:.2f}" for k, v in phases.items()
                    if v["max"] > 0.005)
 print(f"{sys.argv[4]:<12} ranks {ranks:>2}  particles {s['particles']:>8}  "
       f"{1e9 * ranks / rate:6.1f} ns/particle-step/rank  largest rank {peak:7.1f} MiB "
       f"= {peak * 2**20 * ranks / s['particles']:5.0f} B/particle{note}")
+if shared >= 1:
+    # MPI's on-node segments, counted by every rank that maps them (docs/scaling.md).
+    print(f"{'':<12} of the peak, shared (MPI's on-node buffers): at most {shared:.1f} MiB a rank, "
+          f"{peak - shared:.1f} MiB without")
 print(f"{'':<12} phases, mean/most over the ranks (s): {spread}")
 PY
 }

@@ -269,8 +269,6 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("neighbour_rebuilds", static_cast<long long>(sim.rebuilds()))
         .set("wall_time_s", times.wall_seconds)
         .set("particle_steps_per_s", particle_steps_per_s)
-        .set("peak_memory_largest_rank_bytes", memory.peak_largest_rank)
-        .set("estimated_memory_per_rank_bytes", memory.estimate_per_rank)
         .set("final_kinetic_energy_J", e.kinetic)
         .set("max_kinetic_energy_J", max_kinetic_)
         .set("final_bond_energy_J", e.bond_elastic)
@@ -280,6 +278,7 @@ void FreeRunDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("frames", static_cast<long long>(frames ? frames->frames() : 0))
         .set("frame_output_s", frames ? frames->seconds() : 0.0)
         .set("time_per_phase_s", phase_spread_json(phases));
+    set_memory_use(summary, memory);
     JsonObject bodies;
     for (const auto& b : model.bodies) {
       JsonObject one;

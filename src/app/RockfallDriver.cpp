@@ -660,12 +660,11 @@ void RockfallDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("impact_wall_time_s", impact_wall)
         .set("particle_steps_per_s", particle_steps_per_s)
         .set("particle_steps_per_s_per_rank", particle_steps_per_s / comm.size())
-        .set("peak_memory_largest_rank_bytes", memory.peak_largest_rank)
-        .set("estimated_memory_per_rank_bytes", memory.estimate_per_rank)
         .set("restarted", control_->restarted())
         .set("frames", static_cast<long long>(frames ? frames->frames() : 0))
         .set("frame_output_s", frames ? frames->seconds() : 0.0);
     s.set("time_per_phase_s", phase_spread_json(phases));
+    set_memory_use(s, memory);
     s.set("impacts_planned", rf_.impacts);
     set_impacts(s, impacts, g_, impact_energy_);
     s.write(output_dir_ + "/summary.json");

@@ -45,10 +45,16 @@ void print_preflight(const Simulation& sim, const CaseConfig& config, std::int64
 /// Peak resident memory against the start-up size estimate (io/SizeEstimate.hpp).
 struct MemoryUse {
   double peak_largest_rank = 0.0;  ///< bytes, the largest rank's peak (0 when unknown)
+  /// bytes, the most shared memory resident on one rank at the end (io/SizeEstimate.hpp's
+  /// shared_resident_bytes: MPI's on-node buffers, mapped by every rank that reads them)
+  double shared_largest_rank = 0.0;
   double estimate_per_rank = 0.0;  ///< bytes, what the refusal test assumed
 };
 /// Collective (every rank calls it): the peaks so far, and the estimate for this rank count.
 MemoryUse measure_memory_use(const CaseConfig& config, const Communicator& comm);
+/// summary.json's memory keys: peak_memory_largest_rank_bytes,
+/// shared_memory_largest_rank_bytes and estimated_memory_per_rank_bytes.
+void set_memory_use(JsonObject& summary, const MemoryUse& memory);
 /// The loop's seconds in each phase of Simulation::Phase over the ranks: the least, the mean
 /// and the most. A phase whose most is well above its mean is where ranks wait for others.
 struct PhaseSpread {

@@ -343,9 +343,8 @@ void TensileDriver::finish(Simulation& sim, const LoopTimes& times) {
         .set("residual_displacement_m", or_nan(result_.residual_displacement))
         .set("steps", static_cast<long long>(result_.steps))
         .set("wall_time_s", result_.wall_time)
-        .set("particle_steps_per_s", result_.particle_steps_per_s)
-        .set("peak_memory_largest_rank_bytes", memory.peak_largest_rank)
-        .set("estimated_memory_per_rank_bytes", memory.estimate_per_rank);
+        .set("particle_steps_per_s", result_.particle_steps_per_s);
+    set_memory_use(summary, memory);
     summary.write(output_dir_ + "/summary.json");
   }
   if (comm.is_root() && verbose_) {

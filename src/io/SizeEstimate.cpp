@@ -82,6 +82,10 @@ double peak_resident_bytes() {
   return proc_kib_entry("/proc/self/status", "VmHWM:");
 }
 
+double shared_resident_bytes() {
+  return proc_kib_entry("/proc/self/status", "RssShmem:");
+}
+
 std::string describe(const SizeEstimate& e, int ranks) {
   return fmt::format("{} particles, {} bonds: about {:.0f} MiB per rank on {} rank{}", e.particles,
                      e.bonds, e.bytes_per_rank(ranks) / (1024.0 * 1024.0), ranks,

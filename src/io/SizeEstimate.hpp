@@ -45,6 +45,13 @@ double available_memory_bytes();
 /// The peak resident memory of this process so far (VmHWM), in bytes; 0 when unknown.
 double peak_resident_bytes();
 
+/// The shared memory resident in this process now (RssShmem), in bytes; 0 when unknown. In a
+/// run that is MPI's on-node transport: Open MPI's shared-memory segments, one per rank (4 MiB
+/// at most each), which every rank that reads a peer's messages maps and counts in its own
+/// resident memory. The node holds each segment once, so this part of VmHWM is counted once per
+/// rank that maps it, not once per rank.
+double shared_resident_bytes();
+
 /// A one-line report: particles, bonds, memory per rank.
 std::string describe(const SizeEstimate& estimate, int ranks);
 

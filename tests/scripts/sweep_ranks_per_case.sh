@@ -43,6 +43,7 @@ import csv, sys
 one = list(csv.DictReader(open(sys.argv[1])))
 two = list(csv.DictReader(open(sys.argv[2])))
 machine = {"wall_time_s", "particle_steps_per_s", "peak_memory_largest_rank_bytes",
+           "shared_memory_largest_rank_bytes",
            "estimated_memory_per_rank_bytes", "frame_output_s", "ranks"}
 assert len(one) == len(two) == 2, (len(one), len(two))
 compared = 0

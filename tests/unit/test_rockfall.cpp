@@ -244,7 +244,7 @@ nlohmann::json summary_without_timings(const fs::path& file) {
   for (const char* key :
        {"wall_time_s", "sag_wall_time_s", "impact_wall_time_s", "particle_steps_per_s",
         "particle_steps_per_s_per_rank", "time_per_phase_s", "frame_output_s", "restarted",
-        "peak_memory_largest_rank_bytes"})
+        "peak_memory_largest_rank_bytes", "shared_memory_largest_rank_bytes"})
     j.erase(key);
   return j;
 }

@@ -314,7 +314,7 @@ std::string summary_text_without_timings(const std::filesystem::path& file) {
   while (std::getline(in, line))
     if (line.find("wall_time_s") == std::string::npos &&
         line.find("particle_steps_per_s") == std::string::npos &&
-        line.find("peak_memory_largest_rank_bytes") == std::string::npos)
+        line.find("memory_largest_rank_bytes") == std::string::npos)
       kept += line + "\n";
   return kept;
 }
