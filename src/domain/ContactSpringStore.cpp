@@ -10,9 +10,8 @@ void ContactSpringStore::keep_rows(const std::vector<char>& keep) {
 
 void ContactSpringStore::drop_released() {
   std::vector<char> keep(size());
-  const bool carries_ledger = !ledger.empty();
   for (std::size_t k = 0; k < size(); ++k)
-    keep[k] = norm2(spring[k]) > 0.0 || (carries_ledger && !ledger[k].is_empty());
+    keep[k] = carries_state(k);
   keep_rows(keep);
 }
 

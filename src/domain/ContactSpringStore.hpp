@@ -66,6 +66,10 @@ class ContactSpringStore {
   void reserve(std::size_t n) {
     for_each_field([n](const FieldInfo&, auto& v) { v.reserve(n); });
   }
+  /// Whether row k holds anything to carry: a spring, or ledger state (where rows have it).
+  bool carries_state(std::size_t k) const {
+    return norm2(spring[k]) > 0.0 || (!ledger.empty() && !ledger[k].is_empty());
+  }
   void append(std::int64_t gid_value, std::int64_t partner_value, const Vec3& spring_value,
               const ContactLedgerState& ledger_value = {}) {
     gid.push_back(gid_value);

@@ -264,10 +264,19 @@ void PairContactTerm::pack_springs(const ParticleStore& p) {
 }
 
 ContactSpringStore PairContactTerm::touching_springs(const ParticleStore& p) const {
-  ContactSpringStore out = springs_;
-  out.drop_released();
+  ContactSpringStore out = ForceTerm::touching_springs(p);  // the keyed rows
+  // A candidate's first end is an owned particle or a ghost: counted where it is owned.
+  const auto counted = [&](std::size_t m) {
+    if (!spring_.holds(m) || !carries_state(m)) return false;
+    const std::int64_t a = p.index_of(p.gid[pairs_.i[m]]);
+    return a >= 0 && static_cast<std::size_t>(a) < p.n_local();
+  };
+  std::size_t n = out.size();
   for (std::size_t m = 0; m < spring_.n_candidates(); ++m)
-    if (spring_.holds(m) && carries_state(m))
+    n += counted(m) ? 1 : 0;
+  out.reserve(n);
+  for (std::size_t m = 0; m < spring_.n_candidates(); ++m)
+    if (counted(m))
       out.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_.value(m), carried_ledger(m));
   return out;
 }

@@ -92,13 +92,8 @@ std::vector<RestartState::TermSprings> Simulation::owned_springs() const {
   std::vector<RestartState::TermSprings> out;
   for (const auto& t : terms_) {
     if (t->springs() == nullptr) continue;
-    out.push_back({std::string(t->name()), t->touching_springs(p)});
-    ContactSpringStore& store = out.back().store;
     // A pair across ranks is evaluated on both: each touching one once, where it counts.
-    std::vector<char> keep(store.size());
-    for (std::size_t k = 0; k < store.size(); ++k)
-      keep[k] = counted_here(p, store, k);
-    store.keep_rows(keep);
+    out.push_back({std::string(t->name()), t->touching_springs(p)});
   }
   return out;
 }
