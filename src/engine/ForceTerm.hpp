@@ -112,17 +112,21 @@ class ForceTerm {
   /// now instead, so that the keyed rows need not carry it (PairContactTerm).
   virtual void book_carried_work(const ParticleStore& /*p*/, EnergyLedger& /*ledger*/,
                                  bool /*mid_step*/, double /*dt*/) {}
-  /// The touching contacts' springs that this rank counts (domain/PairStore.hpp's
-  /// counted_here: a pair across ranks is held by both and written once), keyed by gid, at any
-  /// time (checkpoints). Sized exactly: the checkpoint of a bed in contact held a copy of every
-  /// spring grown by doubling beside the run's own (docs/performance.md, fifty-seventh round).
-  virtual ContactSpringStore touching_springs(const ParticleStore& p) const {
+  /// Which touching springs touching_springs() gives: those this rank counts
+  /// (domain/PairStore.hpp's counted_here: a pair across ranks is held by both ranks and written
+  /// once, a checkpoint's), or every one it holds.
+  enum class SpringRows { kCounted, kAll };
+  /// The touching contacts' springs, keyed by gid, at any time (checkpoints). Sized exactly:
+  /// the checkpoint of a bed in contact held a copy of every spring grown by doubling beside
+  /// the run's own (docs/performance.md, fifty-seventh round).
+  virtual ContactSpringStore touching_springs(const ParticleStore& p,
+                                              SpringRows rows = SpringRows::kCounted) const {
     const ContactSpringStore* s = springs();
     if (s == nullptr) return ContactSpringStore{};
     ContactSpringStore out = *s;
     std::vector<char> keep(out.size());
     for (std::size_t k = 0; k < out.size(); ++k)
-      keep[k] = out.carries_state(k) && counted_here(p, out, k);
+      keep[k] = out.carries_state(k) && (rows == SpringRows::kAll || counted_here(p, out, k));
     out.keep_rows(keep);
     return out;
   }

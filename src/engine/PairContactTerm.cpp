@@ -263,11 +263,13 @@ void PairContactTerm::pack_springs(const ParticleStore& p) {
   spring_.release_memory();
 }
 
-ContactSpringStore PairContactTerm::touching_springs(const ParticleStore& p) const {
-  ContactSpringStore out = ForceTerm::touching_springs(p);  // the keyed rows
+ContactSpringStore PairContactTerm::touching_springs(const ParticleStore& p,
+                                                     SpringRows rows) const {
+  ContactSpringStore out = ForceTerm::touching_springs(p, rows);  // the keyed rows
   // A candidate's first end is an owned particle or a ghost: counted where it is owned.
   const auto counted = [&](std::size_t m) {
     if (!spring_.holds(m) || !carries_state(m)) return false;
+    if (rows == SpringRows::kAll) return true;
     const std::int64_t a = p.index_of(p.gid[pairs_.i[m]]);
     return a >= 0 && static_cast<std::size_t>(a) < p.n_local();
   };

@@ -30,7 +30,7 @@ class PairContactTerm final : public ForceTerm {
   void pack_springs(const ParticleStore& p) override;
   void book_carried_work(const ParticleStore& p, EnergyLedger& ledger, bool mid_step,
                          double dt) override;
-  ContactSpringStore touching_springs(const ParticleStore& p) const override;
+  ContactSpringStore touching_springs(const ParticleStore& p, SpringRows rows) const override;
   void find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies, double fraction,
                      std::vector<ContactOverlap>& out) const override;
 

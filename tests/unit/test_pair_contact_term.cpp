@@ -210,18 +210,32 @@ void expect_every_spring_carried(ParticleStore& p, Between&& between) {
       p,      bodies, materials, slots,
       ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
   term.compute(ctx);
-  const ContactSpringStore touching = term.touching_springs(p);
+  const ContactSpringStore touching = term.touching_springs(p, ForceTerm::SpringRows::kAll);
   std::map<std::pair<std::int64_t, std::int64_t>, Vec3> before;
   for (std::size_t m = 0; m < touching.size(); ++m)
     before[{touching.gid[m], touching.partner[m]}] = touching.spring[m];
   ASSERT_GT(before.size(), 100u);
+  // A checkpoint's: those whose first particle is owned here, each once.
+  std::map<std::pair<std::int64_t, std::int64_t>, Vec3> owned_first;
+  for (const auto& [key, spring] : before) {
+    const std::int64_t a = p.index_of(key.first);
+    if (a >= 0 && static_cast<std::size_t>(a) < p.n_local()) owned_first[key] = spring;
+  }
+  ASSERT_LT(owned_first.size(), before.size()) << "the cloud must have pairs led by a ghost";
+  const ContactSpringStore counted = term.touching_springs(p, ForceTerm::SpringRows::kCounted);
+  EXPECT_EQ(counted.size(), owned_first.size());
+  for (std::size_t m = 0; m < counted.size(); ++m) {
+    const auto it = owned_first.find({counted.gid[m], counted.partner[m]});
+    ASSERT_NE(it, owned_first.end()) << "a counted spring led by a ghost, or none at all";
+    EXPECT_EQ(counted.spring[m].x, it->second.x);
+  }
   term.pack_springs(p);
   ContactSpringStore& store = *term.springs();
   ASSERT_EQ(store.size(), before.size());
   between(store);
   rebuild();
   EXPECT_EQ(term.springs()->size(), 0u) << "the keyed rows are read back and released";
-  const ContactSpringStore after = term.touching_springs(p);
+  const ContactSpringStore after = term.touching_springs(p, ForceTerm::SpringRows::kAll);
   std::size_t carried = 0;
   for (std::size_t m = 0; m < after.size(); ++m) {
     const auto it = before.find({after.gid[m], after.partner[m]});
@@ -304,12 +318,13 @@ TEST(PairContactTerm, AnOpenedContactForgetsItsSpring) {
   };
   compute();
   const std::vector<Vec3> first_force = p.force, first_torque = p.torque;
-  ASSERT_GT(term.touching_springs(p).size(), 100u);
+  ASSERT_GT(term.touching_springs(p, ForceTerm::SpringRows::kAll).size(), 100u);
   const std::vector<Vec3> together = p.position;
   for (std::size_t k = 0; k < p.n_total(); ++k)  // in a row 10 cm apart: nothing touches
     p.position[k] = Vec3{0.1 * static_cast<double>(k), 0.0, 0.0};
   compute();
-  EXPECT_EQ(term.touching_springs(p).size(), 0u) << "an open contact keeps no spring";
+  EXPECT_EQ(term.touching_springs(p, ForceTerm::SpringRows::kAll).size(), 0u)
+      << "an open contact keeps no spring";
   p.position = together;
   compute();
   for (std::size_t k = 0; k < p.n_local(); ++k) {
@@ -368,7 +383,7 @@ TEST(PairContactTerm, OneMaterialTableGivesTheForcesOfTheLookedUpParameters) {
           ledger, 0.0,    1e-6,      ParticleLoads{p.force.data(), p.torque.data(), p.n_local()}};
       term.compute(ctx);
     }
-    out.springs = term.touching_springs(p);
+    out.springs = term.touching_springs(p, ForceTerm::SpringRows::kAll);
     return out;
   };
   const Outcome uniform = evaluate(one), looked_up = evaluate(two);
