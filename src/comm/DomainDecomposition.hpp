@@ -51,12 +51,14 @@ class DomainDecomposition {
   /// rebuilt. Each pair store holds this rank's rows on entry, the new ones on exit.
   void redistribute(ParticleStore& p, const std::vector<PairStore>& stores);
 
-  /// Particles migrate in rounds of at most max(bytes, an eighth of the store) each, so that a
-  /// migration in which most particles leave (the first distribution) never holds the store
-  /// and two copies of what moves at once. Default 8 MiB; tests set it small to get many rounds.
+  /// Particles, and then pair-store rows, migrate in rounds of at most max(bytes, an eighth of
+  /// the store) each, so that a migration in which most items leave (the first distribution,
+  /// a restart's) never holds the store and two copies of what moves at once. Default 8 MiB; tests
+  /// set it small to get many rounds.
   void set_migration_round_bytes(std::size_t bytes) { round_min_bytes_ = bytes; }
-  /// Rounds the last migration took (the same on every rank).
+  /// Rounds the last migration took (the same on every rank): its particles', its rows'.
   std::int64_t last_migration_rounds() const { return last_rounds_; }
+  std::int64_t last_row_migration_rounds() const { return last_row_rounds_; }
 
   /// Particles that a term couples beyond the blocks' width (FarGhosts): from the next ghost
   /// layer on, each rank also holds those within the rule's reach of its own. Every rank adds
@@ -138,10 +140,15 @@ class DomainDecomposition {
   void migrate(ParticleStore& p, const std::vector<PairStore>& stores, const Destinations& to);
   /// The particle part of migrate(): owned particle k goes to rank owner[k]; the ghosts go.
   void migrate_particles(ParticleStore& p, const std::vector<int>& owner);
+  /// The rows part of migrate(), in rounds: each store keeps its rows with an end here, then
+  /// holds every arrival after them. Returns each store's first arrival.
+  std::vector<std::size_t> migrate_rows(const std::vector<PairStore>& stores,
+                                        const Destinations& to);
 
   const Communicator& comm_;
   std::size_t round_min_bytes_ = std::size_t{8} << 20;
   std::int64_t last_rounds_ = 0;
+  std::int64_t last_row_rounds_ = 0;
   double block_size_;
   double imbalance_threshold_;
   int row_weight_scale_ = 1;                      ///< set_row_weight_scale()

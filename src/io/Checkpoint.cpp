@@ -216,7 +216,14 @@ void read_pair_rows(const Hdf5File& f, const Communicator& comm, Store& store,
                     const std::string& prefix, std::int64_t rows) {
   const std::int64_t first = RowBlocks::block_begin(rows, comm.rank(), comm.size());
   const std::int64_t end = RowBlocks::block_begin(rows, comm.rank() + 1, comm.size());
-  store.resize(static_cast<std::size_t>(end - first));
+  const auto n = static_cast<std::size_t>(end - first);
+  // Room for what the first distribution brings beyond what leaves, as the particles get
+  // (ParticleStore::reserve_share): grown there, a store of springs was copied whole.
+  if constexpr (requires { store.reserve(n); })
+    store.reserve(comm.size() > 1 ? static_cast<std::size_t>(static_cast<double>(n) *
+                                                             ParticleStore::kDistributedHeadroom)
+                                  : n);
+  store.resize(n);
   store.for_each_field([&](const FieldInfo& field, auto& v) {
     if (!field.has(field_flag::kCheckpoint)) return;
     using T = typename std::remove_cvref_t<decltype(v)>::value_type;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -514,22 +515,48 @@ std::map<std::string, std::vector<char>> field_bytes(ParticleStore& p) {
   return out;
 }
 
+/// A spring store's rows as a sorted list of (gid, partner, spring.x): what it holds, in any
+/// order (a term finds its springs by key).
+std::vector<std::tuple<std::int64_t, std::int64_t, double>> spring_rows(
+    const ContactSpringStore& h) {
+  std::vector<std::tuple<std::int64_t, std::int64_t, double>> rows;
+  for (std::size_t k = 0; k < h.size(); ++k)
+    rows.emplace_back(h.gid[k], h.partner[k], h.spring[k].x);
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
 // The first distribution in many small rounds must give every rank what one round gives: the
-// same particles and ghosts in the same order, every field the same bits, the same bonds.
+// same particles and ghosts in the same order, every field the same bits, the same bonds, and
+// the same springs (held anywhere at first, as a restart reads them).
 TEST_F(Decomposition, FirstDistributionInRoundsGivesWhatOneRoundGives) {
   const Communicator c(comm_);
   ParticleStore one_p, rounds_p;
   BondStore one_b, rounds_b;
   make_lattice(one_p, one_b, c.rank(), c.size());
   make_lattice(rounds_p, rounds_b, c.rank(), c.size());
+  ContactSpringStore one_h(ContactSpringStore::Partner::kParticle);
+  ContactSpringStore rounds_h(ContactSpringStore::Partner::kParticle);
+  for (std::int64_t g = 0; g + 12 < 12 * 12 * 2; ++g)
+    if ((5 * g + 1) % c.size() == c.rank()) {
+      one_h.append(g, g + 12, Vec3{static_cast<double>(g), 0, 0});
+      rounds_h.append(g, g + 12, Vec3{static_cast<double>(g), 0, 0});
+    }
   DomainDecomposition one(c, kBlock, 0.1), in_rounds(c, kBlock, 0.1);
   in_rounds.set_migration_round_bytes(1);  // an eighth of the store a round
-  one.distribute_initial(one_p, {&one_b});
-  in_rounds.distribute_initial(rounds_p, {&rounds_b});
+  one.distribute_initial(one_p, {&one_b, &one_h});
+  in_rounds.distribute_initial(rounds_p, {&rounds_b, &rounds_h});
   EXPECT_EQ(one.last_migration_rounds(), 1);
+  EXPECT_EQ(one.last_row_migration_rounds(), 1);
   if (c.size() > 1) {
     EXPECT_GE(in_rounds.last_migration_rounds(), 3);
+    EXPECT_GE(in_rounds.last_row_migration_rounds(), 3);
   }
+  EXPECT_EQ(spring_rows(rounds_h), spring_rows(one_h)) << "rank " << c.rank();
+  // Each spring on the owners of its particles, as one round puts it (checked by the test
+  // above): none lost, none doubled.
+  EXPECT_EQ(c.sum(static_cast<std::int64_t>(rounds_h.size())),
+            c.sum(static_cast<std::int64_t>(one_h.size())));
   ASSERT_EQ(rounds_p.n_local(), one_p.n_local());
   ASSERT_EQ(rounds_p.n_total(), one_p.n_total());
   EXPECT_TRUE(field_bytes(rounds_p) == field_bytes(one_p)) << "rank " << c.rank();
