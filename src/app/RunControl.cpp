@@ -103,7 +103,7 @@ std::unique_ptr<Simulation> RunControl::make_simulation(
     next_frame_step_ = static_cast<std::int64_t>(driver.get("run.next_frame_step", 0.0));
     next_checkpoint_time_ = driver.get("run.next_checkpoint_time", 0.0);
     last_frame_time_ = -1.0;
-    auto sim = std::make_unique<Simulation>(std::move(model), comm_, settings, state);
+    auto sim = std::make_unique<Simulation>(std::move(model), comm_, settings, std::move(state));
     time_step_origin_ = "from the checkpoint";
     apply_changes(*sim, changes, settings);
     return sim;

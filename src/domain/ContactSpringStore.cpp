@@ -1,6 +1,7 @@
 #include "domain/ContactSpringStore.hpp"
 
 #include <stdexcept>
+#include <utility>
 
 namespace ringdem {
 
@@ -15,10 +16,10 @@ void ContactSpringStore::drop_released() {
   keep_rows(keep);
 }
 
-void ContactSpringStore::assign_rows(const ContactSpringStore& other) {
+void ContactSpringStore::assign_rows(ContactSpringStore&& other) {
   if (other.partner_ != partner_)
     throw std::logic_error("ContactSpringStore: rows of another partner kind");
-  *this = other;
+  *this = std::move(other);
 }
 
 }  // namespace ringdem

@@ -93,7 +93,7 @@ class ContactSpringStore {
   /// contact has no spring), in order: what a rebuild carries.
   void drop_released();
   /// Takes the rows of `other` (a store of the same partner kind read from a checkpoint).
-  void assign_rows(const ContactSpringStore& other);
+  void assign_rows(ContactSpringStore&& other);
 
  private:
   template <class Self, class F>

@@ -134,7 +134,7 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
 }
 
 Simulation::Simulation(Model model, const Communicator& comm, const SimulationSettings& settings,
-                       const RestartState& restart)
+                       RestartState restart)
     : model_(std::move(model)),
       comm_(comm),
       settings_(settings),
@@ -204,14 +204,16 @@ Simulation::Simulation(Model model, const Communicator& comm, const SimulationSe
   }
   // Each rank read a block of the checkpoint's rows: particles go to the owners of their
   // blocks, bonds and contact springs to the owners of their particles.
-  for (const RestartState::TermSprings& saved : restart.springs) {
+  // Moved, not copied: a restart of a bed in contact held the springs twice (docs/performance.md,
+  // fifty-seventh round).
+  for (RestartState::TermSprings& saved : restart.springs) {
     ContactSpringStore* store = nullptr;
     for (auto& t : terms_)
       if (t->name() == saved.term) store = t->springs();
     if (store == nullptr)
       throw std::runtime_error("restart state holds springs of '" + saved.term +
                                "', which is no contact term of this model");
-    store->assign_rows(saved.store);
+    store->assign_rows(std::move(saved.store));
   }
   decomposition_.distribute_initial(p, pair_stores());
   build_lists();

@@ -126,8 +126,9 @@ class Simulation {
   Simulation(Model model, const Communicator& comm, const SimulationSettings& settings);
   /// Continues from a checkpoint: `model` holds the checkpointed fields (forces and torques
   /// included, so the loads of the last step are not recomputed: the run goes on bit for bit).
+  /// Its springs are moved into the contact terms, not copied.
   Simulation(Model model, const Communicator& comm, const SimulationSettings& settings,
-             const RestartState& restart);
+             RestartState restart);
 
   /// Each contact term's tangential springs of touching contacts whose particle (the first
   /// of a pair) is owned here: each contact once over the ranks, for checkpoints.
