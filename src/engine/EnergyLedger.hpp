@@ -269,10 +269,9 @@ class EnergyLedger {
   /// half, exact), the same integers as two bookings of one, at one rounding instead of two.
   [[gnu::always_inline]] void add_half_work(ContactWork& work, double half_damping,
                                             double half_friction, int owned_ends) {
-    add_half(work, kDamping, half_damping, owned_ends);
-    add_half(work, kFriction, half_friction, owned_ends);
-    work.halves += owned_ends;
-    if (work.halves >= kMaxHalves - 1) flush_contact_work(work);
+    // One contact is a chunk of one: the rounding rule is written once, in add_half_works().
+    add_half_works(work, &half_damping, &half_friction, 1,
+                   [owned_ends](std::size_t) { return owned_ends; });
   }
   /// add_half_work() for the `n` contacts of a chunk (at most kMaxChunkContacts), lane c's
   /// halves at half_damping[c] and half_friction[c], owned_ends(c) its owned ends: the same
@@ -301,7 +300,7 @@ class EnergyLedger {
                                                 std::nearbyint(small_friction ? q_friction : 0.0));
       halves += times;
     }
-    if (large != 0) {  // a boulder's contact: its halves go to the exact sums as add_half() does
+    if (large != 0) {  // a boulder's contact: its large halves go to the exact sums
       for (std::size_t c = 0; c < n; ++c) {
         const int times = owned_ends(c);
         if (times == 0) continue;
@@ -361,13 +360,6 @@ class EnergyLedger {
     return own_entries_ ? moments_.size() == n_local : entry_of_.size() == n_local;
   }
 
-  void add_half(ContactWork& work, int tally, double half, int times) {
-    const double quanta = half * (1.0 / kWorkQuantum);
-    if (std::fabs(quanta) < kFixedLimit)
-      work.quanta[tally] += times * static_cast<std::int64_t>(std::nearbyint(quanta));
-    else if (times != 0)
-      add_large_half(tally, half * times);  // (times 1 or 2: exact)
-  }
   void add_large_half(int tally, double half) {
     contact_intervals_[tally].add(half);
     contact_booked_ = true;
