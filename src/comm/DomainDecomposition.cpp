@@ -240,25 +240,32 @@ std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
   // Each particle must be held by one rank (a model built whole on every rank is not).
   if (comm_.any(duplicate))
     throw std::logic_error("first distribution: a particle gid is held by more than one rank");
-  // Questions, then answers in the order asked.
+  // The gids this rank does not own, each asked once, sorted: at a restart every spring row
+  // names its two ends, so a grain in contact is named about six times, and a question and
+  // its place per mention were 16 B a row of the start-up's peak (docs/performance.md,
+  // fifty-eighth round).
+  const auto owned_here = [&](std::int64_t g) {
+    const std::int64_t k = p.index_of(g);
+    return k >= 0 && static_cast<std::size_t>(k) < p.n_local();
+  };
+  std::vector<std::int64_t> wanted;
+  for (const std::int64_t g : gids)
+    if (!owned_here(g)) wanted.push_back(g);
+  std::sort(wanted.begin(), wanted.end());
+  wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+  wanted.shrink_to_fit();
+  // Questions to each home rank in gid order; the answers come back in the order asked.
   std::vector<std::vector<char>> asked(static_cast<std::size_t>(n_ranks));
-  std::vector<std::vector<std::size_t>> asked_for(static_cast<std::size_t>(n_ranks));
-  std::vector<int> out(gids.size(), -1);
-  for (std::size_t i = 0; i < gids.size(); ++i) {
-    const std::int64_t k = p.index_of(gids[i]);
-    if (k >= 0 && static_cast<std::size_t>(k) < p.n_local()) {
-      out[i] = owner[static_cast<std::size_t>(k)];
-      continue;
-    }
-    const char* src = reinterpret_cast<const char*>(&gids[i]);
-    asked[home(gids[i])].insert(asked[home(gids[i])].end(), src, src + sizeof(std::int64_t));
-    asked_for[home(gids[i])].push_back(i);
+  for (const std::int64_t g : wanted) {
+    const char* src = reinterpret_cast<const char*>(&g);
+    asked[home(g)].insert(asked[home(g)].end(), src, src + sizeof(g));
   }
   std::vector<char> questions = comm_.alltoall_bytes(std::move(asked), counts);
   std::vector<std::vector<char>> answers(static_cast<std::size_t>(n_ranks));
   std::size_t offset = 0;
   for (std::size_t r = 0; r < answers.size(); ++r) {
     const std::size_t n = static_cast<std::size_t>(counts[r]) / sizeof(std::int64_t);
+    answers[r].reserve(n * sizeof(std::int64_t));
     for (std::size_t q = 0; q < n; ++q, offset += sizeof(std::int64_t)) {
       std::int64_t g;
       std::memcpy(&g, questions.data() + offset, sizeof(g));
@@ -270,17 +277,33 @@ std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
     }
   }
   std::vector<char>().swap(questions);
+  std::vector<Entry>().swap(directory);
   const std::vector<char> replies = comm_.alltoall_bytes(std::move(answers), counts);
-  offset = 0;
+  // Each home rank's replies follow its questions, which went in gid order: walking `wanted`
+  // in that order again, a cursor per rank finds each gid's answer.
+  std::vector<std::size_t> cursor(static_cast<std::size_t>(n_ranks), 0);
+  for (std::size_t r = 1; r < cursor.size(); ++r)
+    cursor[r] = cursor[r - 1] + static_cast<std::size_t>(counts[r - 1]);
+  std::vector<int> wanted_owner(wanted.size());
+  for (std::size_t w = 0; w < wanted.size(); ++w) {
+    std::int64_t a;
+    std::memcpy(&a, replies.data() + cursor[home(wanted[w])], sizeof(a));
+    cursor[home(wanted[w])] += sizeof(a);
+    wanted_owner[w] = static_cast<int>(a);
+  }
+  std::vector<int> out(gids.size(), -1);
   std::int64_t missing = -1;
-  for (std::size_t r = 0; r < asked_for.size(); ++r)
-    for (std::size_t i : asked_for[r]) {
-      std::int64_t a;
-      std::memcpy(&a, replies.data() + offset, sizeof(a));
-      offset += sizeof(a);
-      if (a < 0) missing = gids[i];
-      out[i] = static_cast<int>(a);
+  for (std::size_t i = 0; i < gids.size(); ++i) {
+    const std::int64_t k = p.index_of(gids[i]);
+    if (k >= 0 && static_cast<std::size_t>(k) < p.n_local()) {
+      out[i] = owner[static_cast<std::size_t>(k)];
+      continue;
     }
+    const auto w = static_cast<std::size_t>(
+        std::lower_bound(wanted.begin(), wanted.end(), gids[i]) - wanted.begin());
+    out[i] = wanted_owner[w];
+    if (out[i] < 0) missing = gids[i];
+  }
   // Every rank throws, not only the one that asked (the others would wait in the migration).
   if (comm_.any(missing >= 0))
     throw std::runtime_error(
