@@ -119,16 +119,29 @@ class ForceTerm {
   /// The touching contacts' springs, keyed by gid, at any time (checkpoints). Sized exactly:
   /// the checkpoint of a bed in contact held a copy of every spring grown by doubling beside
   /// the run's own (docs/performance.md, fifty-seventh round).
-  virtual ContactSpringStore touching_springs(const ParticleStore& p,
-                                              SpringRows rows = SpringRows::kCounted) const {
+  ContactSpringStore touching_springs(const ParticleStore& p,
+                                      SpringRows rows = SpringRows::kCounted) const {
+    return touching_springs_part(p, rows, 0, 1);
+  }
+  /// What touching_springs() looks through: the keyed rows, and a pair term's candidates.
+  virtual std::size_t spring_sources() const {
     const ContactSpringStore* s = springs();
-    if (s == nullptr) return ContactSpringStore{};
-    ContactSpringStore out = *s;
-    std::vector<char> keep(out.size());
-    for (std::size_t k = 0; k < out.size(); ++k)
-      keep[k] = out.carries_state(k) && (rows == SpringRows::kAll || counted_here(p, out, k));
-    out.keep_rows(keep);
-    return out;
+    return s == nullptr ? 0 : s->size();
+  }
+  /// touching_springs() in `parts` parts, so that a checkpoint need not hold them all at once
+  /// (they were 41 MiB of a write's peak at 2.5 x 10^5 grains in contact a rank: docs/
+  /// performance.md, fifty-eighth round): part k holds what the k-th of `parts` equal slices
+  /// of spring_sources() gives, and the parts one after another are touching_springs().
+  virtual ContactSpringStore touching_springs_part(const ParticleStore& p, SpringRows rows,
+                                                   std::size_t part, std::size_t parts) const {
+    const std::size_t n = spring_sources();
+    return keyed_touching_springs(p, rows, slice_begin(n, part, parts),
+                                  slice_begin(n, part + 1, parts));
+  }
+  /// Where the k-th of `parts` equal slices of `n` items begins (n * parts stays far below
+  /// 2^64: a rank's springs by the parts of a few MiB each).
+  static std::size_t slice_begin(std::size_t n, std::size_t k, std::size_t parts) {
+    return n * k / parts;
   }
   /// The term's store of rows that join two particles (its bonds, its contact springs), or
   /// none: the decomposition moves every term's rows through this one handle. A contact term's
@@ -165,6 +178,28 @@ class ForceTerm {
   /// candidates. A term whose rates follow it re-decides them, and tells `gather` the new rate
   /// of each of its slots (GatherMap::set_rate()); the others keep theirs.
   virtual void change_rates(const ParticleStore& /*p*/, GatherMap& /*gather*/) {}
+
+ protected:
+  /// The keyed rows [first, last) that carry state and that `rows` selects, in order.
+  ContactSpringStore keyed_touching_springs(const ParticleStore& p, SpringRows rows,
+                                            std::size_t first, std::size_t last) const {
+    const ContactSpringStore* s = springs();
+    if (s == nullptr) return ContactSpringStore{};
+    ContactSpringStore out(s->partner_kind());
+    out.set_carries_ledger(s->carries_ledger());
+    const auto kept = [&](std::size_t k) {
+      return s->carries_state(k) && (rows == SpringRows::kAll || counted_here(p, *s, k));
+    };
+    std::size_t n = 0;
+    for (std::size_t k = first; k < last; ++k)
+      n += kept(k) ? 1 : 0;
+    out.reserve(n);
+    for (std::size_t k = first; k < last; ++k)
+      if (kept(k))
+        out.append(s->gid[k], s->partner[k], s->spring[k],
+                   s->carries_ledger() ? s->ledger[k] : ContactLedgerState{});
+    return out;
+  }
 };
 
 }  // namespace ringdem

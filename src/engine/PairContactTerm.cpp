@@ -263,9 +263,14 @@ void PairContactTerm::pack_springs(const ParticleStore& p) {
   spring_.release_memory();
 }
 
-ContactSpringStore PairContactTerm::touching_springs(const ParticleStore& p,
-                                                     SpringRows rows) const {
-  ContactSpringStore out = ForceTerm::touching_springs(p, rows);  // the keyed rows
+ContactSpringStore PairContactTerm::touching_springs_part(const ParticleStore& p, SpringRows rows,
+                                                          std::size_t part,
+                                                          std::size_t parts) const {
+  // The sources in order: the keyed rows, then the candidates.
+  const std::size_t keyed = springs_.size(), n = spring_sources();
+  const std::size_t first = slice_begin(n, part, parts), last = slice_begin(n, part + 1, parts);
+  ContactSpringStore out =
+      keyed_touching_springs(p, rows, std::min(first, keyed), std::min(last, keyed));
   // A candidate's first end is an owned particle or a ghost: counted where it is owned.
   const auto counted = [&](std::size_t m) {
     if (!spring_.holds(m) || !carries_state(m)) return false;
@@ -273,11 +278,12 @@ ContactSpringStore PairContactTerm::touching_springs(const ParticleStore& p,
     const std::int64_t a = p.index_of(p.gid[pairs_.i[m]]);
     return a >= 0 && static_cast<std::size_t>(a) < p.n_local();
   };
-  std::size_t n = out.size();
-  for (std::size_t m = 0; m < spring_.n_candidates(); ++m)
-    n += counted(m) ? 1 : 0;
-  out.reserve(n);
-  for (std::size_t m = 0; m < spring_.n_candidates(); ++m)
+  const std::size_t begin = std::max(first, keyed) - keyed, end = std::max(last, keyed) - keyed;
+  std::size_t count = out.size();
+  for (std::size_t m = begin; m < end; ++m)
+    count += counted(m) ? 1 : 0;
+  out.reserve(count);
+  for (std::size_t m = begin; m < end; ++m)
     if (counted(m))
       out.append(p.gid[pairs_.i[m]], p.gid[pairs_.j[m]], spring_.value(m), carried_ledger(m));
   return out;

@@ -30,7 +30,9 @@ class PairContactTerm final : public ForceTerm {
   void pack_springs(const ParticleStore& p) override;
   void book_carried_work(const ParticleStore& p, EnergyLedger& ledger, bool mid_step,
                          double dt) override;
-  ContactSpringStore touching_springs(const ParticleStore& p, SpringRows rows) const override;
+  std::size_t spring_sources() const override { return springs_.size() + spring_.n_candidates(); }
+  ContactSpringStore touching_springs_part(const ParticleStore& p, SpringRows rows,
+                                           std::size_t part, std::size_t parts) const override;
   void find_overlaps(const ParticleStore& p, const std::vector<RigidBody>& bodies, double fraction,
                      std::vector<ContactOverlap>& out) const override;
 

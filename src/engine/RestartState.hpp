@@ -1,7 +1,9 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/Quat.hpp"
@@ -19,9 +21,21 @@ struct RestartState {
   /// Each contact term's tangential springs, by term name (ForceTerm::name): every spring once
   /// over the ranks (a checkpoint's writer holds those of its owned particles; its reader any).
   struct TermSprings {
+    TermSprings() = default;
+    TermSprings(std::string term_name, ContactSpringStore rows)
+        : term(std::move(term_name)), store(std::move(rows)) {}
     std::string term;
     ContactSpringStore store;
+    /// A writer's springs in parts instead of in `store` (Simulation::restart_state(); `store`
+    /// then has no rows, only their kind): part(k, parts) gives the k-th, each built as the
+    /// checkpoint writes it (ForceTerm::touching_springs_part), from `sources` rows looked
+    /// through. The writer picks `parts` so that none looks through more than `rows_per_part`.
+    std::function<ContactSpringStore(std::size_t part, std::size_t parts)> part;
+    std::size_t sources = 0;
+    std::size_t rows_per_part = kSpringRowsPerPart;
   };
+  /// About 4 MiB of springs a part (ContactSpringStore rows of 56 B with the ledger's state).
+  static constexpr std::size_t kSpringRowsPerPart = std::size_t{1} << 16;
   std::vector<TermSprings> springs;
   /// Step and time from which dt is the time step (0 unless a restart changed it): the step
   /// that reaches a given time is counted from there (Simulation::steps_until).

@@ -131,11 +131,13 @@ class Simulation {
              RestartState restart);
 
   /// Each contact term's tangential springs of touching contacts whose particle (the first
-  /// of a pair) is owned here: each contact once over the ranks, for checkpoints.
+  /// of a pair) is owned here: each contact once over the ranks, held whole (tests).
   std::vector<RestartState::TermSprings> owned_springs() const;
   /// Everything a checkpoint needs besides the model's fields: time, step, dt, rebuilds, the
   /// owned springs and what the rebuild criterion reads. Collective (whether a bond broke
-  /// anywhere in the last force evaluation).
+  /// anywhere in the last force evaluation). The springs come in parts that the checkpoint
+  /// builds as it writes them (RestartState::TermSprings::part): valid while this Simulation
+  /// lives and takes no step.
   RestartState restart_state() const;
 
   /// From now on steps of `dt` (a restart that applies a changed time step). The energy

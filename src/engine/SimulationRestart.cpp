@@ -19,7 +19,21 @@ RestartState Simulation::restart_state() const {
   s.steps = steps_;
   s.dt = dt_;
   s.rebuilds = rebuilds_;
-  s.springs = owned_springs();
+  // Built part by part as the checkpoint writes them (RestartState::TermSprings::part).
+  const ParticleStore& p = model_.particles;
+  for (const auto& t : terms_) {
+    const ForceTerm* term = t.get();
+    if (term->springs() == nullptr) continue;
+    // No rows: the kind of the term's, which every part has.
+    ContactSpringStore kind(term->springs()->partner_kind());
+    kind.set_carries_ledger(term->springs()->carries_ledger());
+    RestartState::TermSprings& saved = s.springs.emplace_back(
+        RestartState::TermSprings{std::string(term->name()), std::move(kind)});
+    saved.part = [term, &p](std::size_t part, std::size_t parts) {
+      return term->touching_springs_part(p, ForceTerm::SpringRows::kCounted, part, parts);
+    };
+    saved.sources = term->spring_sources();
+  }
   s.dt_origin_step = dt_origin_step_;
   s.dt_origin_time = dt_origin_time_;
   s.move_bound = move_bounds_.absolute();

@@ -219,7 +219,17 @@ std::string CheckpointStore::write(const Communicator& comm, Model& model,
     write_pair_rows(f, comm, p, model.bonds, "/bonds/");
     f.create_group("/history");
     for (const RestartState::TermSprings& t : state.springs) {
-      write_pair_rows(f, comm, p, t.store, spring_dataset(t.term, ""));
+      if (t.part) {
+        // Every rank the same number of parts (each a collective write), none larger than
+        // rows_per_part of the sources it looks through.
+        const auto local_parts =
+            static_cast<std::int64_t>((t.sources + t.rows_per_part - 1) / t.rows_per_part);
+        const auto parts =
+            static_cast<std::size_t>(std::max<std::int64_t>(1, comm.max(local_parts)));
+        write_rows_in_parts(f, comm, spring_dataset(t.term, ""), t.store, parts, t.part);
+      } else {
+        write_pair_rows(f, comm, p, t.store, spring_dataset(t.term, ""));
+      }
       f.set_attribute(spring_dataset(t.term, "partner"), "names",
                       std::string(t.store.partner_is_particle() ? kParticlePartner : kBodyPartner));
     }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -128,6 +129,51 @@ void write_pair_rows(Hdf5File& f, const Communicator& comm, const ParticleStore&
       write_field(f, comm, *blocks, name, mine);
     else
       write_concatenated(f, comm, name, mine);
+  });
+}
+
+/// Rows a rank builds in parts (`part(k, parts)`, a store like `kind` each: a pair store whose
+/// rows come counted, as contact springs do), written as <prefix><field> through the store's
+/// registry, concatenated over the ranks in rank order as write_pair_rows() writes a whole
+/// store: the same datasets and checksums. Each part is built twice, once to count the rows
+/// and once to write them at its offset, so that no rank holds more than one part at once.
+/// `parts` must be the same on every rank (each part's writes are collective).
+template <class Store, class MakePart>
+void write_rows_in_parts(Hdf5File& f, const Communicator& comm, const std::string& prefix,
+                         const Store& kind, std::size_t parts, MakePart&& part) {
+  std::int64_t local = 0;
+  for (std::size_t k = 0; k < parts; ++k)
+    local += static_cast<std::int64_t>(part(k, parts).size());
+  const auto counts = comm.allgather(std::vector<std::int64_t>{local});
+  std::int64_t first = 0, n = 0;
+  for (int r = 0; r < comm.size(); ++r) {
+    if (r < comm.rank()) first += counts[static_cast<std::size_t>(r)];
+    n += counts[static_cast<std::size_t>(r)];
+  }
+  std::vector<std::uint64_t> sums;
+  kind.for_each_field([&](const FieldInfo& info, const auto& v) {
+    if (!info.has(field_flag::kCheckpoint)) return;
+    using T = typename std::remove_cvref_t<decltype(v)>::value_type;
+    f.create_rows(prefix + std::string(info.name), H5Layout<T>::type(), H5Layout<T>::components, n);
+    sums.push_back(0);
+  });
+  std::int64_t at = first;
+  for (std::size_t k = 0; k < parts; ++k) {
+    const Store rows = part(k, parts);
+    std::size_t field = 0;
+    rows.for_each_field([&](const FieldInfo& info, const auto& v) {
+      if (!info.has(field_flag::kCheckpoint)) return;
+      f.write_rows(prefix + std::string(info.name), -1, at, v);
+      sums.at(field++) += rows_checksum(v, at);
+    });
+    at += static_cast<std::int64_t>(rows.size());
+  }
+  if (at != first + local)
+    throw std::logic_error("checkpoint: the parts of " + prefix + " changed between the passes");
+  std::size_t field = 0;
+  kind.for_each_field([&](const FieldInfo& info, const auto&) {
+    if (info.has(field_flag::kCheckpoint))
+      set_checksum(f, prefix + std::string(info.name), total(comm, sums[field++]));
   });
 }
 

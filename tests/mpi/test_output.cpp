@@ -264,6 +264,50 @@ TEST(Checkpoint, RestartOnSameAndOtherRankCountIsBitwise) {
   }
 }
 
+// A checkpoint builds each contact term's springs part by part as it writes them
+// (RestartState::TermSprings::part). In parts of 3 rows, in one part, and from the springs held
+// whole (Simulation::owned_springs(), written as one store, the path of a checkpoint read
+// back), the file must hold the same springs datasets, byte for byte, each passing its checksum.
+TEST(Checkpoint, SpringsWrittenInPartsAreTheDatasetsOfTheWholeStore) {
+  const testing::WorldCopy world_copy;
+  const MPI_Comm world = world_copy.raw();
+  {
+    const Communicator comm(world);
+    const std::string dir = testing::shared_temp_dir(comm, "spring_parts");
+    const CaseConfig c = testing::ring_patch_hit_by_sphere(-0.005, 60.0, 0.5);
+    Simulation sim(build_model(c, comm), comm, settings_from_case(c));
+    sim.run_steps(1000);
+    const DriverState driver;
+    RestartState whole = sim.restart_state(), one_part = sim.restart_state(),
+                 small_parts = sim.restart_state();
+    const auto owned = sim.owned_springs();
+    ASSERT_EQ(whole.springs.size(), owned.size());
+    std::int64_t rows = 0, sources = 0;
+    for (std::size_t t = 0; t < owned.size(); ++t) {
+      whole.springs[t].part = nullptr;  // written as a whole store
+      whole.springs[t].store = owned[t].store;
+      small_parts.springs[t].rows_per_part = 3;
+      rows += static_cast<std::int64_t>(owned[t].store.size());
+      sources += static_cast<std::int64_t>(small_parts.springs[t].sources);
+    }
+    EXPECT_GT(comm.sum(rows), 10) << "the case should carry tangential springs";
+    EXPECT_LT(comm.max(sources), static_cast<std::int64_t>(RestartState::kSpringRowsPerPart))
+        << "one part by default";
+    const auto write = [&](const RestartState& state, const std::string& name) {
+      return CheckpointStore(dir + "/" + name).write(comm, sim.model(), state, driver, 0, c);
+    };
+    const std::string whole_path = write(whole, "whole"), one_path = write(one_part, "one"),
+                      parts_path = write(small_parts, "parts");
+    if (comm.is_root()) {
+      EXPECT_GE(expect_same_datasets(whole_path, parts_path, {"/history"}), 6);
+      EXPECT_GE(expect_same_datasets(whole_path, one_path, {"/history"}), 6);
+      for (const std::string& path : {whole_path, one_path, parts_path})
+        EXPECT_NO_THROW(verify_checkpoint(path)) << path;
+      std::filesystem::remove_all(dir);
+    }
+  }
+}
+
 /// Runs `c` for 2 half-steps straight through, and for one half, a checkpoint, a restart on
 /// this run's ranks and on one rank, and the other half: both restarts end as the run never
 /// interrupted (particles, bonds, springs, bodies, the ledgers' energies, what crossed and the
