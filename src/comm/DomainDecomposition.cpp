@@ -244,13 +244,14 @@ std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
   // names its two ends, so a grain in contact is named about six times, and a question and
   // its place per mention were 16 B a row of the start-up's peak (docs/performance.md,
   // fifty-eighth round).
-  const auto owned_here = [&](std::int64_t g) {
+  // The index of gid g among the particles this rank owns, or -1.
+  const auto owned_index = [&](std::int64_t g) -> std::int64_t {
     const std::int64_t k = p.index_of(g);
-    return k >= 0 && static_cast<std::size_t>(k) < p.n_local();
+    return k >= 0 && static_cast<std::size_t>(k) < p.n_local() ? k : -1;
   };
   std::vector<std::int64_t> wanted;
   for (const std::int64_t g : gids)
-    if (!owned_here(g)) wanted.push_back(g);
+    if (owned_index(g) < 0) wanted.push_back(g);
   std::sort(wanted.begin(), wanted.end());
   wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
   wanted.shrink_to_fit();
@@ -294,8 +295,8 @@ std::vector<int> DomainDecomposition::owners_of_gids(const ParticleStore& p,
   std::vector<int> out(gids.size(), -1);
   std::int64_t missing = -1;
   for (std::size_t i = 0; i < gids.size(); ++i) {
-    const std::int64_t k = p.index_of(gids[i]);
-    if (k >= 0 && static_cast<std::size_t>(k) < p.n_local()) {
+    const std::int64_t k = owned_index(gids[i]);
+    if (k >= 0) {
       out[i] = owner[static_cast<std::size_t>(k)];
       continue;
     }
