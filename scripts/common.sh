@@ -18,8 +18,9 @@ export OMPI_MCA_rmaps_base_oversubscribe=1
 export OMPI_MCA_btl_base_warn_component_unused=0
 # Messages between ranks of one node through Open MPI's shared-memory fragments instead of its
 # single-copy path (a process_vm_readv system call for each message above 4 KB, costly on a
-# virtual machine): on the project's 2-core instance the debris demo ran 15 % faster with the
-# same results, r12 and the full debris case as fast (docs/performance.md, thirty-first round).
+# virtual machine): on the project's 2-core instance the coarse debris demo ran 15 % faster with
+# the same results, r12 and the full debris case as fast (docs/performance.md, thirty-first
+# round).
 # A value set before is kept.
 export OMPI_MCA_btl_vader_single_copy_mechanism="${OMPI_MCA_btl_vader_single_copy_mechanism:-none}"
 

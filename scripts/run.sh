@@ -5,9 +5,9 @@
 # Without CASE it runs the rockfall demo (inputs/rockfall/demo.yaml: a 200 kg boulder from
 # 2 m onto a reduced net of 40 rings, about a minute and a half on 2 cores), draws its figures
 # and says where the ParaView file is: results/rockfall_demo, or the folder that -o names.
-# `debris` runs the debris-flow demo (inputs/debris/demo.yaml: a surge into a 10-ring net,
-# about 2.5 minutes on 2 cores), draws its figures and checks its peak barrier force against
-# the design guidance's hydrodynamic bounds. RINGDEM_RANKS=N runs on N MPI ranks (default: 1
+# `debris` runs the debris-flow demo (inputs/debris/demo.yaml: about 10^5 grains into a meshed
+# 10-ring net, about 4-5 minutes on 2 cores), draws its figures and checks its peak barrier
+# force against the design guidance's hydrodynamic bounds. RINGDEM_RANKS=N runs on N MPI ranks (default: 1
 # for a given case, up to 2 for the demos).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"

@@ -92,9 +92,9 @@ TEST(CaseLoaderWarnings, AnInletThatOpensAfterTheRunEndsIsReported) {
 }
 
 // A grain source against the outflow boxes that take its group: wholly outside one, every grain
-// it makes is taken out at its first step (an error: the debris demo with its outflow box moved
-// past the release and the inlet ran on with none of its grains); reaching out of one, some are
-// (a warning). A box that does not take the group, or holds the source, says nothing.
+// it makes is taken out at its first step (an error: the coarse debris demo with its outflow box
+// moved past the release and the inlet ran on with none of its grains); reaching out of one, some
+// are (a warning). A box that does not take the group, or holds the source, says nothing.
 TEST(CaseLoaderWarnings, GrainSourcesOutsideAnOutflowBoxAreReported) {
   // The grains entry goes last under particles (the fixture's spheres), the flow group's.
   const auto with = [](const std::string& outflow_box, const std::string& groups) {

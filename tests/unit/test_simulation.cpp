@@ -342,8 +342,8 @@ TEST(RigidBodies, PlaneCarriesWeightOfRestingSphere) {
 // Held particles (fixed or prescribed) never move by a force: one pressed 0.5 mm into the floor
 // and another 1 mm into the first exert nothing, on the floor or on each other (as the start's
 // overlap check treats them). Beside them a free sphere comes to rest on the same floor, which
-// then carries its weight alone, as in PlaneCarriesWeightOfRestingSphere. (The debris demo's
-// fixed shackles inside its fixed posts had put 2.5e8 N on each post and 4.6 MJ into the
+// then carries its weight alone, as in PlaneCarriesWeightOfRestingSphere. (The coarse debris
+// demo's fixed shackles inside its fixed posts had put 2.5e8 N on each post and 4.6 MJ into the
 // contact energy.) The held ones are not even candidates of the floor: a sub-stepped run would
 // otherwise reduce the bodies' loads at every sub-step for a net's fixed shackles beside its
 // posts.
