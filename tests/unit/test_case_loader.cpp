@@ -120,6 +120,26 @@ TEST(CaseLoader, ShippedInputsLoad) {
   EXPECT_GT(loaded, 0);
 }
 
+TEST(CaseLoader, DebrisDemoIsTheFineChannelWithItsOwnSteps) {
+  // inputs/debris/demo.yaml repeats fine.yaml's channel, net, mesh, posts, grains and inlet
+  // (case files have no include). With fine.yaml's step, sub-steps, end and frame interval set
+  // on it (and both named alike), it must resolve to the same configuration: a change to the
+  // set-up of one that misses the other fails here (docs/debris.md, "The demo").
+  const std::string dir = std::string(RINGDEM_SOURCE_DIR) + "/inputs/debris/";
+  const std::vector<std::string> same_name = {"name=debris_channel", "description=channel"};
+  std::vector<std::string> as_fine = same_name;
+  for (const char* set : {"simulation.dt=7.87e-7", "simulation.substeps=24",
+                          "simulation.end_time=0.8", "output.frame_interval=0.1"})
+    as_fine.emplace_back(set);
+  const std::string fine = dump_case(load_case(dir + "fine.yaml", same_name));
+  EXPECT_EQ(dump_case(load_case(dir + "demo.yaml", as_fine)), fine);
+  // The demo's own steps are what differs.
+  const CaseConfig demo = load_case(dir + "demo.yaml", same_name);
+  EXPECT_NE(dump_case(demo), fine);
+  EXPECT_FALSE(demo.simulation.dt.has_value());  // auto: the stability rule
+  EXPECT_EQ(demo.simulation.substeps, 16);
+}
+
 TEST(CaseLoader, ShippedSweepsLoadWithEveryCase) {
   // Every sweep in inputs/sweeps/ loads, and each of its cases is a valid case with the sweep's
   // overrides: what `ringdem sweep` checks before it runs any.
